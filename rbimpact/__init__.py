@@ -1,0 +1,1 @@
+"""rbimpact: algebraic collision laws with friction and an exact event-driven stepper."""
