@@ -1,1 +1,37 @@
-"""rbimpact: algebraic collision laws with friction and an exact event-driven stepper."""
+"""rbimpact: algebraic collision laws with friction and an exact event-driven stepper.
+
+``import rbimpact`` is cheap: submodules (and Numba) load on first use of a name, and
+kernels compile lazily (with an on-disk cache). Optional pieces (pymunk, matplotlib)
+are imported only by the functions that need them.
+"""
+from importlib import import_module
+
+from .errors import NoSolutionError, SimulationError
+
+__version__ = "0.1.0"
+
+# public name -> defining submodule (loaded on first access)
+_LAZY = {
+    "Law": "laws", "resolve": "laws", "Impact": "laws", "BatchImpact": "laws",
+    "LAWS": "laws", "MODE_NAMES": "laws",
+    "Disk": "shapes", "Box": "shapes", "Polygon": "shapes", "Rod": "shapes",
+    "Ellipse": "shapes",
+    "Scene2D": "scene", "Simulation": "simulation", "Result": "result",
+    "impulse_space": "impulse_space", "ImpulseSpace": "impulse_space",
+}
+
+__all__ = ["NoSolutionError", "SimulationError", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    if name in ("scenarios", "kernels"):
+        return import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'rbimpact' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

@@ -1,0 +1,149 @@
+"""The ``rbimpact`` command line. Each subcommand imports only what it needs."""
+import argparse
+import sys
+
+import numpy as np
+
+# DESIGN §5 case 1b: rod at 45 degrees, v = (-1, 1), e = 1, mu = 0.3
+CASE_1B = {"v": [-1.0, 1.0], "W": [2.5, -1.5, -1.5, 2.5], "e": 1.0, "mu": 0.3}
+
+
+def _contact(args):
+    v = np.array(args.v if args.v is not None else CASE_1B["v"], dtype=float)
+    d = v.shape[0]
+    if d not in (2, 3):
+        raise ValueError(f"--v takes 2 (2D) or 3 (3D) numbers, normal first; got {d}")
+    w = args.W if args.W is not None else CASE_1B["W"]
+    if len(w) != d * d:
+        raise ValueError(f"--W takes {d * d} numbers (row-major {d}x{d}) for a {d}D contact; "
+                         f"got {len(w)}")
+    return v, np.array(w, dtype=float).reshape(d, d)
+
+
+def _cmd_laws(args):
+    from .laws import LAWS, Law
+    from .errors import NoSolutionError
+    v, W = _contact(args)
+    e = CASE_1B["e"] if args.e is None else args.e
+    mu = CASE_1B["mu"] if args.mu is None else args.mu
+    print(f"v = {v.tolist()}  W = {W.tolist()}  e = {e:g}  mu = {mu:g}  e_t = {args.e_t:g}")
+    rows = []
+    for name, spec in LAWS.items():
+        kinds = ("energetic", "poisson", "newton") if name == "routh" else (None,)
+        for kind in kinds:
+            params = {"e": e, "mu": mu}
+            if "e_t" in spec.params:
+                params["e_t"] = args.e_t
+            if kind is not None:
+                params["restitution"] = kind
+                params["tol"] = args.tol
+            label = name if kind is None else f"routh/{kind}"
+            try:
+                imp = Law(name, **params).resolve(v, W)
+            except NoSolutionError:
+                rows.append((label, "-", "-", "no solution", "-", "-"))
+                continue
+            mode = imp.mode if len(imp.phases) < 2 else "->".join(imp.phases)
+            rows.append((label, _vec(imp.P), _vec(imp.v_f), mode, f"{imp.dE:+.6f}",
+                         "YES" if imp.energy_gain else "no"))
+    _table(("law", "P", "v_f", "mode", "dE [J]", "energy created"), rows)
+    return 0
+
+
+def _vec(x):
+    return "(" + ", ".join(f"{c:+.6f}" for c in x) + ")"
+
+
+def _table(header, rows):
+    widths = [max(len(str(r[i])) for r in (header, *rows)) for i in range(len(header))]
+    line = "  ".join("{:<%d}" % w for w in widths)
+    print(line.format(*header))
+    print("  ".join("-" * w for w in widths))
+    for r in rows:
+        print(line.format(*map(str, r)))
+
+
+def _cmd_bench(args):
+    from . import bench
+    return bench.main(args.what, repeat=args.repeat, json_path=args.json)
+
+
+def _cmd_impulse_space(args):
+    from .impulse_space import impulse_space_report
+    v, W = _contact(args)
+    mu = CASE_1B["mu"] if args.mu is None else args.mu
+    print(impulse_space_report(v, W, mu, n=args.n, plot=args.plot))
+    return 0
+
+
+def _cmd_list(args):
+    from .run import list_text
+    print(list_text())
+    return 0
+
+
+def _cmd_run(args):
+    from .run import run_scenario
+    print(run_scenario(args.name, law=args.law, settings=args.set, t_end=args.t_end,
+                       out=args.out, plot=args.plot))
+    return 0
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="rbimpact", description=__doc__.split("\n")[0])
+    sub = p.add_subparsers(dest="command", required=True)
+
+    def contact(q):
+        q.add_argument("--v", type=float, nargs="+", metavar="X",
+                       help="relative contact velocity, normal first (m/s); default: case 1b")
+        q.add_argument("--W", type=float, nargs="+", metavar="X",
+                       help="Delassus matrix, row-major (1/kg); default: case 1b")
+
+    q = sub.add_parser("laws", help="apply every law to one contact")
+    contact(q)
+    q.add_argument("--e", type=float, help="normal restitution (default 1)")
+    q.add_argument("--mu", type=float, help="friction coefficient (default 0.3)")
+    q.add_argument("--e-t", dest="e_t", type=float, default=0.0,
+                   help="tangential restitution for Brach and Chatterjee-Ruina (default 0)")
+    q.add_argument("--tol", type=float, default=1e-10, help="Routh 3D tolerance (default 1e-10)")
+    q.set_defaults(func=_cmd_laws)
+
+    q = sub.add_parser("bench", help="benchmarks: figures and ratios measured in one run")
+    q.add_argument("what", nargs="?", default="laws", choices=("laws", "routh3d", "all"))
+    q.add_argument("--repeat", type=int, default=7, help="repeats per figure (median)")
+    q.add_argument("--json", help="also write the figures to this JSON file")
+    q.set_defaults(func=_cmd_bench)
+
+    q = sub.add_parser("impulse-space", help="what each law can reach in impulse space")
+    contact(q)
+    q.add_argument("--mu", type=float, help="friction coefficient (default 0.3)")
+    q.add_argument("--n", type=int, default=200, help="samples per curve")
+    q.add_argument("--plot", help="write the figure to this PNG file")
+    q.set_defaults(func=_cmd_impulse_space)
+
+    q = sub.add_parser("list", help="list the scenarios")
+    q.set_defaults(func=_cmd_list)
+
+    q = sub.add_parser("run", help="run a scenario with the event-driven stepper")
+    q.add_argument("name")
+    q.add_argument("--law", help="collision law (default: the scenario's)")
+    q.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="scenario parameter (repeatable)")
+    q.add_argument("--t-end", dest="t_end", type=float, help="end time (s)")
+    q.add_argument("--out", help="write the events to CSV (or JSON if it ends in .json)")
+    q.add_argument("--plot", help="write a plot to this PNG file (needs the plot extra)")
+    q.set_defaults(func=_cmd_run)
+    return p
+
+
+def main(argv=None):
+    args = _parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except ValueError as exc:
+        print(f"rbimpact {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,18 @@
+"""Exceptions of rbimpact. Bad arguments raise the built-in ``ValueError``."""
+
+
+class NoSolutionError(RuntimeError):
+    """The impact has no solution in the chosen law.
+
+    Raised for a Painleve-type jam in Routh's law (the normal velocity cannot reach zero
+    while sliding), for Kane & Levinson or Smith when no slip direction is consistent,
+    and when an iteration fails to converge (``mode_code`` says which).
+    """
+
+    def __init__(self, message, mode_code=None):
+        super().__init__(message)
+        self.mode_code = mode_code
+
+
+class SimulationError(RuntimeError):
+    """A simulation cannot continue: non-finite state, a missed event, an unsupported scene."""

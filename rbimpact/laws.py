@@ -1,0 +1,364 @@
+"""The collision laws' Python front end: a registry, parameter validation, results.
+
+The Python layer validates; the kernels in ``rbimpact.kernels`` compute. Conventions
+(DESIGN §3): contact-space vectors are normal first, ``v`` is the velocity of A's contact
+point minus B's (``v_N < 0`` approaches), ``P`` is the impulse on A, ``W`` the symmetric
+positive definite Delassus matrix (1/kg), ``v_f = v + W P``, and
+``dE = P . (v + v_f) / 2`` is the exact kinetic energy change (J).
+
+Laws are registered by name in ``LAWS`` (swappable, pooltool-style); kernels are imported
+on first use, so constructing a ``Law`` compiles nothing.
+"""
+from dataclasses import dataclass
+from importlib import import_module
+from types import MappingProxyType
+
+import numpy as np
+
+from .errors import NoSolutionError
+
+# Relative tolerance on ``dE`` for flagging energy creation: a gain is reported when
+# dE > ENERGY_GAIN_RTOL * sum_k |P_k| (|v_k| + |v_f,k|) / 2, i.e. beyond the round-off
+# of the dot product that defines dE (about 1e-16 of that scale).
+ENERGY_GAIN_RTOL = 1e-12
+# Relative asymmetry of W accepted as round-off: |W - W^T| <= SYMMETRY_RTOL * max|W|.
+SYMMETRY_RTOL = 1e-12
+
+# Mode codes: see rbimpact/kernels/common.py (kept in sync there).
+MODE_SEPARATING = 0
+MODE_STICK = 1
+MODE_SLIP = 2
+MODE_SLIP_STICK = 3
+MODE_SLIP_REVERSE = 4
+MODE_NO_SOLUTION = -1
+MODE_NOT_CONVERGED = -2
+
+#: int mode code -> (final mode name, phase sequence)
+MODE_NAMES = MappingProxyType({
+    MODE_SEPARATING: ("separating", ()),
+    MODE_STICK: ("stick", ("stick",)),
+    MODE_SLIP: ("slip", ("slip",)),
+    MODE_SLIP_STICK: ("stick", ("slip", "stick")),
+    MODE_SLIP_REVERSE: ("slip", ("slip", "reverse")),
+    MODE_NO_SOLUTION: ("no_solution", ()),
+    MODE_NOT_CONVERGED: ("not_converged", ()),
+})
+
+RESTITUTION_KINDS = ("energetic", "poisson", "newton")
+
+# Parameter slots of Law.params (rbimpact/kernels/common.py: P_E, P_MU, P_ET, P_REST, P_TOL).
+_SLOT = {"e": 0, "mu": 1, "e_t": 2, "restitution": 3, "tol": 4}
+N_PARAMS = 5
+
+
+@dataclass(frozen=True)
+class _Param:
+    lo: float
+    hi: float
+    default: object  # None: required
+    unit: str = "dimensionless"
+
+
+_E01 = _Param(0.0, 1.0, None)
+_E11 = _Param(-1.0, 1.0, None)
+_MU = _Param(0.0, np.inf, 0.0)
+_ET = _Param(-1.0, 1.0, 0.0)
+_TOL = _Param(1e-14, 1e-1, 1e-10)
+
+
+@dataclass(frozen=True)
+class LawSpec:
+    """A registered law: its kernel module, integer id and parameter ranges."""
+
+    name: str
+    law_id: int
+    module: str
+    params: dict
+    doc: str
+
+    def may_create_energy(self, values):
+        """True when the law, with these parameters, may create kinetic energy (DESIGN §4)."""
+        if self.name in ("kane_levinson", "brach"):
+            return True
+        if self.name == "routh":
+            return values["restitution"] == "newton"
+        return False
+
+
+LAWS = {
+    "kane_levinson": LawSpec(
+        "kane_levinson", 0, "kane_levinson", {"e": _E01, "mu": _MU},
+        "Newton restitution + Coulomb friction along the final slip (Kane & Levinson 1985)"),
+    "brach": LawSpec(
+        "brach", 1, "brach", {"e": _E11, "mu": _MU, "e_t": _ET},
+        "impulse ratio law (Brach 1991); e < 0 is perforation"),
+    "smith": LawSpec(
+        "smith", 2, "smith", {"e": _E01, "mu": _MU},
+        "friction weighted over initial and final slip (Smith 1991)"),
+    "routh": LawSpec(
+        "routh", 3, "routh",
+        {"e": _E01, "mu": _MU, "restitution": _Param(np.nan, np.nan, "energetic"), "tol": _TOL},
+        "integration in normal-impulse space (Routh 1897; Stronge 1991)"),
+    "chatterjee_ruina": LawSpec(
+        "chatterjee_ruina", 4, "chatterjee_ruina", {"e": _E01, "mu": _MU, "e_t": _ET},
+        "two-parameter law with a friction cone (Chatterjee & Ruina 1998)"),
+}
+
+
+def _check_param(law, key, value, spec):
+    if key == "restitution":
+        if value not in RESTITUTION_KINDS:
+            raise ValueError(f"law {law!r}: restitution must be one of {RESTITUTION_KINDS}, "
+                             f"got {value!r}")
+        return RESTITUTION_KINDS.index(value)
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"law {law!r}: parameter {key!r} must be a real number, "
+                         f"got {value!r}") from None
+    if not (spec.lo <= x <= spec.hi) or np.isnan(x) or (x == np.inf):
+        hi = "inf)" if spec.hi == np.inf else f"{spec.hi:g}]"
+        raise ValueError(f"law {law!r}: parameter {key!r} must be finite and in "
+                         f"[{spec.lo:g}, {hi}, got {value!r}")
+    return x
+
+
+def _law_spec(name):
+    try:
+        return LAWS[name]
+    except KeyError:
+        raise ValueError(f"unknown law {name!r}; known laws: {', '.join(LAWS)}") from None
+
+
+@dataclass(frozen=True)
+class Impact:
+    """The outcome of one impact (all vectors normal first, contact space).
+
+    ``P`` impulse on A (N s); ``v_f`` final relative velocity (m/s); ``mode`` the final
+    mode name ("separating", "stick" or "slip"); ``phases`` the phase sequence (Routh:
+    e.g. ``("slip", "stick")``); ``dE`` kinetic energy change (J, negative = dissipated);
+    ``energy_gain`` True when the law created kinetic energy beyond round-off;
+    ``mode_code`` the kernel's integer code.
+    """
+
+    P: np.ndarray
+    v_f: np.ndarray
+    mode: str
+    phases: tuple
+    dE: float
+    energy_gain: bool
+    mode_code: int
+
+
+@dataclass(frozen=True)
+class BatchImpact:
+    """Outcomes of n impacts: arrays ``P``, ``v_f`` (n, d), ``mode`` (n,) int codes
+    (``MODE_NAMES`` maps them to names), ``dE`` (n,) J and ``energy_gain`` (n,) bool."""
+
+    P: np.ndarray
+    v_f: np.ndarray
+    mode: np.ndarray
+    dE: np.ndarray
+    energy_gain: np.ndarray
+
+    @property
+    def mode_names(self):
+        """Final mode name of every contact (list of str)."""
+        return [MODE_NAMES[int(m)][0] for m in self.mode]
+
+
+def _energy_gain(P, v, v_f, dE):
+    scale = 0.5 * np.sum(np.abs(P) * (np.abs(v) + np.abs(v_f)), axis=-1)
+    return dE > ENERGY_GAIN_RTOL * scale
+
+
+def _check_contact(v, W):
+    """Validate one contact; return float64 copies with W exactly symmetrised."""
+    v = np.array(v, dtype=np.float64)
+    W = np.array(W, dtype=np.float64)
+    if v.ndim != 1 or v.shape[0] not in (2, 3):
+        raise ValueError(f"v must have length 2 (2D) or 3 (3D), normal first; got shape {v.shape}")
+    d = v.shape[0]
+    if W.shape != (d, d):
+        raise ValueError(f"W must have shape ({d}, {d}) to match v; got {W.shape}")
+    _check_W_values(v[None], W[None])
+    return v, 0.5 * (W + W.T)
+
+
+def _check_W_values(v, W):
+    bad = ~np.isfinite(v).all(axis=-1)
+    if bad.any():
+        raise ValueError(f"v must be finite; contact {int(np.argmax(bad))} has {v[bad][0]}")
+    bad = ~np.isfinite(W).all(axis=(-1, -2))
+    if bad.any():
+        raise ValueError(f"W must be finite; contact {int(np.argmax(bad))} is not")
+    WT = np.swapaxes(W, -1, -2)
+    asym = np.abs(W - WT).max(axis=(-1, -2))
+    bad = asym > SYMMETRY_RTOL * np.abs(W).max(axis=(-1, -2))
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"W must be symmetric (|W - W^T| <= {SYMMETRY_RTOL:g} max|W|); "
+                         f"contact {i} has asymmetry {asym[i]:.3g}")
+    lam = np.linalg.eigvalsh(0.5 * (W + WT))
+    bad = ~(lam[..., 0] > 0.0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"W must be positive definite; contact {i} has smallest "
+                         f"eigenvalue {lam[i, 0]:.3g}")
+
+
+class Law:
+    """A collision law with its parameters, e.g. ``Law("routh", e=0.5, mu=0.3)``.
+
+    Parameters (DESIGN §4; all dimensionless):
+
+    - ``e``: normal restitution, required; [0, 1] (Brach: [-1, 1], negative = perforation).
+    - ``mu``: Coulomb friction coefficient, [0, inf), default 0.
+    - ``e_t``: tangential restitution (Brach, Chatterjee & Ruina), [-1, 1], default 0.
+    - ``restitution`` (Routh): "energetic" (Stronge, default), "poisson" or "newton".
+    - ``tol`` (Routh 3D): relative integration tolerance, [1e-14, 0.1], default 1e-10.
+
+    Attributes for compiled callers: ``law_id`` (int), ``params`` (float64[5], layout in
+    ``rbimpact.kernels.common``), ``kernel`` (njit ``mode = kernel(v, W, params, P_out)``,
+    2D or 3D by ``len(v)``), ``kernel_2d`` and ``kernel_3d``.
+    """
+
+    def __init__(self, name, **params):
+        spec = _law_spec(name)
+        unknown = set(params) - set(spec.params)
+        if unknown:
+            raise ValueError(f"law {name!r} takes no parameter {sorted(unknown)[0]!r}; "
+                             f"its parameters are {', '.join(spec.params)}")
+        values, slots = {}, np.zeros(N_PARAMS)
+        slots[_SLOT["tol"]] = _TOL.default
+        for key, p in spec.params.items():
+            if key not in params and p.default is None:
+                raise ValueError(f"law {name!r}: parameter {key!r} is required "
+                                 f"(range [{p.lo:g}, {p.hi:g}])")
+            value = params.get(key, p.default)
+            slots[_SLOT[key]] = _check_param(name, key, value, p)
+            values[key] = value if key == "restitution" else float(value)
+        self.name = name
+        self.law_id = spec.law_id
+        self.params = slots
+        self.params.flags.writeable = False
+        self.params_dict = MappingProxyType(values)
+        self.may_create_energy = spec.may_create_energy(values)
+        self._spec = spec
+
+    def __repr__(self):
+        args = ", ".join(f"{k}={v!r}" for k, v in self.params_dict.items())
+        return f"Law({self.name!r}, {args})"
+
+    def __eq__(self, other):
+        return (isinstance(other, Law) and self.name == other.name
+                and dict(self.params_dict) == dict(other.params_dict))
+
+    def __hash__(self):
+        return hash((self.name, tuple(sorted(self.params_dict.items()))))
+
+    def _kernel(self, suffix):
+        module = import_module(f"rbimpact.kernels.{self._spec.module}")
+        return getattr(module, self._spec.module + suffix)
+
+    @property
+    def kernel(self):
+        """The law's njit kernel, 2D or 3D chosen by ``v.shape[0]``."""
+        return self._kernel("")
+
+    @property
+    def kernel_2d(self):
+        return self._kernel("_2d")
+
+    @property
+    def kernel_3d(self):
+        return self._kernel("_3d")
+
+    def resolve(self, v, W):
+        """Resolve one impact; returns an ``Impact``. Raises ``NoSolutionError`` when the
+        law has no solution for this contact, ``ValueError`` for bad input."""
+        v, W = _check_contact(v, W)
+        P = np.zeros_like(v)
+        kernel = self.kernel_2d if v.shape[0] == 2 else self.kernel_3d
+        code = int(kernel(v, W, self.params, P))
+        if code < 0:
+            raise NoSolutionError(self._failure(code, v, W), code)
+        v_f = v + W @ P
+        dE = float(0.5 * P @ (v + v_f))
+        mode, phases = MODE_NAMES[code]
+        return Impact(P, v_f, mode, phases, dE, bool(_energy_gain(P, v, v_f, dE)), code)
+
+    def _failure(self, code, v, W):
+        what = ("has no solution" if code == MODE_NO_SOLUTION
+                else "did not converge within its iteration limit")
+        return (f"law {self.name!r} {what} for v = {v.tolist()}, W = {W.tolist()} "
+                f"(params {dict(self.params_dict)})")
+
+    def resolve_batch(self, v, W, *, on_failure="raise", validate=True, **params):
+        """Resolve n contacts in one parallel kernel call.
+
+        ``v`` (n, d), ``W`` (n, d, d); keyword ``params`` override the law's parameters
+        with scalars or length-n arrays (same names and ranges). ``on_failure``:
+        "raise" (``NoSolutionError`` naming the first failed contact) or "flag" (failed
+        contacts keep ``P = 0``, ``v_f = v`` and a negative mode code). ``validate=False``
+        skips the O(n) input checks (finite, symmetric, positive definite).
+        """
+        if on_failure not in ("raise", "flag"):
+            raise ValueError(f"on_failure must be 'raise' or 'flag', got {on_failure!r}")
+        v = np.ascontiguousarray(v, dtype=np.float64)
+        W = np.ascontiguousarray(W, dtype=np.float64)
+        if v.ndim != 2 or v.shape[1] not in (2, 3):
+            raise ValueError(f"v must have shape (n, 2) or (n, 3); got {v.shape}")
+        n, d = v.shape
+        if W.shape != (n, d, d):
+            raise ValueError(f"W must have shape ({n}, {d}, {d}) to match v; got {W.shape}")
+        if validate:
+            _check_W_values(v, W)
+            W = np.ascontiguousarray(0.5 * (W + np.swapaxes(W, -1, -2)))
+        table = self._param_table(n, params)
+        from .kernels.batch import batch_2d, batch_3d
+        P = np.empty((n, d))
+        v_f = np.empty((n, d))
+        dE = np.empty(n)
+        mode = np.empty(n, dtype=np.int64)
+        (batch_2d if d == 2 else batch_3d)(self.law_id, v, W, table, P, v_f, dE, mode)
+        failed = mode < 0
+        if failed.any() and on_failure == "raise":
+            i = int(np.argmax(failed))
+            raise NoSolutionError(f"{int(failed.sum())} of {n} contacts failed; first: contact "
+                                  f"{i}: " + self._failure(int(mode[i]), v[i], W[i]), int(mode[i]))
+        return BatchImpact(P, v_f, mode, dE, _energy_gain(P, v, v_f, dE))
+
+    def _param_table(self, n, overrides):
+        spec = self._spec
+        unknown = set(overrides) - set(spec.params)
+        if unknown:
+            raise ValueError(f"law {self.name!r} takes no parameter {sorted(unknown)[0]!r}")
+        arrays = {k: np.asarray(x) for k, x in overrides.items() if np.ndim(x) > 0}
+        table = self.params.copy()
+        for key, x in overrides.items():
+            if key not in arrays:
+                table[_SLOT[key]] = _check_param(self.name, key, x, spec.params[key])
+        if not arrays:
+            return table[None, :]
+        table = np.repeat(table[None, :], n, axis=0)
+        for key, x in arrays.items():
+            if x.shape != (n,):
+                raise ValueError(f"parameter {key!r} must be a scalar or have shape ({n},); "
+                                 f"got {x.shape}")
+            if key == "restitution":
+                table[:, _SLOT[key]] = [_check_param(self.name, key, r, spec.params[key])
+                                        for r in x]
+                continue
+            p = spec.params[key]
+            x = x.astype(np.float64)
+            bad = ~((x >= p.lo) & (x <= p.hi) & np.isfinite(x))
+            if bad.any():
+                _check_param(self.name, key, x[np.argmax(bad)], p)
+            table[:, _SLOT[key]] = x
+        return table
+
+
+def resolve(name, v, W, **params):
+    """Resolve one impact with law ``name``: ``Law(name, **params).resolve(v, W)``."""
+    return Law(name, **params).resolve(v, W)
