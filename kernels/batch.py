@@ -5,6 +5,7 @@
 ``P_out`` and ``vf_out`` (n, d), ``dE_out`` (n,), ``mode_out`` (n,) int64.
 ``dE = P . (v + v_f) / 2`` is the exact kinetic energy change (J).
 """
+import numpy as np
 from numba import njit, prange
 
 from .dispatch import resolve_2d, resolve_3d
@@ -14,9 +15,9 @@ from .dispatch import resolve_2d, resolve_3d
 def batch_2d(law_id, v, W, params, P_out, vf_out, dE_out, mode_out):
     """Resolve n 2D contacts with law ``law_id`` (see module docstring)."""
     n = v.shape[0]
-    shared = params.shape[0] == 1
+    last = params.shape[0] - 1  # 0: one shared row; n - 1: a row per contact
     for i in prange(n):
-        row = 0 if shared else i
+        row = min(np.int64(i), last)  # prange indices are unsigned
         mode_out[i] = resolve_2d(law_id, v[i], W[i], params[row], P_out[i])
         p0 = P_out[i, 0]
         p1 = P_out[i, 1]
@@ -31,9 +32,9 @@ def batch_2d(law_id, v, W, params, P_out, vf_out, dE_out, mode_out):
 def batch_3d(law_id, v, W, params, P_out, vf_out, dE_out, mode_out):
     """Resolve n 3D contacts with law ``law_id`` (see module docstring)."""
     n = v.shape[0]
-    shared = params.shape[0] == 1
+    last = params.shape[0] - 1  # 0: one shared row; n - 1: a row per contact
     for i in prange(n):
-        row = 0 if shared else i
+        row = min(np.int64(i), last)  # prange indices are unsigned
         mode_out[i] = resolve_3d(law_id, v[i], W[i], params[row], P_out[i])
         dE = 0.0
         for a in range(3):

@@ -132,6 +132,90 @@ def bench_routh3d(repeat=7, n=2000):
     return rows
 
 
+def bench_overhead(repeat=7, n=20000):
+    """Per-call cost of one 2D impact: ``Law.resolve`` from Python, and ``Law.kernel`` called
+    from a user's njit loop (the way a user's own stepper would call it)."""
+    from numba import njit
+    from .laws import Law
+
+    v, W = random_contacts(n, 2, seed=1)
+    rows = []
+    for name, params in LAW_SETTINGS.items():
+        law = Law(name, **params)
+        kernel, table = law.kernel, law.params
+
+        @njit
+        def user_loop(v, W, P):
+            acc = 0
+            for i in range(v.shape[0]):
+                acc += kernel(v[i], W[i], table, P)
+            return acc
+
+        P = np.zeros(2)
+        t_njit = _median_time(lambda: user_loop(v, W, P), repeat)
+        m = 2000
+
+        def python_loop():
+            for i in range(m):
+                law.resolve(v[i], W[i])
+
+        t_py = _median_time(python_loop, max(3, repeat // 2))
+        rows.append({"item": name, "resolve_us": 1e6 * t_py / m,
+                     "njit_kernel_ns": 1e9 * t_njit / n, "ratio": (t_py / m) / (t_njit / n)})
+    return rows
+
+
+_COLD_SCRIPT = """
+import time, numpy as np
+t0 = time.perf_counter()
+import rbimpact
+t_import = time.perf_counter() - t0
+t0 = time.perf_counter()
+for name, p in {settings!r}.items():
+    rbimpact.Law(name, **p).resolve([-1.0, 1.0], [[2.5, -1.5], [-1.5, 2.5]])
+print(t_import, time.perf_counter() - t0)
+"""
+
+
+def bench_compile():
+    """Start-up: ``import rbimpact`` and the first 2D resolve of every law in a new process,
+    with an empty Numba cache (compilation) and then with the warm on-disk cache."""
+    import subprocess
+    import sys
+    import tempfile
+    import os
+
+    rows = []
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        code = _COLD_SCRIPT.format(settings=LAW_SETTINGS)
+        for label in ("empty cache", "warm cache"):
+            t0 = time.perf_counter()
+            out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                 capture_output=True, text=True).stdout.split()
+            wall = time.perf_counter() - t0
+            rows.append({"item": f"first resolve of the 5 laws, {label}", "import_s": float(out[0]),
+                         "first_calls_s": float(out[1]), "process_wall_s": wall})
+    return rows
+
+
+def _print_overhead(rows):
+    print("Per-call cost of one 2D impact (median): Law.resolve from Python against")
+    print("Law.kernel called from a user's njit loop")
+    print(f"{'law':<20}{'Law.resolve us':>16}{'njit kernel ns':>16}{'ratio':>10}")
+    for r in rows:
+        print(f"{r['item']:<20}{r['resolve_us']:>16.2f}{r['njit_kernel_ns']:>16.1f}"
+              f"{r['ratio']:>10.0f}")
+
+
+def _print_compile(rows):
+    print("Start-up in a new process (s)")
+    print(f"{'what':<44}{'import':>9}{'first calls':>13}{'process':>10}")
+    for r in rows:
+        print(f"{r['item']:<44}{r['import_s']:>9.3f}{r['first_calls_s']:>13.3f}"
+              f"{r['process_wall_s']:>10.2f}")
+
+
 def _print_laws(rows):
     print("Batched law throughput (median of repeats; ratios measured in this run)")
     print(f"{'item':<34}{'threads':>8}{'M contacts/s':>14}{'x NumPy KL2D':>14}{'of copy':>10}")
@@ -156,11 +240,14 @@ def main(what="laws", repeat=7, json_path=None):
     if what in ("laws", "all"):
         out["laws"] = bench_laws(repeat=repeat)
         _print_laws(out["laws"])
-    if what in ("routh3d", "all"):
-        if out:
-            print()
-        out["routh3d"] = bench_routh3d(repeat=repeat)
-        _print_routh3d(out["routh3d"])
+    for key, run, show in (("overhead", bench_overhead, _print_overhead),
+                           ("routh3d", bench_routh3d, _print_routh3d),
+                           ("compile", bench_compile, _print_compile)):
+        if what in (key, "all") or (what == "laws" and key == "overhead"):
+            if out:
+                print()
+            out[key] = run() if key == "compile" else run(repeat=repeat)
+            show(out[key])
     if json_path:
         with open(json_path, "w") as fh:
             json.dump(out, fh, indent=2)

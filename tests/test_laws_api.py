@@ -75,7 +75,8 @@ def test_case_1b_energy_gain_is_reported():
 
 
 def test_routh_phases():
-    assert resolve("routh", [-1, 0], ROD, e=0.5, mu=0.8).phases == ("slip", "stick")
+    assert resolve("routh", [-1, 0], ROD, e=0.5, mu=0.8).phases == ("stick",)
+    assert resolve("routh", [-1, 0.1], ROD, e=0.5, mu=0.8).phases == ("slip", "stick")
     assert resolve("routh", [-1, 1], SPHERE2, e=0.5, mu=0.5).phases == ("slip", "stick")
     assert resolve("routh", [-1, 1], SPHERE2, e=0.5, mu=0.1).phases == ("slip",)
     sep = resolve("routh", [0.5, 1], ROD, e=0.5, mu=0.3)
@@ -221,7 +222,8 @@ def test_batch_equals_single(name, params, d):
 def test_batch_raises_on_failure_by_default():
     v = np.array([[-1.0, 1.0]])
     W = ROD[None]
-    assert Law("routh", e=0.5, mu=0.3).resolve_batch(v, W).mode[0] == 2
+    batch = Law("routh", e=0.5, mu=0.3).resolve_batch(v, W)
+    assert batch.mode[0] == 4 and batch.mode_names == ["slip"]  # slip, then reversed slip
     with pytest.raises(ValueError, match="shape"):
         Law("routh", e=0.5).resolve_batch(v, W, mu=np.ones(3))
     with pytest.raises(ValueError, match="'mu'"):
@@ -265,14 +267,21 @@ def test_bad_contacts(v, W, match):
 
 
 def test_painleve_jam_raises_no_solution():
-    # a rod whose normal slope W_NN - mu W_NT sign(v_T) is negative while sliding
-    W = np.array([[1.0, 1.9], [1.9, 4.0]])
-    law = Law("routh", e=0.5, mu=1.0)
-    with pytest.raises(NoSolutionError) as info:
-        law.resolve([-1.0, -1.0], W)
+    """A 3D contact with strong coupling: while sliding, the normal slope W_NN - mu W_NT.u
+    turns negative before compression ends, so Routh's law has no solution; with
+    mu = 3 it does. (In 2D a positive definite W never jams a single contact.)"""
+    W = np.array([[0.178, -0.179, -0.096], [-0.179, 0.217, 0.084], [-0.096, 0.084, 0.062]])
+    v = np.array([-0.5, 1.0, -0.4])
+    assert Law("routh", e=0.5, mu=3.0).resolve(v, W).P[0] > 0
+    law = Law("routh", e=0.5, mu=7.5)
+    with pytest.raises(NoSolutionError, match="no solution") as info:
+        law.resolve(v, W)
     assert info.value.mode_code == -1
-    flagged = law.resolve_batch(np.array([[-1.0, -1.0]]), W[None], on_failure="flag")
+    flagged = law.resolve_batch(v[None], W[None], on_failure="flag")
     assert flagged.mode[0] == -1 and not flagged.P.any()
+    np.testing.assert_array_equal(flagged.v_f[0], v)
+    with pytest.raises(NoSolutionError, match="1 of 1 contacts failed"):
+        law.resolve_batch(v[None], W[None])
 
 
 # ---- use from a user's njit code ----------------------------------------------------------
