@@ -17,7 +17,7 @@ _LAZY = {
     "Disk": "shapes", "Box": "shapes", "Polygon": "shapes", "Rod": "shapes",
     "Ellipse": "shapes",
     "Scene2D": "scene", "Simulation": "simulation", "Result": "result",
-    "impulse_space": "impulse_space", "ImpulseSpace": "impulse_space",
+    "impulse_space": "impulse_region", "ImpulseSpace": "impulse_region",
 }
 
 __all__ = ["NoSolutionError", "SimulationError", *_LAZY]

@@ -69,7 +69,7 @@ def _cmd_bench(args):
 
 
 def _cmd_impulse_space(args):
-    from .impulse_space import impulse_space_report
+    from .impulse_region import impulse_space_report
     v, W = _contact(args)
     mu = CASE_1B["mu"] if args.mu is None else args.mu
     print(impulse_space_report(v, W, mu, n=args.n, plot=args.plot))
