@@ -76,6 +76,14 @@ def _cmd_impulse_space(args):
     return 0
 
 
+def _cmd_crosscheck(args):
+    from .crosscheck import crosscheck_report
+    text, _ = crosscheck_report(args.name, dts=args.dt, repeat=args.repeat, out=args.out,
+                                plot=args.plot, law=args.law, settings=args.set)
+    print(text)
+    return 0
+
+
 def _cmd_list(args):
     from .run import list_text
     print(list_text())
@@ -133,6 +141,18 @@ def _parser():
     q.add_argument("--out", help="write the events to CSV (or JSON if it ends in .json)")
     q.add_argument("--plot", help="write a plot to this PNG file (needs the plot extra)")
     q.set_defaults(func=_cmd_run)
+    q = sub.add_parser("crosscheck",
+                       help="cross-check a scenario against pymunk: error against run time")
+    q.add_argument("name")
+    q.add_argument("--dt", type=float, nargs="+", default=[1e-2, 1e-3, 1e-4, 1e-5],
+                   help="pymunk time steps (s)")
+    q.add_argument("--repeat", type=int, default=3, help="repeats per timing (median)")
+    q.add_argument("--out", help="write the table to this CSV file")
+    q.add_argument("--plot", help="write the work-precision plot to this PNG file")
+    q.add_argument("--law", help="collision law (default kane_levinson, pymunk's own)")
+    q.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="scenario parameter (repeatable)")
+    q.set_defaults(func=_cmd_crosscheck)
     return p
 
 
@@ -140,6 +160,10 @@ def main(argv=None):
     args = _parser().parse_args(argv)
     try:
         return args.func(args)
+    except ImportError as exc:
+        print(f"rbimpact {args.command}: error: {exc} (pip install -e '.[test]' or "
+              f"'.[plot]' for the optional pieces)", file=sys.stderr)
+        return 2
     except ValueError as exc:
         print(f"rbimpact {args.command}: error: {exc}", file=sys.stderr)
         return 2

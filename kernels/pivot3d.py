@@ -1,0 +1,815 @@
+"""Persistent point and edge contact in 3D: a body pivoting, rolling or sliding on one or
+two of its features on a plane, integrated with error control.
+
+When impacts accumulate at a corner or an edge of a box, or at a cap of a capsule (the
+impact sequence has a finite accumulation point, after which the contact persists), the
+body moves with one or two features held on a plane: a constrained rigid-body motion with
+no closed form. This module integrates it exactly in the sense of the other integrated
+motions of rbimpact: to a stated tolerance.
+
+Model (Newton-Euler with unilateral contacts and Coulomb friction; e.g. Pfeiffer & Glocker,
+*Multibody Dynamics with Unilateral Contacts*, 1996, ch. 6). For the body (mass ``m``,
+world inertia ``I_w``) with contact forces ``f_k`` at arms ``r_k`` (contact point minus
+centre of mass; a feature of radius ``rad`` touches at its centre minus ``rad n``):
+``m a = m g + sum f_k``, ``I_w al = sum r_k x f_k - w x I_w w``. Each contact ``k`` is
+
+* **sliding** (slip velocity ``c_k`` of the material contact point, tangential, non-zero):
+  ``f_k = lam_k (n - mu u_k)``, ``u_k = c_k/|c_k|``, and the normal acceleration of the
+  contact is zero: ``n . (a + al x r_k + w x (w x s_k)) = 0`` (``s_k`` the feature centre's
+  arm). A non-positive coefficient of ``lam_k`` is the Painleve paradox: error.
+* **sticking** (``c_k = 0``): the whole contact acceleration ``a + al x r_k + w x (w x s_k)``
+  is zero, ``f_k`` free. Two sticking contacts on one body leave one internal force
+  ``s d`` (``d`` along the line through them) undetermined; the motion is not: sticking
+  holds while some ``s`` puts both forces in their friction cones.
+
+Events (each a function that must stay positive; the phase ends at its first root, located
+on the integrator's dense output): a normal force ``lam_k`` reaching 0 (the contact lifts
+off); a sticking force reaching its friction cone (slip starts opposite to the friction
+force at that instant, i.e. continuously); the slip speed of a sliding contact falling to
+``slip_eps`` (m/s: it then sticks, its remaining slip removed by a tangential impulse of
+at most ``m slip_eps``, or slides on when sticking is infeasible); the gap of any other
+feature to any plane reaching 0 (an impact).
+
+Integration: the state ``y = (x, q, v, w)`` (13 numbers, world angular velocity) by the
+Dormand-Prince RK5(4) pair with its 4th-order dense output (as ``flight3d``), steps
+accepted when every component of the error estimate is within ``tol`` times its scale
+(``L`` for x, 1 for q, ``V`` for v, ``V/L`` for w, with ``L`` the body's size and
+``V = |v| + |w| L + sqrt(|g| L)``), and at most ``MAX_ANGLE`` (rad) of rotation per step so
+that event functions, which change with the rotation, are sampled finely enough to see
+every sign change. Unlike conservative advancement in flight, this cannot rule out two
+roots of an event function inside one step: a stated limitation.
+"""
+import math
+
+from numba import njit
+
+from .flight3d import pose_at, qmul, qnormalize, qrot
+
+# ---- contact parameters cp (float64[N_CP]) ----------------------------------------------
+CP_M = 0        # mass (kg)
+CP_I = 1        # 1:4 principal moments (kg m^2)
+CP_G = 4        # 4:7 gravity (m/s^2)
+CP_N = 7        # 7:10 plane normal
+CP_D = 10       # plane offset (m)
+CP_MU = 11      # friction coefficient
+CP_K = 12       # number of contacts (1 or 2)
+CP_RAD = 13     # feature radius (m)
+CP_P1 = 14      # 14:17 body-frame feature centre of contact 1 (m)
+CP_P2 = 17      # 17:20 of contact 2
+CP_S1 = 20      # status of contact 1: 0 sliding, 1 sticking
+CP_S2 = 21
+CP_U1 = 22      # 22:25 slip direction used while |c_1| is below SLIP_DIR_FRAC slip_eps
+CP_U2 = 25
+CP_EPS = 28     # slip_eps (m/s)
+CP_PLANE = 29   # plane index (float)
+CP_F1 = 30      # feature row of contact 1 (float)
+CP_F2 = 31      # feature row of contact 2 (float)
+CP_L = 32       # body size L (m): bounding radius
+N_CP = 33
+
+# ---- force workspace fw (float64[N_FW]) --------------------------------------------------
+FW_R = 0        # 0:9 rotation matrix (row-major)
+FW_II = 9       # 9:18 world inverse inertia
+FW_R1 = 18      # contact arms r_k
+FW_R2 = 21
+FW_S1 = 24      # feature-centre arms s_k
+FW_S2 = 27
+FW_F1 = 30      # contact forces f_k (N)
+FW_F2 = 33
+FW_LAM = 36     # 36:38 normal forces lam_k (N)
+FW_C1 = 38      # slip velocities c_k (m/s, tangential)
+FW_C2 = 41
+FW_A = 44       # 44:47 acceleration (m/s^2)
+FW_AL = 47      # 47:50 angular acceleration (rad/s^2)
+FW_MAT = 50     # 50:86 6x6 system
+FW_RHS = 86     # 86:92
+FW_G = 92       # 92:101 a 3x3 block
+FW_B1 = 101     # free contact accelerations b_k
+FW_B2 = 104
+FW_MARG = 107   # 107:109 stick margins per contact (N): mu lam - |f_T| (or the two-stick
+                #   interval length, in N, stored in both)
+FW_SSTAR = 109  # internal force chosen for two sticking contacts (N)
+N_FW = 112
+
+PV_OK = 0
+PV_PAINLEVE = 1     # a sliding contact's normal force coefficient is <= 0
+PV_SINGULAR = 2     # singular force system
+
+# ---- integrator workspace pw (float64[N_PW]) ---------------------------------------------
+NY = 13
+PW_TOL = 0
+PW_SC = 1           # 1:14 error scales per component
+PW_S0 = 14
+PW_H = 15
+PW_HNEXT = 16
+PW_HMAX = 17
+PW_NSTEP = 18
+PW_MAXSTEP = 19
+PW_YSTART = 20      # 20:33
+PW_Y = 33           # 33:46
+PW_Y1 = 46          # 46:59
+PW_YT = 59          # 59:72
+PW_K = 72           # 72:163 seven stages
+PW_RC = 163         # 163:228 dense output, 5 x 13
+N_PW = 228
+
+PI_OK = 0
+PI_TOO_MANY_STEPS = 1
+PI_FORCES = 2       # the force system failed (Painleve or singular)
+
+MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
+SLIP_DIR_FRAC = 1.0   # below SLIP_DIR_FRAC * slip_eps the stored slip direction is used
+GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimensionless)
+EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
+
+# event kinds
+PE_NONE = 0
+PE_LIFT = 1         # index: contact 0 or 1
+PE_SLIP = 2         # a sticking contact reaches its cone (index: contact, or 2 = both)
+PE_STOP = 3         # a sliding contact's slip falls to slip_eps (index: contact)
+PE_GAP = 4          # another feature reaches a plane (index: plane * 1000 + feature)
+
+# Dormand-Prince (same tableau as flight3d)
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = (9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0,
+                           -5103.0 / 18656.0)
+A71, A73, A74, A75, A76 = (35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0,
+                           11.0 / 84.0)
+E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0,
+                          -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0)
+D1, D3, D4, D5, D6, D7 = (-12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0,
+                          -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+                          -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0)
+
+
+# ------------------------------------------------------------------ linear algebra
+
+
+@njit(cache=True)
+def _solve(fw, n):
+    """Solve fw[FW_MAT] (n x n, row-major, stride 6) x = fw[FW_RHS:FW_RHS+n] in place
+    (Gaussian elimination, partial pivoting). Returns False if singular."""
+    M = FW_MAT
+    B = FW_RHS
+    scale = 0.0
+    for i in range(n):
+        for j in range(n):
+            scale = max(scale, abs(fw[M + 6 * i + j]))
+    if not scale > 0.0:
+        return False
+    for col in range(n):
+        piv = col
+        best = abs(fw[M + 6 * col + col])
+        for r in range(col + 1, n):
+            v = abs(fw[M + 6 * r + col])
+            if v > best:
+                best = v
+                piv = r
+        if not best > 1e-13 * scale:
+            return False
+        if piv != col:
+            for j in range(n):
+                tmp = fw[M + 6 * col + j]
+                fw[M + 6 * col + j] = fw[M + 6 * piv + j]
+                fw[M + 6 * piv + j] = tmp
+            tmp = fw[B + col]
+            fw[B + col] = fw[B + piv]
+            fw[B + piv] = tmp
+        d = fw[M + 6 * col + col]
+        for r in range(col + 1, n):
+            f = fw[M + 6 * r + col] / d
+            if f != 0.0:
+                for j in range(col, n):
+                    fw[M + 6 * r + j] -= f * fw[M + 6 * col + j]
+                fw[B + r] -= f * fw[B + col]
+    for i in range(n - 1, -1, -1):
+        s = fw[B + i]
+        for j in range(i + 1, n):
+            s -= fw[M + 6 * i + j] * fw[B + j]
+        fw[B + i] = s / fw[M + 6 * i + i]
+    return True
+
+
+@njit(cache=True)
+def _G(fw, ra, rb, m):
+    """fw[FW_G] = I/m - [r_a]x Iinv [r_b]x: acceleration of contact a per unit force at b."""
+    Ii = FW_II
+    ax, ay, az = fw[ra], fw[ra + 1], fw[ra + 2]
+    bx, by, bz = fw[rb], fw[rb + 1], fw[rb + 2]
+    for j in range(3):
+        # column j: f = e_j ; t = r_b x e_j
+        if j == 0:
+            tx, ty, tz = 0.0, bz, -by
+        elif j == 1:
+            tx, ty, tz = -bz, 0.0, bx
+        else:
+            tx, ty, tz = by, -bx, 0.0
+        ux = fw[Ii] * tx + fw[Ii + 1] * ty + fw[Ii + 2] * tz
+        uy = fw[Ii + 3] * tx + fw[Ii + 4] * ty + fw[Ii + 5] * tz
+        uz = fw[Ii + 6] * tx + fw[Ii + 7] * ty + fw[Ii + 8] * tz
+        # - r_a x u = u x r_a
+        fw[FW_G + j] = (uy * az - uz * ay) + (1.0 / m if j == 0 else 0.0)
+        fw[FW_G + 3 + j] = (uz * ax - ux * az) + (1.0 / m if j == 1 else 0.0)
+        fw[FW_G + 6 + j] = (ux * ay - uy * ax) + (1.0 / m if j == 2 else 0.0)
+
+
+@njit(cache=True)
+def _slipdir(fw, cp, k):
+    """Unit slip direction of sliding contact k: c_k/|c_k|, or the stored direction when
+    the slip is (nearly) zero."""
+    co = FW_C1 + 3 * k
+    cx, cy, cz = fw[co], fw[co + 1], fw[co + 2]
+    c = math.sqrt(cx * cx + cy * cy + cz * cz)
+    if c > SLIP_DIR_FRAC * cp[CP_EPS]:
+        return cx / c, cy / c, cz / c
+    uo = CP_U1 + 3 * k
+    return cp[uo], cp[uo + 1], cp[uo + 2]
+
+
+# ------------------------------------------------------------------ forces
+
+
+@njit(cache=True)
+def pivot_forces(y, cp, fw):
+    """Contact forces, accelerations, slip velocities and margins at state ``y`` (13) into
+    ``fw``. Returns PV_OK, PV_PAINLEVE or PV_SINGULAR."""
+    m = cp[CP_M]
+    I1, I2, I3 = cp[CP_I], cp[CP_I + 1], cp[CP_I + 2]
+    nx, ny, nz = cp[CP_N], cp[CP_N + 1], cp[CP_N + 2]
+    gx, gy, gz = cp[CP_G], cp[CP_G + 1], cp[CP_G + 2]
+    K = int(cp[CP_K])
+    rad = cp[CP_RAD]
+    mu = cp[CP_MU]
+    w, x, yq, z = y[3], y[4], y[5], y[6]
+    R = FW_R
+    fw[R] = 1.0 - 2.0 * (yq * yq + z * z)
+    fw[R + 1] = 2.0 * (x * yq - w * z)
+    fw[R + 2] = 2.0 * (x * z + w * yq)
+    fw[R + 3] = 2.0 * (x * yq + w * z)
+    fw[R + 4] = 1.0 - 2.0 * (x * x + z * z)
+    fw[R + 5] = 2.0 * (yq * z - w * x)
+    fw[R + 6] = 2.0 * (x * z - w * yq)
+    fw[R + 7] = 2.0 * (yq * z + w * x)
+    fw[R + 8] = 1.0 - 2.0 * (x * x + yq * yq)
+    for a in range(3):
+        for b in range(3):
+            fw[FW_II + 3 * a + b] = (fw[R + 3 * a] * fw[R + 3 * b] / I1
+                                     + fw[R + 3 * a + 1] * fw[R + 3 * b + 1] / I2
+                                     + fw[R + 3 * a + 2] * fw[R + 3 * b + 2] / I3)
+    wx, wy, wz = y[10], y[11], y[12]
+    # gyroscopic: al0 = -Iinv (w x I_w w); I_w w = R diag(I) R^T w
+    bx = fw[R] * wx + fw[R + 3] * wy + fw[R + 6] * wz
+    by = fw[R + 1] * wx + fw[R + 4] * wy + fw[R + 7] * wz
+    bz = fw[R + 2] * wx + fw[R + 5] * wy + fw[R + 8] * wz
+    Lx = fw[R] * I1 * bx + fw[R + 1] * I2 * by + fw[R + 2] * I3 * bz
+    Ly = fw[R + 3] * I1 * bx + fw[R + 4] * I2 * by + fw[R + 5] * I3 * bz
+    Lz = fw[R + 6] * I1 * bx + fw[R + 7] * I2 * by + fw[R + 8] * I3 * bz
+    tx = -(wy * Lz - wz * Ly)
+    ty = -(wz * Lx - wx * Lz)
+    tz = -(wx * Ly - wy * Lx)
+    Ii = FW_II
+    a0x = fw[Ii] * tx + fw[Ii + 1] * ty + fw[Ii + 2] * tz
+    a0y = fw[Ii + 3] * tx + fw[Ii + 4] * ty + fw[Ii + 5] * tz
+    a0z = fw[Ii + 6] * tx + fw[Ii + 7] * ty + fw[Ii + 8] * tz
+    for k in range(K):
+        po = CP_P1 + 3 * k
+        px, py, pz = cp[po], cp[po + 1], cp[po + 2]
+        sx = fw[R] * px + fw[R + 1] * py + fw[R + 2] * pz
+        sy = fw[R + 3] * px + fw[R + 4] * py + fw[R + 5] * pz
+        sz = fw[R + 6] * px + fw[R + 7] * py + fw[R + 8] * pz
+        so = FW_S1 + 3 * k
+        ro = FW_R1 + 3 * k
+        fw[so] = sx
+        fw[so + 1] = sy
+        fw[so + 2] = sz
+        rx = sx - rad * nx
+        ry = sy - rad * ny
+        rz = sz - rad * nz
+        fw[ro] = rx
+        fw[ro + 1] = ry
+        fw[ro + 2] = rz
+        # slip velocity (tangential part of v + w x r)
+        ux = y[7] + wy * rz - wz * ry
+        uy = y[8] + wz * rx - wx * rz
+        uz = y[9] + wx * ry - wy * rx
+        un = ux * nx + uy * ny + uz * nz
+        co = FW_C1 + 3 * k
+        fw[co] = ux - un * nx
+        fw[co + 1] = uy - un * ny
+        fw[co + 2] = uz - un * nz
+        # free acceleration b = g + al0 x r + w x (w x s)
+        ws = wx * sx + wy * sy + wz * sz
+        w2 = wx * wx + wy * wy + wz * wz
+        bo = FW_B1 + 3 * k
+        fw[bo] = gx + (a0y * rz - a0z * ry) + wx * ws - sx * w2
+        fw[bo + 1] = gy + (a0z * rx - a0x * rz) + wy * ws - sy * w2
+        fw[bo + 2] = gz + (a0x * ry - a0y * rx) + wz * ws - sz * w2
+    st1 = int(cp[CP_S1])
+    st2 = int(cp[CP_S2]) if K == 2 else 0
+    # unknown layout: contact k sliding: 1 unknown lam_k; sticking: 3 unknowns f_k
+    n1 = 3 if st1 == 1 else 1
+    n2 = 0 if K == 1 else (3 if st2 == 1 else 1)
+    ntot = n1 + n2
+    for i in range(36):
+        fw[FW_MAT + i] = 0.0
+    # columns: effect of each unknown on each contact acceleration
+    for kc in range(K):          # the contact whose force the unknowns describe
+        stc = st1 if kc == 0 else st2
+        col0 = 0 if kc == 0 else n1
+        ec0 = 0.0
+        ec1 = 0.0
+        ec2 = 0.0
+        if stc == 0:
+            u0, u1, u2 = _slipdir(fw, cp, kc)
+            ec0 = nx - mu * u0
+            ec1 = ny - mu * u1
+            ec2 = nz - mu * u2
+        for kr in range(K):      # the contact whose acceleration the rows constrain
+            str_ = st1 if kr == 0 else st2
+            row0 = 0 if kr == 0 else n1
+            _G(fw, FW_R1 + 3 * kr, FW_R1 + 3 * kc, m)
+            # block (3 x 3) G_rc; reduce columns (sliding: times e) and rows (sliding: n.)
+            for a in range(3 if str_ == 1 else 1):
+                for b in range(3 if stc == 1 else 1):
+                    if str_ == 1:
+                        ga0 = fw[FW_G + 3 * a]
+                        ga1 = fw[FW_G + 3 * a + 1]
+                        ga2 = fw[FW_G + 3 * a + 2]
+                    else:
+                        ga0 = nx * fw[FW_G] + ny * fw[FW_G + 3] + nz * fw[FW_G + 6]
+                        ga1 = nx * fw[FW_G + 1] + ny * fw[FW_G + 4] + nz * fw[FW_G + 7]
+                        ga2 = nx * fw[FW_G + 2] + ny * fw[FW_G + 5] + nz * fw[FW_G + 8]
+                    if stc == 1:
+                        val = ga0 if b == 0 else (ga1 if b == 1 else ga2)
+                    else:
+                        val = ga0 * ec0 + ga1 * ec1 + ga2 * ec2
+                    fw[FW_MAT + 6 * (row0 + a) + col0 + b] = val
+        bo = FW_B1 + 3 * kc
+        rowc = 0 if kc == 0 else n1
+        if stc == 1:
+            fw[FW_RHS + rowc] = -fw[bo]
+            fw[FW_RHS + rowc + 1] = -fw[bo + 1]
+            fw[FW_RHS + rowc + 2] = -fw[bo + 2]
+        else:
+            fw[FW_RHS + rowc] = -(nx * fw[bo] + ny * fw[bo + 1] + nz * fw[bo + 2])
+    two_stick = K == 2 and st1 == 1 and st2 == 1
+    dx = 0.0
+    dy = 0.0
+    dz = 0.0
+    if two_stick:
+        # null space: internal force s d at contact 1, -s d at contact 2 (d along r2 - r1);
+        # add v v^T (v = (d, -d) / sqrt 2) to make the system regular (minimum-norm split)
+        dx = fw[FW_R2] - fw[FW_R1]
+        dy = fw[FW_R2 + 1] - fw[FW_R1 + 1]
+        dz = fw[FW_R2 + 2] - fw[FW_R1 + 2]
+        dl = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx /= dl
+        dy /= dl
+        dz /= dl
+        v = (dx, dy, dz, -dx, -dy, -dz)
+        scale = 0.0
+        for i in range(6):
+            scale = max(scale, abs(fw[FW_MAT + 7 * i]))
+        for i in range(6):
+            for j in range(6):
+                fw[FW_MAT + 6 * i + j] += 0.5 * scale * v[i] * v[j]
+    elif ntot == 1:
+        den = fw[FW_MAT]
+        if not den > 0.0:
+            return PV_PAINLEVE
+    if not _solve(fw, ntot):
+        return PV_SINGULAR
+    # forces
+    for kc in range(K):
+        stc = st1 if kc == 0 else st2
+        col0 = 0 if kc == 0 else n1
+        fo = FW_F1 + 3 * kc
+        if stc == 1:
+            f0 = fw[FW_RHS + col0]
+            f1 = fw[FW_RHS + col0 + 1]
+            f2 = fw[FW_RHS + col0 + 2]
+            fw[FW_LAM + kc] = f0 * nx + f1 * ny + f2 * nz
+        else:
+            lam = fw[FW_RHS + col0]
+            u0, u1, u2 = _slipdir(fw, cp, kc)
+            f0 = lam * (nx - mu * u0)
+            f1 = lam * (ny - mu * u1)
+            f2 = lam * (nz - mu * u2)
+            fw[FW_LAM + kc] = lam
+        fw[fo] = f0
+        fw[fo + 1] = f1
+        fw[fo + 2] = f2
+    # sliding with a single unknown in a coupled system: Painleve when the normal-force
+    # coefficient of its own row is <= 0 is checked above for ntot == 1; for K == 2 the
+    # force signs are checked by the lift-off events.
+    # stick margins
+    fw[FW_SSTAR] = 0.0
+    if two_stick:
+        lo = -math.inf
+        hi = math.inf
+        ok = True
+        for kc in range(2):
+            fo = FW_F1 + 3 * kc
+            sg = 1.0 if kc == 0 else -1.0
+            lam = fw[FW_LAM + kc]
+            ax = fw[fo] - lam * nx
+            ay = fw[fo + 1] - lam * ny
+            az = fw[fo + 2] - lam * nz
+            # |a + sg s d|^2 <= (mu lam)^2
+            ad = (ax * dx + ay * dy + az * dz) * sg
+            c = ax * ax + ay * ay + az * az - (mu * lam) ** 2
+            disc = ad * ad - c
+            if disc < 0.0 or lam < 0.0:
+                ok = False
+                lo = 0.0
+                hi = -math.sqrt(max(-disc, 0.0))
+                break
+            sq = math.sqrt(disc)
+            lo = max(lo, -ad - sq)
+            hi = min(hi, -ad + sq)
+        marg = hi - lo
+        fw[FW_MARG] = marg
+        fw[FW_MARG + 1] = marg
+        if ok and marg >= 0.0:
+            s = 0.5 * (lo + hi)
+            fw[FW_SSTAR] = s
+            fw[FW_F1] += s * dx
+            fw[FW_F1 + 1] += s * dy
+            fw[FW_F1 + 2] += s * dz
+            fw[FW_F2] -= s * dx
+            fw[FW_F2 + 1] -= s * dy
+            fw[FW_F2 + 2] -= s * dz
+    else:
+        for kc in range(K):
+            stc = st1 if kc == 0 else st2
+            if stc == 1:
+                fo = FW_F1 + 3 * kc
+                lam = fw[FW_LAM + kc]
+                ax = fw[fo] - lam * nx
+                ay = fw[fo + 1] - lam * ny
+                az = fw[fo + 2] - lam * nz
+                fw[FW_MARG + kc] = mu * lam - math.sqrt(ax * ax + ay * ay + az * az)
+            else:
+                fw[FW_MARG + kc] = math.inf
+    # accelerations
+    Fx = 0.0
+    Fy = 0.0
+    Fz = 0.0
+    Tx = tx
+    Ty = ty
+    Tz = tz
+    for kc in range(K):
+        fo = FW_F1 + 3 * kc
+        ro = FW_R1 + 3 * kc
+        f0, f1, f2 = fw[fo], fw[fo + 1], fw[fo + 2]
+        Fx += f0
+        Fy += f1
+        Fz += f2
+        Tx += fw[ro + 1] * f2 - fw[ro + 2] * f1
+        Ty += fw[ro + 2] * f0 - fw[ro] * f2
+        Tz += fw[ro] * f1 - fw[ro + 1] * f0
+    fw[FW_A] = gx + Fx / m
+    fw[FW_A + 1] = gy + Fy / m
+    fw[FW_A + 2] = gz + Fz / m
+    fw[FW_AL] = fw[Ii] * Tx + fw[Ii + 1] * Ty + fw[Ii + 2] * Tz
+    fw[FW_AL + 1] = fw[Ii + 3] * Tx + fw[Ii + 4] * Ty + fw[Ii + 5] * Tz
+    fw[FW_AL + 2] = fw[Ii + 6] * Tx + fw[Ii + 7] * Ty + fw[Ii + 8] * Tz
+    return PV_OK
+
+
+@njit(cache=True)
+def _rhs(y, yo, cp, fw, k, ko):
+    """dy/ds at y[yo:yo+13] into k[ko:ko+13]; returns the pivot_forces code."""
+    rc = pivot_forces(y[yo:yo + NY], cp, fw)
+    for j in range(3):
+        k[ko + j] = y[yo + 7 + j]
+        k[ko + 7 + j] = fw[FW_A + j]
+        k[ko + 10 + j] = fw[FW_AL + j]
+    d0, d1, d2, d3 = qmul(0.0, y[yo + 10], y[yo + 11], y[yo + 12], y[yo + 3], y[yo + 4],
+                          y[yo + 5], y[yo + 6])
+    k[ko + 3] = 0.5 * d0
+    k[ko + 4] = 0.5 * d1
+    k[ko + 5] = 0.5 * d2
+    k[ko + 6] = 0.5 * d3
+    return rc
+
+
+# ------------------------------------------------------------------ integrator
+
+
+@njit(cache=True)
+def pivot_start(pw, y0, cp, tol, max_steps):
+    """Initialise the workspace for a phase starting at state y0 (float64[13])."""
+    L = cp[CP_L]
+    gl = math.sqrt(cp[CP_G] ** 2 + cp[CP_G + 1] ** 2 + cp[CP_G + 2] ** 2)
+    vv = math.sqrt(y0[7] ** 2 + y0[8] ** 2 + y0[9] ** 2)
+    ww = math.sqrt(y0[10] ** 2 + y0[11] ** 2 + y0[12] ** 2)
+    V = vv + ww * L + math.sqrt(gl * L)
+    pw[PW_TOL] = tol
+    for j in range(NY):
+        if j < 3:
+            sc = L
+        elif j < 7:
+            sc = 1.0
+        elif j < 10:
+            sc = V
+        else:
+            sc = V / L
+        pw[PW_SC + j] = sc
+        pw[PW_YSTART + j] = y0[j]
+    # rotation per step at most MAX_ANGLE: bound the angular speed by its energy scale
+    wcap = V / L
+    pw[PW_HMAX] = MAX_ANGLE / wcap
+    pw[PW_MAXSTEP] = max_steps
+    pivot_reset(pw)
+
+
+@njit(cache=True)
+def pivot_reset(pw):
+    for j in range(NY):
+        pw[PW_Y + j] = pw[PW_YSTART + j]
+    pw[PW_S0] = 0.0
+    pw[PW_H] = 0.0
+    pw[PW_NSTEP] = 0.0
+    pw[PW_HNEXT] = pw[PW_HMAX] * pw[PW_TOL] ** 0.2 * 10.0
+    if pw[PW_HNEXT] > pw[PW_HMAX]:
+        pw[PW_HNEXT] = pw[PW_HMAX]
+
+
+@njit(cache=True)
+def pivot_step(pw, cp, fw):
+    """Take one accepted step after the current one (or the first). Returns PI_*."""
+    if pw[PW_H] > 0.0:
+        q0, q1, q2, q3 = qnormalize(pw[PW_Y1 + 3], pw[PW_Y1 + 4], pw[PW_Y1 + 5],
+                                    pw[PW_Y1 + 6])
+        for j in range(NY):
+            pw[PW_Y + j] = pw[PW_Y1 + j]
+        pw[PW_Y + 3] = q0
+        pw[PW_Y + 4] = q1
+        pw[PW_Y + 5] = q2
+        pw[PW_Y + 6] = q3
+        pw[PW_S0] = pw[PW_S0] + pw[PW_H]
+    h = min(pw[PW_HNEXT], pw[PW_HMAX])
+    tol = pw[PW_TOL]
+    K = PW_K
+    Y = PW_Y
+    YT = PW_YT
+    if _rhs(pw, Y, cp, fw, pw, K) != PV_OK:
+        return PI_FORCES
+    while True:
+        pw[PW_NSTEP] += 1.0
+        if pw[PW_NSTEP] > pw[PW_MAXSTEP]:
+            return PI_TOO_MANY_STEPS
+        for j in range(NY):
+            pw[YT + j] = pw[Y + j] + h * A21 * pw[K + j]
+        if _rhs(pw, YT, cp, fw, pw, K + 13) != PV_OK:
+            return PI_FORCES
+        for j in range(NY):
+            pw[YT + j] = pw[Y + j] + h * (A31 * pw[K + j] + A32 * pw[K + 13 + j])
+        if _rhs(pw, YT, cp, fw, pw, K + 26) != PV_OK:
+            return PI_FORCES
+        for j in range(NY):
+            pw[YT + j] = pw[Y + j] + h * (A41 * pw[K + j] + A42 * pw[K + 13 + j]
+                                          + A43 * pw[K + 26 + j])
+        if _rhs(pw, YT, cp, fw, pw, K + 39) != PV_OK:
+            return PI_FORCES
+        for j in range(NY):
+            pw[YT + j] = pw[Y + j] + h * (A51 * pw[K + j] + A52 * pw[K + 13 + j]
+                                          + A53 * pw[K + 26 + j] + A54 * pw[K + 39 + j])
+        if _rhs(pw, YT, cp, fw, pw, K + 52) != PV_OK:
+            return PI_FORCES
+        for j in range(NY):
+            pw[YT + j] = pw[Y + j] + h * (A61 * pw[K + j] + A62 * pw[K + 13 + j]
+                                          + A63 * pw[K + 26 + j] + A64 * pw[K + 39 + j]
+                                          + A65 * pw[K + 52 + j])
+        if _rhs(pw, YT, cp, fw, pw, K + 65) != PV_OK:
+            return PI_FORCES
+        for j in range(NY):
+            pw[PW_Y1 + j] = pw[Y + j] + h * (A71 * pw[K + j] + A73 * pw[K + 26 + j]
+                                             + A74 * pw[K + 39 + j] + A75 * pw[K + 52 + j]
+                                             + A76 * pw[K + 65 + j])
+        if _rhs(pw, PW_Y1, cp, fw, pw, K + 78) != PV_OK:
+            return PI_FORCES
+        err = 0.0
+        for j in range(NY):
+            ej = h * (E1 * pw[K + j] + E3 * pw[K + 26 + j] + E4 * pw[K + 39 + j]
+                      + E5 * pw[K + 52 + j] + E6 * pw[K + 65 + j] + E7 * pw[K + 78 + j])
+            r = abs(ej) / (tol * pw[PW_SC + j])
+            if r > err:
+                err = r
+        if err <= 1.0:
+            for j in range(NY):
+                y0 = pw[Y + j]
+                ydiff = pw[PW_Y1 + j] - y0
+                bspl = h * pw[K + j] - ydiff
+                pw[PW_RC + j] = y0
+                pw[PW_RC + 13 + j] = ydiff
+                pw[PW_RC + 26 + j] = bspl
+                pw[PW_RC + 39 + j] = ydiff - h * pw[K + 78 + j] - bspl
+                pw[PW_RC + 52 + j] = h * (D1 * pw[K + j] + D3 * pw[K + 26 + j]
+                                          + D4 * pw[K + 39 + j] + D5 * pw[K + 52 + j]
+                                          + D6 * pw[K + 65 + j] + D7 * pw[K + 78 + j])
+            pw[PW_H] = h
+            fac = 5.0 if err == 0.0 else min(5.0, max(0.2, 0.9 * err ** -0.2))
+            pw[PW_HNEXT] = h * fac
+            return PI_OK
+        h = h * max(0.2, 0.9 * err ** -0.2)
+
+
+@njit(cache=True)
+def pivot_dense(pw, s, out):
+    """State at s (within the current step) into out[0:13], quaternion normalised."""
+    h = pw[PW_H]
+    th = (s - pw[PW_S0]) / h
+    th1 = 1.0 - th
+    R = PW_RC
+    for j in range(NY):
+        out[j] = pw[R + j] + th * (pw[R + 13 + j] + th1 * (pw[R + 26 + j] + th * (
+            pw[R + 39 + j] + th1 * pw[R + 52 + j])))
+    q0, q1, q2, q3 = qnormalize(out[3], out[4], out[5], out[6])
+    out[3] = q0
+    out[4] = q1
+    out[5] = q2
+    out[6] = q3
+
+
+@njit(cache=True)
+def pivot_eval(pw, cp, fw, s, out):
+    """State at s >= 0 of the phase into out[0:13] (stepping forward as needed, restarting
+    from the phase start when s lies before the current step). Returns PI_*."""
+    if s < pw[PW_S0]:
+        pivot_reset(pw)
+    if s == 0.0 and pw[PW_H] == 0.0:
+        for j in range(NY):
+            out[j] = pw[PW_YSTART + j]
+        return PI_OK
+    while pw[PW_H] == 0.0 or s > pw[PW_S0] + pw[PW_H]:
+        rc = pivot_step(pw, cp, fw)
+        if rc != PI_OK:
+            return rc
+    pivot_dense(pw, s, out)
+    return PI_OK
+
+
+@njit(cache=True)
+def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
+    """Event functions at state y into vals: [0:2] lift (lam_k), [2:4] stick margins,
+    [4:6] slip speed minus slip_eps, [6 + p nf + j] gaps minus their floors ``vfl``
+    (a feature touching at the start -- gap <= 0 -- is armed too: it fires when its gap
+    goes below its starting value by GAP_ARM L). Returns the force code."""
+    rc = pivot_forces(y, cp, fw)
+    K = int(cp[CP_K])
+    for k in range(2):
+        vals[k] = math.inf
+        vals[2 + k] = math.inf
+        vals[4 + k] = math.inf
+    for k in range(K):
+        vals[k] = fw[FW_LAM + k]
+        st = int(cp[CP_S1 + k])
+        if st == 1:
+            vals[2 + k] = fw[FW_MARG + k]
+        else:
+            co = FW_C1 + 3 * k
+            vals[4 + k] = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2) - cp[CP_EPS]
+    rad = cp[CP_RAD]
+    p0 = int(cp[CP_PLANE])
+    fa = int(cp[CP_F1])
+    fb = int(cp[CP_F2]) if K == 2 else -1
+    for p in range(planes.shape[0]):
+        for j in range(nf):
+            idx = 6 + p * nf + j
+            if skip[p] != 0 or (p == p0 and (f0 + j == fa or f0 + j == fb)):
+                vals[idx] = math.inf
+                continue
+            rx, ry, rz = qrot(y[3], y[4], y[5], y[6], feats[f0 + j, 0], feats[f0 + j, 1],
+                              feats[f0 + j, 2])
+            vals[idx] = (planes[p, 0] * (y[0] + rx) + planes[p, 1] * (y[1] + ry)
+                         + planes[p, 2] * (y[2] + rz) - planes[p, 3] - rad) - vfl[idx]
+    return rc
+
+
+@njit(cache=True)
+def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol, ybuf,
+                     vals, vals0, vfl):
+    """Integrate the phase from its start until the first event or ``S`` (s). Returns
+    ``(s, kind, index, code)``: kind ``PE_*`` (``PE_NONE`` when ``S`` is reached), code
+    ``PI_*``. ``ybuf`` float64[13], ``vals``/``vals0``/``vfl`` float64[6 + np nf] are
+    scratch."""
+    pivot_reset(pw)
+    nv = 6 + planes.shape[0] * nf
+    for j in range(NY):
+        ybuf[j] = pw[PW_YSTART + j]
+    for e in range(nv):
+        vfl[e] = 0.0
+    rc = _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals0, vfl)
+    arm = GAP_ARM * cp[CP_L]
+    for e in range(6, nv):
+        if vals0[e] < math.inf:
+            vfl[e] = min(0.0, vals0[e]) - arm
+            vals0[e] -= vfl[e]
+    if rc != PV_OK:
+        return 0.0, PE_NONE, 0, PI_FORCES
+    while True:
+        rc = pivot_step(pw, cp, fw)
+        if rc != PI_OK:
+            return pw[PW_S0], PE_NONE, 0, rc
+        s1 = pw[PW_S0] + pw[PW_H]
+        pivot_dense(pw, s1, ybuf)
+        rc = _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals, vfl)
+        if rc != PV_OK:
+            return pw[PW_S0], PE_NONE, 0, PI_FORCES
+        # earliest crossing from > 0 to <= 0 in this step
+        best = math.inf
+        bk = -1
+        for e in range(nv):
+            if vals0[e] > 0.0 and vals[e] <= 0.0:
+                sa = pw[PW_S0]
+                sb = s1
+                fa = vals0[e]
+                fb = vals[e]
+                for it in range(EVENT_ITER):
+                    if sb - sa <= atol + rtol * abs(t0 + sb):
+                        break
+                    # Illinois-free safeguarded secant: midpoint when the secant stalls
+                    sm = sb - fb * (sb - sa) / (fb - fa) if fb != fa else 0.5 * (sa + sb)
+                    if not (sa < sm < sb) or it % 3 == 2:
+                        sm = 0.5 * (sa + sb)
+                    pivot_dense(pw, sm, ybuf)
+                    _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals, vfl)
+                    fm = vals[e]
+                    if fm > 0.0:
+                        sa = sm
+                        fa = fm
+                    else:
+                        sb = sm
+                        fb = fm
+                if sb < best:
+                    best = sb
+                    bk = e
+                # restore the step-end values
+                pivot_dense(pw, s1, ybuf)
+                _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals, vfl)
+        if bk >= 0 and best <= S:
+            if bk < 2:
+                return best, PE_LIFT, bk, PI_OK
+            if bk < 4:
+                return best, PE_SLIP, bk - 2, PI_OK
+            if bk < 6:
+                return best, PE_STOP, bk - 4, PI_OK
+            g = bk - 6
+            return best, PE_GAP, (g // nf) * 1000 + (g % nf), PI_OK
+        if s1 >= S:
+            return S, PE_NONE, 0, PI_OK
+        for e in range(nv):
+            vals0[e] = vals[e]
+
+
+@njit(cache=True)
+def sample_segments(seg_t, seg_s, start, stop, rk, axis, I1, I2, I3, rot_tol, contact_tol,
+                    max_steps, times, order, out, col, ws, pw, fw, pose):
+    """Evaluate one body's piecewise motion at ``times[order]`` (``order`` sorts them) into
+    ``out[k, col, 0:13]`` (x, q, v, w): closed-form or integrated flight segments
+    (``flight3d.pose_at``) and integrated-contact segments (``seg_s[r, 19] == 1``, contact
+    parameters in ``seg_s[r, 20:]``), each re-integrated from its start exactly as in the
+    run. ``ws``, ``pw``, ``fw``, ``pose`` are scratch. Returns 0, or 1 on integrator
+    failure."""
+    n = stop - start
+    cur = -1
+    for kk in range(times.shape[0]):
+        k = order[kk]
+        t = times[k]
+        lo = 0
+        hi = n - 1
+        if seg_t[start] > t:
+            j = 0
+        else:
+            while lo < hi:
+                mid = (lo + hi + 1) // 2
+                if seg_t[start + mid] <= t:
+                    lo = mid
+                else:
+                    hi = mid - 1
+            j = lo
+        r = start + j
+        s = t - seg_t[r]
+        if seg_s[r, 19] == 1.0:
+            cp = seg_s[r, 20:]
+            if r != cur:
+                pivot_start(pw, seg_s[r], cp, contact_tol, max_steps)
+                cur = r
+            rc = pivot_eval(pw, cp, fw, s, pose)
+            if rc != PI_OK:
+                return 1
+        else:
+            if r != cur:
+                ws[0] = -1.0
+                cur = r
+            rc = pose_at(seg_s[r], rk, axis, I1, I2, I3, ws, s, rot_tol, max_steps, pose)
+            if rc != 0:
+                return 1
+        for m in range(13):
+            out[k, col, m] = pose[m]
+    return 0

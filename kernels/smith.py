@@ -1,0 +1,672 @@
+"""Smith's collision law (C. E. Smith, J. Appl. Mech. 58:754, 1991), 2D and 3D kernels.
+
+Contact space, normal first (DESIGN §3): ``v = (v_N, v_T[, v_T2])`` in m/s, ``W`` in 1/kg,
+impulse ``P`` on body A in N s, ``v_f = v + W P``. Parameters ``params[P_E] = e`` in [0, 1]
+and ``params[P_MU] = mu >= 0``. With ``a = v_T`` (initial slip) and ``b = v_fT`` (final)::
+
+    v_fN = -e v_N,     P_T = -mu P_N g,     g = (|a| a + |b| b) / (|a|^2 + |b|^2),  |g| <= 1.
+
+(The seed paper prints the formula without the minus sign; friction opposes sliding.)
+Eliminating ``P_N = c / D``, ``c = -(1 + e) v_N > 0``, ``D = W_NN - mu W_NT . g``, leaves
+``F(b) = a + c H(g(b)) - b = 0`` with ``H(g) = (W_TN - mu W_TT g) / D``. Physical roots are
+those with ``P_N > 0`` (``D > 0``). Facts used below (proved in the comments; DESIGN §4):
+
+* ``dE = P.(v + v_f)/2 <= 0`` at every root with ``P_N >= 0``, so ``v_f`` lies in the energy
+  ellipsoid ``x^T W^-1 x <= v^T W^-1 v``: ``|b|`` and ``P_N`` are bounded.
+* ``g(b)`` is a monotone map (its Jacobian has a positive semi-definite symmetric part), and
+  ``H`` is strictly decreasing in 2D (``dH/dg = -mu det W / D^2``). Hence in **2D** ``F`` is
+  strictly decreasing (``F' <= -1``) on the interval of ``b`` where ``D > 0``, running from
+  ``+inf`` to ``-inf``: exactly one physical root, always (no root choice needed).
+* In **3D** there can be several physical roots (found for large ``mu`` with strongly coupled
+  ``W``; e.g. three). For a fixed normal impulse ``p`` the tangential equation
+  ``b = a + p (W_TN - mu W_TT g(b))`` has a *unique* solution ``b(p)`` (strongly monotone),
+  so the physical roots are exactly the zeros of the scalar ``R(p) = p D(g(b(p))) - c``
+  (``R = v_fN(p) + e v_N``), with ``R(p) < 0`` for ``p < c / (W_NN + mu |W_TN|)``.
+  **Root choice: the smallest ``P_N``**, i.e. the first ``p`` at which, accumulating normal
+  impulse from 0 through Smith-consistent states, the normal velocity reaches ``-e v_N``
+  (the same "first time the termination condition holds" reading as Routh's process). In
+  every multi-root case we examined it is also the root continued from ``mu -> 0`` and
+  from a weak impact ``v_N -> 0``, and the one closest to ``a``. Two roots never share a
+  ``P_N``, so the rule is a total order. Uniqueness is certified (and a fast direct Newton
+  used) when ``mu |W_TT J W_TN| < lambda_min(W_NN W_TT - W_TN W_TN^T)`` (J = rotation by
+  90 degrees): then ``H`` is strictly anti-monotone and, with monotone ``g``, two roots
+  cannot exist. Otherwise ``R(p)`` is scanned on a geometric grid (ratio ``SCAN_RATIO``)
+  from its first possible zero upward and the first sign change is refined; two roots
+  closer than that ratio in ``P_N`` could be skipped (then the next root is returned).
+* ``a = 0`` (and ``|a|`` below ``A_ZERO_REL`` times the velocity scale): Smith's direction
+  is 0/0 only at ``a = b = 0``; we read it as the set-valued sign (the unit ball), which is
+  the limit of Smith's law as ``a -> 0`` from every direction. The result is Coulomb's
+  inclusion along the final slip: **stick** (``b = 0``, mode ``MODE_STICK``, impulse
+  strictly inside the cone) when ``|W_TT^-1 W_TN| <= mu``; otherwise slip along the unique
+  direction ``u`` with ``(s I + mu W_TT) u = W_TN``, ``s > 0``, ``|u| = 1`` (2D:
+  ``u = sign(W_TN)``), ``D > 0`` guaranteed. The literal "``P_T = 0`` at ``a = b = 0``"
+  is rejected: it is not a solution (it gives ``b = W_TN P_N != 0``) and would make the law
+  jump at ``a = 0`` (friction would vanish for an exactly non-sliding contact).
+
+Modes: ``MODE_SEPARATING`` (``v_N >= 0``, P = 0); ``MODE_SLIP`` for every ordinary solution
+(Smith never truly sticks; ``mu = 0`` is frictionless and also ``MODE_SLIP``); ``MODE_STICK``
+only in the set-valued ``a = b = 0`` case; ``MODE_NO_SOLUTION`` for invalid input (non-finite
+values, ``W`` not positive definite, ``e <= -1``, ``mu < 0``) or, in 3D, no sign change of
+``R`` up to the energy bound (impossible in exact arithmetic); ``MODE_NOT_CONVERGED`` when an
+iteration limit is hit. On failure ``P_out`` is zero.
+"""
+import math
+
+from numba import njit
+
+from .common import (MODE_NO_SOLUTION, MODE_NOT_CONVERGED, MODE_SEPARATING, MODE_SLIP,
+                     MODE_STICK, P_E, P_MU, solve2)
+
+# ---- named tolerances and limits --------------------------------------------------------------
+# Velocities are first divided by the velocity scale s = max(|v_N|, |v_T|) (the law is
+# homogeneous of degree 1 in v), so the tolerances below are relative to that scale.
+A_ZERO_REL = 1e-30
+"""|v_T| / s below this is treated as exactly 0 (set-valued case). The induced change of the
+final velocity is O((|v_T|/s)^(2/3)) <= 1e-20 relative, far below round-off; above it the
+2D cubic in t = -b/a stays far from overflow (t <~ 1e30 W-ratio)."""
+TOL_ROOT = 1e-14
+"""Newton stops when its step is below TOL_ROOT * max(|b|, |a|) (b in 2D is the scalar final
+slip; in 3D the vector): the directions g(b) then hold to ~1e-14, and the quadratic
+convergence puts the returned root at round-off level."""
+TOL_P = 1e-14
+"""3D scan path: relative tolerance on the normal impulse p in the outer root refinement."""
+TOL_HALLEY = 1e-6
+"""2D: the Halley iteration (cubic convergence) stops after a step below TOL_HALLEY * t; the
+error left is then ~1e-18 relative, below round-off."""
+MAXIT_2D = 100
+"""2D safeguarded Halley limit (typically 3-4 evaluations; the bisection fallback halves
+the bracket, so 100 is never reached for finite input). Also the 3D secular-equation limit."""
+MAXIT_NEWTON_3D = 40
+"""3D direct damped Newton (certified-unique case) limit; typically 2-5 iterations. On failure
+the scan path takes over."""
+MAXIT_INNER = 60
+"""3D tangential sub-problem (fixed normal impulse) damped Newton limit; 1-3 warm-started."""
+MAXIT_OUTER = 100
+"""3D outer safeguarded Newton/bisection on R(p) limit."""
+MAX_LINESEARCH = 40
+"""Step halvings in a damped Newton line search before giving up."""
+ARMIJO = 1e-4
+"""Sufficient-decrease constant for the damped Newton merit |F|^2."""
+SCAN_RATIO = 1.125
+"""3D scan path: geometric ratio between successive normal impulses at which R(p) is sampled
+(root-separation resolution of the smallest-P_N rule)."""
+MAX_SCAN = 700
+"""3D scan path: maximum number of samples (covers P_max / P_min up to ~1e35)."""
+CERT_RTOL = 1e-12
+"""Safety margin (relative to trace S) on the 3D uniqueness certificate against round-off."""
+SECULAR_TOL = 1e-15
+"""Set-valued 3D slip: relative tolerance on the secular-equation root s."""
+
+
+# ================================================================================================
+# 2D
+# ================================================================================================
+@njit(cache=True)
+def _set_valued_2d(c, Wnn, wnt, Wtt, mu):
+    """a = 0: Coulomb inclusion along the final slip (limit a -> 0). Returns mode, P_N, P_T."""
+    if wnt >= mu * Wtt:                      # normal impulse drives slip forward: g = +1
+        PN = c / (Wnn - mu * wnt)            # > 0: Wnn - mu*wnt <= 0 would contradict det > 0
+        return MODE_SLIP, PN, -mu * PN
+    if wnt <= -mu * Wtt:                     # drives it backward: g = -1
+        PN = c / (Wnn + mu * wnt)
+        return MODE_SLIP, PN, mu * PN
+    det = Wnn * Wtt - wnt * wnt              # stick: v_fT = 0, |P_T| < mu P_N
+    return MODE_STICK, c * Wtt / det, -c * wnt / det
+
+
+@njit(cache=True)
+def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
+    """Smith 2D core (v_N < 0, mu > 0, W SPD; any velocity scale: the solve is homogeneous).
+
+    Returns (mode, P_N, P_T, b) with b = v_fT. Works with a >= 0 (tangent flipped if needed).
+
+    With A = W_NN + mu W_NT, B = W_NN - mu W_NT (D at g = -1, +1), C1,2 = W_NT +- mu W_TT:
+    * b >= 0 (forward slip, g = 1): F(b) = a + c C2/B - b, closed form; since F decreases on
+      the physical interval, a root b+ >= 0 there is *the* root.
+    * b < 0: with t = -b/a > 0, g = (1 - t^2)/(1 + t^2) and F = 0 is equivalent (on D > 0)
+      to the cubic  q(t) = (1 + t)(A t^2 + B) + k (C1 t^2 + C2) = 0,  k = c/a,
+      q = F (A t^2 + B)/a, increasing through its unique root on the physical interval
+      {t > 0, A t^2 + B > 0}. Bracket: t > sqrt(-B/A) if B <= 0; t < sqrt(B/-A) if A < 0;
+      t >= -(1 + k C1/A) if A > 0 (H(g) <= H(-1)). Safeguarded Halley iteration on q from
+      the stick-like (sqrt(-C2/C1)) or reversal-like (-k C1/A) asymptote: typically 3-4
+      evaluations of a cubic, one division each.
+    """
+    c = -(1.0 + e) * vn
+    sg = 1.0
+    if a_in < 0.0:
+        sg = -1.0
+    a = sg * a_in
+    wnt = sg * Wnt
+    if a <= A_ZERO_REL * -vn:
+        mode, PN, PT = _set_valued_2d(c, Wnn, wnt, Wtt, mu)
+        return mode, PN, sg * PT, sg * (a + wnt * PN + Wtt * PT)
+    A = Wnn + mu * wnt
+    B = Wnn - mu * wnt
+    C1 = wnt + mu * Wtt
+    C2 = wnt - mu * Wtt
+    if B > 0.0:
+        bplus = a + c * C2 / B
+        if bplus >= 0.0:
+            PN = c / B
+            return MODE_SLIP, PN, -sg * mu * PN, sg * bplus
+    k = c / a
+    c3 = A
+    c2 = A + k * C1
+    c1 = B
+    c0 = B + k * C2
+    lo = 0.0
+    hi = math.inf
+    tb = 0.0
+    if A > 0.0:
+        if B <= 0.0:
+            lo = math.sqrt(-B / A)           # pole; q(lo) < 0
+        tb = -(1.0 + k * C1 / A)
+        if tb > lo:
+            lo = tb
+    elif A < 0.0:
+        hi = math.sqrt(B / -A)               # pole; q(hi) > 0
+    # initial guess from the asymptotes (k -> inf)
+    t = 1.0
+    if C1 > 0.0 and C2 < 0.0:
+        t = math.sqrt(-C2 / C1)
+    if A > 0.0 and C1 < 0.0 and tb + 1.0 > t:
+        t = tb + 1.0                         # -k C1 / A
+    if hi == math.inf:
+        h = max(2.0 * t, 2.0 * lo, 1.0)
+        for j in range(2100):                # q -> +inf: doubling reaches q > 0
+            if c0 + h * (c1 + h * (c2 + h * c3)) > 0.0:
+                break
+            h *= 2.0
+        hi = h
+    if not (t > lo and t < hi):
+        t = 0.5 * (lo + hi)
+    converged = False
+    for it in range(MAXIT_2D):
+        q = c0 + t * (c1 + t * (c2 + t * c3))
+        if q == 0.0:
+            converged = True
+            break
+        dq = c1 + t * (2.0 * c2 + 3.0 * t * c3)
+        d2q = 2.0 * c2 + 6.0 * c3 * t
+        if q < 0.0:
+            lo = t
+        else:
+            hi = t
+        step = -2.0 * q * dq / (2.0 * dq * dq - q * d2q)      # Halley
+        if abs(step) <= TOL_HALLEY * t:      # cubic convergence: next error << 1e-16
+            t += step
+            converged = True
+            break
+        tn = t + step
+        if not (tn > lo and tn < hi):
+            tn = 0.5 * (lo + hi)
+            if hi - lo <= TOL_ROOT * hi:
+                t = tn
+                converged = True
+                break
+        t = tn
+    if not converged:
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+    if t <= 1.0:
+        t2 = t * t
+        g = (1.0 - t2) / (1.0 + t2)
+    else:
+        u2 = 1.0 / (t * t)
+        g = (u2 - 1.0) / (u2 + 1.0)
+    PN = c / (Wnn - mu * wnt * g)
+    return MODE_SLIP, PN, -sg * mu * PN * g, -sg * a * t
+
+
+@njit(cache=True)
+def smith_2d_scalar(vN, vt, Wnn, Wnt, Wtt, e, mu):
+    """Smith 2D on scalars: returns ``(mode, P_N, P_T)``; same contract as ``smith_2d``.
+
+    Scalars only (no arrays), so a caller's loop pays no reference counting for the call.
+    The 2D solve is homogeneous in the velocities (it uses c/a and c/B only), so no
+    rescaling is needed."""
+    if vN >= 0.0:
+        return MODE_SEPARATING, 0.0, 0.0
+    c = -(1.0 + e) * vN
+    det = Wnn * Wtt - Wnt * Wnt
+    if not (c > 0.0 and c < math.inf and abs(vt) < math.inf and mu >= 0.0
+            and mu < math.inf and Wnn > 0.0 and det > 0.0 and det < math.inf):
+        return MODE_NO_SOLUTION, 0.0, 0.0
+    if mu == 0.0:                            # frictionless fast path
+        return MODE_SLIP, c / Wnn, 0.0
+    mode, PN, PT, b = _solve_2d(vN, vt, Wnn, Wnt, Wtt, e, mu)
+    if mode < 0 or not (PN < math.inf and abs(PT) < math.inf):
+        return min(mode, MODE_NOT_CONVERGED), 0.0, 0.0
+    return mode, PN, PT
+
+
+@njit(cache=True, inline="always")
+def smith_2d(v, W, params, P_out):
+    """Smith's law, 2D contact: ``v = (v_N, v_T)`` (m/s), ``W`` 2x2 SPD (1/kg).
+
+    Writes ``P_out = (P_N, P_T)`` (N s) and returns the mode. The physical root is unique
+    (see module docstring); found by safeguarded Newton on the final slip ``b``, typically
+    2-4 iterations (0 on the forward-slip branch, which is closed form)."""
+    mode, PN, PT = smith_2d_scalar(v[0], v[1], W[0, 0], W[0, 1], W[1, 1],
+                                   params[P_E], params[P_MU])
+    P_out[0] = PN
+    P_out[1] = PT
+    return mode
+
+
+# ================================================================================================
+# 3D (tangent frame rotated so that a = (alpha, 0))
+# ================================================================================================
+@njit(cache=True)
+def _g3(b1, b2, al, al2):
+    """g(b) for a = (al, 0), and its Jacobian B = dg/db (2x2, row-major)."""
+    r2 = b1 * b1 + b2 * b2
+    r = math.sqrt(r2)
+    iq = 1.0 / (al2 + r2)
+    g1 = (al2 + r * b1) * iq
+    g2 = r * b2 * iq
+    if r > 0.0:
+        ir = 1.0 / r
+        # B = (r I + b b^T / r) / Q - 2 g b^T / Q
+        B11 = (r + b1 * b1 * ir) * iq - 2.0 * g1 * b1 * iq
+        B12 = (b1 * b2 * ir) * iq - 2.0 * g1 * b2 * iq
+        B21 = (b1 * b2 * ir) * iq - 2.0 * g2 * b1 * iq
+        B22 = (r + b2 * b2 * ir) * iq - 2.0 * g2 * b2 * iq
+    else:
+        B11 = 0.0
+        B12 = 0.0
+        B21 = 0.0
+        B22 = 0.0
+    return g1, g2, B11, B12, B21, B22
+
+
+@njit(cache=True)
+def _full_3d(b1, b2, al, al2, c, Wnn, w1, w2, t11, t12, t22, mu):
+    """Full residual F(b) = a + c H(g(b)) - b, its Jacobian, and D. D <= 0: not physical."""
+    g1, g2, B11, B12, B21, B22 = _g3(b1, b2, al, al2)
+    D = Wnn - mu * (w1 * g1 + w2 * g2)
+    if not (D > 0.0):
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, D
+    iD = 1.0 / D
+    H1 = (w1 - mu * (t11 * g1 + t12 * g2)) * iD
+    H2 = (w2 - mu * (t12 * g1 + t22 * g2)) * iD
+    F1 = al + c * H1 - b1
+    F2 = c * H2 - b2
+    # dH/dg = (mu / D) (H w^T - T);  J = c (dH/dg) B - I
+    k = c * mu * iD
+    A11 = k * (H1 * w1 - t11)
+    A12 = k * (H1 * w2 - t12)
+    A21 = k * (H2 * w1 - t12)
+    A22 = k * (H2 * w2 - t22)
+    J11 = A11 * B11 + A12 * B21 - 1.0
+    J12 = A11 * B12 + A12 * B22
+    J21 = A21 * B11 + A22 * B21
+    J22 = A21 * B12 + A22 * B22 - 1.0
+    return F1, F2, J11, J12, J21, J22, D
+
+
+@njit(cache=True)
+def _inner_3d(b1, b2, al, al2, p, w1, w2, t11, t12, t22, mu):
+    """Tangential sub-problem at normal impulse p: F = a + p (w - mu T g(b)) - b, Jacobian."""
+    g1, g2, B11, B12, B21, B22 = _g3(b1, b2, al, al2)
+    k = mu * p
+    F1 = al + p * w1 - k * (t11 * g1 + t12 * g2) - b1
+    F2 = p * w2 - k * (t12 * g1 + t22 * g2) - b2
+    J11 = -k * (t11 * B11 + t12 * B21) - 1.0
+    J12 = -k * (t11 * B12 + t12 * B22)
+    J21 = -k * (t12 * B11 + t22 * B21)
+    J22 = -k * (t12 * B12 + t22 * B22) - 1.0
+    return F1, F2, J11, J12, J21, J22, g1, g2
+
+
+@njit(cache=True)
+def _lin2(J11, J12, J21, J22, r1, r2):
+    """Solve the general 2x2 system J x = r (Cramer). det == 0 gives non-finite x."""
+    det = J11 * J22 - J12 * J21
+    return (J22 * r1 - J12 * r2) / det, (J11 * r2 - J21 * r1) / det
+
+
+@njit(cache=True)
+def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
+    """Damped Newton on the full residual from (b1, b2). Returns (ok, b1, b2)."""
+    al2 = al * al
+    F1, F2, J11, J12, J21, J22, D = _full_3d(b1, b2, al, al2, c, Wnn, w1, w2, t11, t12, t22, mu)
+    if not (D > 0.0):
+        return False, b1, b2
+    f = F1 * F1 + F2 * F2
+    for it in range(maxit):
+        if f == 0.0:
+            return True, b1, b2
+        d1, d2 = _lin2(J11, J12, J21, J22, -F1, -F2)
+        if not (abs(d1) < math.inf and abs(d2) < math.inf):
+            return False, b1, b2
+        t = 1.0
+        accepted = False
+        for ls in range(MAX_LINESEARCH):
+            n1 = b1 + t * d1
+            n2 = b2 + t * d2
+            G1, G2, K11, K12, K21, K22, Dn = _full_3d(n1, n2, al, al2, c, Wnn, w1, w2,
+                                                      t11, t12, t22, mu)
+            if Dn > 0.0:
+                fn = G1 * G1 + G2 * G2
+                if fn <= (1.0 - ARMIJO * t) * f or (t == 1.0 and fn <= f):
+                    accepted = True
+                    break
+            t *= 0.5
+        if not accepted:
+            # no decrease possible: at round-off level, accept if the step was tiny
+            scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
+            return math.sqrt(d1 * d1 + d2 * d2) <= 1e3 * TOL_ROOT * scale, b1, b2
+        b1, b2 = n1, n2
+        F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
+        if t * math.sqrt(d1 * d1 + d2 * d2) <= TOL_ROOT * max(math.sqrt(b1 * b1 + b2 * b2), al):
+            return True, b1, b2
+    return False, b1, b2
+
+
+@njit(cache=True)
+def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
+    """Unique solution of the tangential sub-problem at p (damped Newton from (b1, b2)).
+
+    Returns (ok, b1, b2, g1, g2, J11, J12, J21, J22) with J the sub-problem Jacobian."""
+    al2 = al * al
+    F1, F2, J11, J12, J21, J22, g1, g2 = _inner_3d(b1, b2, al, al2, p, w1, w2, t11, t12, t22, mu)
+    f = F1 * F1 + F2 * F2
+    for it in range(MAXIT_INNER):
+        if f == 0.0:
+            return True, b1, b2, g1, g2, J11, J12, J21, J22
+        d1, d2 = _lin2(J11, J12, J21, J22, -F1, -F2)
+        t = 1.0
+        accepted = False
+        for ls in range(MAX_LINESEARCH):
+            n1 = b1 + t * d1
+            n2 = b2 + t * d2
+            G1, G2, K11, K12, K21, K22, h1, h2 = _inner_3d(n1, n2, al, al2, p, w1, w2,
+                                                           t11, t12, t22, mu)
+            fn = G1 * G1 + G2 * G2
+            if fn <= (1.0 - ARMIJO * t) * f or (t == 1.0 and fn <= f):
+                accepted = True
+                break
+            t *= 0.5
+        if not accepted:
+            scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
+            ok = math.sqrt(d1 * d1 + d2 * d2) <= 1e3 * TOL_ROOT * scale
+            return ok, b1, b2, g1, g2, J11, J12, J21, J22
+        b1, b2, g1, g2 = n1, n2, h1, h2
+        F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
+        if t * math.sqrt(d1 * d1 + d2 * d2) <= TOL_ROOT * max(math.sqrt(b1 * b1 + b2 * b2), al):
+            return True, b1, b2, g1, g2, J11, J12, J21, J22
+    return False, b1, b2, g1, g2, J11, J12, J21, J22
+
+
+@njit(cache=True)
+def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
+    """a = 0 in 3D: stick if |T^-1 w| <= mu, else slip along the unique u with
+    (s I + mu T) u = w, s > 0, |u| = 1. Returns (mode, P_N, P_T1, P_T2)."""
+    y1, y2 = solve2(t11, t12, t22, w1, w2)   # T^-1 w
+    if y1 * y1 + y2 * y2 <= mu * mu:
+        PN = c / (Wnn - (w1 * y1 + w2 * y2))  # c M_NN (Schur complement > 0)
+        return MODE_STICK, PN, -PN * y1, -PN * y2
+    # secular equation f(s) = 1/|y(s)| - 1 = 0, y(s) = (s I + mu T)^-1 w; f increasing,
+    # f(0) < 0 <= f(|w|). Safeguarded Newton; f' = |y|^-3 y.(sI + mu T)^-1 y.
+    lo = 0.0
+    hi = math.sqrt(w1 * w1 + w2 * w2)
+    s = 0.0
+    ok = False
+    for it in range(MAXIT_2D):
+        u1, u2 = solve2(s + mu * t11, mu * t12, s + mu * t22, w1, w2)
+        ny = math.sqrt(u1 * u1 + u2 * u2)
+        f = 1.0 / ny - 1.0
+        if f == 0.0:
+            ok = True
+            break
+        if f < 0.0:
+            lo = s
+        else:
+            hi = s
+        z1, z2 = solve2(s + mu * t11, mu * t12, s + mu * t22, u1, u2)
+        df = (u1 * z1 + u2 * z2) / (ny * ny * ny)
+        step = -f / df
+        if abs(step) <= SECULAR_TOL * s:
+            s += step
+            ok = True
+            break
+        sn = s + step
+        if not (sn > lo and sn < hi):
+            sn = 0.5 * (lo + hi)
+            if hi - lo <= SECULAR_TOL * hi:
+                s = sn
+                ok = True
+                break
+        s = sn
+    if not ok:
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+    u1, u2 = solve2(s + mu * t11, mu * t12, s + mu * t22, w1, w2)
+    ny = math.sqrt(u1 * u1 + u2 * u2)
+    u1 /= ny
+    u2 /= ny
+    PN = c / (Wnn - mu * (w1 * u1 + w2 * u2))  # D > 0 proved: Wnn > w.T^-1 w > mu w.u
+    return MODE_SLIP, PN, -mu * PN * u1, -mu * PN * u2
+
+
+@njit(cache=True)
+def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
+    """Smith 3D on scalars (upper triangle of W): returns ``(mode, P_N, P_T1, P_T2)``.
+
+    Same contract as ``smith_3d``; scalars only, so a caller's loop pays no reference
+    counting for the call."""
+    if vN >= 0.0:
+        return MODE_SEPARATING, 0.0, 0.0, 0.0
+    c = -(1.0 + e) * vN
+    # SPD check by leading principal minors (W assumed symmetric; upper triangle read)
+    m2 = Wnn * T11 - W01 * W01
+    det = Wnn * (T11 * T22 - T12 * T12) - W01 * (W01 * T22 - T12 * W02) \
+        + W02 * (W01 * T12 - T11 * W02)
+    if not (c > 0.0 and c < math.inf and abs(a1) < math.inf and abs(a2) < math.inf
+            and mu >= 0.0 and mu < math.inf and Wnn > 0.0 and m2 > 0.0 and det > 0.0
+            and det < math.inf and abs(W02) < math.inf and abs(T12) < math.inf):
+        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    if mu == 0.0:                            # frictionless fast path
+        return MODE_SLIP, c / Wnn, 0.0, 0.0
+    al2 = a1 * a1 + a2 * a2
+    al = math.sqrt(al2) if (al2 > 1e-290 and al2 < 1e290) else math.hypot(a1, a2)
+    s = max(-vN, al)
+    vn = vN / s
+    cn = -(1.0 + e) * vn
+    aln = al / s
+    if aln <= A_ZERO_REL:
+        mode, PN, P1, P2 = _set_valued_3d(cn, Wnn, W01, W02, T11, T12, T22, mu)
+        if mode < 0:
+            return mode, 0.0, 0.0, 0.0
+        return mode, PN * s, P1 * s, P2 * s
+    # rotate the tangent frame: R a = (al, 0), R = [[cs, sn], [-sn, cs]]
+    cs = a1 / al
+    sn = a2 / al
+    w1 = cs * W01 + sn * W02
+    w2 = -sn * W01 + cs * W02
+    t11 = cs * cs * T11 + 2.0 * cs * sn * T12 + sn * sn * T22
+    t22 = sn * sn * T11 - 2.0 * cs * sn * T12 + cs * cs * T22
+    t12 = (cs * cs - sn * sn) * T12 + cs * sn * (T22 - T11)
+    # uniqueness certificate: mu |T J w| < lambda_min(S), S = Wnn T - w w^T
+    s11 = Wnn * t11 - w1 * w1
+    s22 = Wnn * t22 - w2 * w2
+    s12 = Wnn * t12 - w1 * w2
+    lmin = 0.5 * (s11 + s22 - math.sqrt((s11 - s22) * (s11 - s22) + 4.0 * s12 * s12))
+    q1 = t11 * w2 - t12 * w1
+    q2 = t12 * w2 - t22 * w1
+    cert = mu * math.sqrt(q1 * q1 + q2 * q2) < lmin - CERT_RTOL * (s11 + s22)
+    ok = False
+    b1 = 0.0
+    b2 = 0.0
+    mode = MODE_SLIP
+    if cert:
+        # start: Smith 2D in the plane of (n, a) (exact when the motion is planar)
+        m2d, PN2, PT2, b2d = _solve_2d(vn, aln, Wnn, w1, t11, e, mu)
+        if m2d >= 0:
+            ok, b1, b2 = _newton_full_3d(b2d, 0.0, aln, cn, Wnn, w1, w2, t11, t12, t22, mu,
+                                         MAXIT_NEWTON_3D)
+    if not ok:
+        # scan path (also the fallback); W rotated consistently for the energy bound
+        mode, PN, b1, b2 = _scan_3d_frame(vn, aln, cn, Wnn, w1, w2, t11, t12, t22, mu)
+        if mode < 0:
+            return mode, 0.0, 0.0, 0.0
+        # polish on the full residual (keeps the same root: tiny steps only)
+        ok2, c1, c2 = _newton_full_3d(b1, b2, aln, cn, Wnn, w1, w2, t11, t12, t22, mu, 3)
+        if ok2 and (c1 - b1) ** 2 + (c2 - b2) ** 2 <= 1e-12 * (b1 * b1 + b2 * b2 + aln * aln):
+            b1, b2 = c1, c2
+    g1, g2, B11, B12, B21, B22 = _g3(b1, b2, aln, aln * aln)
+    gn = math.sqrt(g1 * g1 + g2 * g2)
+    if gn > 1.0:                             # round-off guard: keep |P_T| <= mu P_N
+        g1 /= gn
+        g2 /= gn
+    D = Wnn - mu * (w1 * g1 + w2 * g2)
+    if not (D > 0.0):
+        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    PN = cn / D
+    P1r = -mu * PN * g1
+    P2r = -mu * PN * g2
+    PN *= s
+    P1 = (cs * P1r - sn * P2r) * s
+    P2 = (sn * P1r + cs * P2r) * s
+    if not (abs(PN) < math.inf and abs(P1) < math.inf and abs(P2) < math.inf):
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+    return mode, PN, P1, P2
+
+
+@njit(cache=True, inline="always")
+def smith_3d(v, W, params, P_out):
+    """Smith's law, 3D contact: ``v = (v_N, v_T1, v_T2)`` (m/s), ``W`` 3x3 SPD (1/kg).
+
+    Writes ``P_out = (P_N, P_T1, P_T2)`` (N s) and returns the mode. Root choice: smallest
+    ``P_N`` (see module docstring). If the uniqueness certificate holds, damped Newton on
+    ``b = v_fT`` from the 2D solution in the plane of ``(n, a)`` (typically 2-5 iterations);
+    otherwise (or if that fails) the ``R(p)`` scan path."""
+    mode, PN, P1, P2 = smith_3d_scalar(v[0], v[1], v[2], W[0, 0], W[0, 1], W[0, 2], W[1, 1],
+                                       W[1, 2], W[2, 2], params[P_E], params[P_MU])
+    P_out[0] = PN
+    P_out[1] = P1
+    P_out[2] = P2
+    return mode
+
+
+@njit(cache=True)
+def _scan_3d_frame(vn, al, c, Wnn, w1, w2, t11, t12, t22, mu):
+    """Scan path in the rotated frame (builds no array: the energy bound uses cofactors)."""
+    # K = v^T W^-1 v and M_NN = (W^-1)_NN via cofactors of the rotated W
+    c00 = t11 * t22 - t12 * t12
+    c01 = w2 * t12 - w1 * t22
+    c02 = w1 * t12 - t11 * w2
+    c11 = Wnn * t22 - w2 * w2
+    c12 = w1 * w2 - Wnn * t12
+    c22 = Wnn * t11 - w1 * w1
+    det = Wnn * c00 + w1 * c01 + w2 * c02
+    # v = (vn, al, 0)
+    K = (c00 * vn * vn + 2.0 * c01 * vn * al + c11 * al * al) / det
+    mnn = c00 / det
+    return _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K)
+
+
+@njit(cache=True)
+def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
+    """Smallest-P_N root via R(p) = p D(g(b(p))) - c: geometric scan + safeguarded Newton.
+
+    Returns (mode, P_N, b1, b2) in the rotated, normalized frame."""
+    wn = math.sqrt(w1 * w1 + w2 * w2)
+    pmin = c / (Wnn + mu * wn)               # R(p) < 0 below this (D <= Wnn + mu |w|)
+    pmax = 2.0 * math.sqrt(abs(mnn * K)) * (1.0 + 1e-6)   # energy bound on any root's P_N
+    if not (pmax > pmin):
+        pmax = pmin * SCAN_RATIO
+    pl = 0.0
+    bl1 = al
+    bl2 = 0.0
+    p = pmin
+    b1 = al
+    b2 = 0.0
+    found = False
+    exhausted = False
+    R = -c
+    g1 = 1.0
+    g2 = 0.0
+    J11 = -1.0
+    J12 = 0.0
+    J21 = 0.0
+    J22 = -1.0
+    for k in range(MAX_SCAN):
+        ok, b1, b2, g1, g2, J11, J12, J21, J22 = _solve_inner_3d(b1, b2, al, p, w1, w2,
+                                                                 t11, t12, t22, mu)
+        if not ok:
+            return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+        R = p * (Wnn - mu * (w1 * g1 + w2 * g2)) - c
+        if R >= 0.0:
+            found = True
+            break
+        pl = p
+        bl1 = b1
+        bl2 = b2
+        if p >= pmax:
+            exhausted = True
+            break
+        p = min(p * SCAN_RATIO, pmax)
+    if not found:
+        if exhausted:
+            return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+    if R == 0.0:
+        return MODE_SLIP, p, b1, b2
+    ph = p
+    bh1 = b1
+    bh2 = b2
+    # Safeguarded Newton on R(p) in [pl, ph]; dR/dp = D - p mu w.(B db/dp),
+    # db/dp = -J^-1 (w - mu T g), J the sub-problem Jacobian at the solution.
+    for it in range(MAXIT_OUTER):
+        D = Wnn - mu * (w1 * g1 + w2 * g2)
+        r1 = w1 - mu * (t11 * g1 + t12 * g2)
+        r2 = w2 - mu * (t12 * g1 + t22 * g2)
+        db1, db2 = _lin2(J11, J12, J21, J22, -r1, -r2)
+        gg = _g3(b1, b2, al, al * al)
+        dg1 = gg[2] * db1 + gg[3] * db2
+        dg2 = gg[4] * db1 + gg[5] * db2
+        dR = D - p * mu * (w1 * dg1 + w2 * dg2)
+        step = -R / dR
+        if abs(step) <= TOL_P * p:
+            # converged: one more inner solve at the corrected p (warm, ~1 iteration)
+            p += step
+            ok, b1, b2, g1, g2, J11, J12, J21, J22 = _solve_inner_3d(b1, b2, al, p, w1, w2,
+                                                                     t11, t12, t22, mu)
+            if not ok:
+                return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+            return MODE_SLIP, p, b1, b2
+        pn = p + step
+        if not (pn > pl and pn < ph):
+            pn = 0.5 * (pl + ph)
+            if ph - pl <= TOL_P * ph:
+                return MODE_SLIP, p, b1, b2
+        # warm start from the nearer bracket end's solution
+        if abs(pn - pl) < abs(ph - pn):
+            s1, s2 = bl1, bl2
+        else:
+            s1, s2 = bh1, bh2
+        p = pn
+        ok, b1, b2, g1, g2, J11, J12, J21, J22 = _solve_inner_3d(s1, s2, al, p, w1, w2,
+                                                                 t11, t12, t22, mu)
+        if not ok:
+            return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+        R = p * (Wnn - mu * (w1 * g1 + w2 * g2)) - c
+        if R == 0.0:
+            return MODE_SLIP, p, b1, b2
+        if R > 0.0:
+            ph = p
+            bh1 = b1
+            bh2 = b2
+        else:
+            pl = p
+            bl1 = b1
+            bl2 = b2
+    return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def smith(v, W, params, P_out):
+    """Smith's law; 2D or 3D chosen by ``v.shape[0]`` (see ``smith_2d`` / ``smith_3d``)."""
+    if v.shape[0] == 2:
+        return smith_2d(v, W, params, P_out)
+    return smith_3d(v, W, params, P_out)

@@ -1,0 +1,2131 @@
+"""The compiled event loop of the exact 3D event-driven stepper (DESIGN §6, issue 5).
+
+The 3D counterpart of ``stepper2d``, with the same structure, tolerances, event kinds,
+policies and error codes (plus a few of its own). Everything is ``@njit(cache=True)``,
+works on preallocated arrays and never allocates in the per-event path.
+``rbimpact.simulation3d`` packs a scene, calls ``init_run`` once and ``run_loop`` until it
+returns ``RC_DONE`` or ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles the
+event/segment buffers and calls again). Negative return codes are errors (``ERR_*``,
+details in ``err``).
+
+Scene arrays (constant during a run)
+------------------------------------
+``bint`` int64[nb, 5]      shape kind (``SH_*``), first feature row, feature count, rotation
+                           kind (``flight3d.ROT_*``), symmetry axis (0, 1, 2)
+``bflt`` float64[nb, 8]    mass (kg), principal moments I1, I2, I3 about the body axes
+                           (kg m^2), feature radius (m: sphere radius, capsule radius, 0 for
+                           a box), half extents (m: box half edges; capsule (0, 0, L/2))
+``feats`` float64[nf, 3]   body-frame contact features (sphere: its centre)
+``planes`` float64[np, 4]  ``(nx, ny, nz, d)``: half-space ``n . y >= d`` is free space
+``grav`` float64[3]        gravity (m/s^2)
+``law_ids``, ``law_par``   the law table; ``bp_law`` int64[nb, np]; ``pairs`` int64[npr, 3]
+                           sphere-sphere pairs ``(a, b, law row)``
+``tolf``, ``toli``         tolerances (``TF_*``, ``TI_*`` slots)
+
+Dynamic state
+-------------
+``st`` float64[nb, 19] state rows at ``tref`` (``flight3d`` layout); ``ws`` float64[nb,
+N_WS] integrator workspaces (``ws[i, 0] < 0``: not started for the current segment);
+``pm`` int64[nb, 3] persistent contact (mode ``PM_*``, plane, face); ``tz``/``zp`` pending
+accumulation point and its plane; ``ttr`` next persistent-mode transition; ``bt``/``bpl``
+/``bft`` next body-plane impact time, plane and feature; ``bp_off`` body-plane pairs
+disabled after a perforating impact; ``pr_t``/``pr_off`` the same for sphere pairs;
+``glob[0]`` the current time; ``cnt`` = (events, segments, consecutive events at one
+instant).
+
+Output: events ``ev_t`` (s), ``ev_i`` (kind ``EV_*``, a, b, mode, cluster), ``ev_f`` (point
+xyz, normal xyz, tangent t1 xyz, v_i (N, T1, T2), v_f, P, dE); segments ``seg_t``,
+``seg_b``, ``seg_s`` (body ``seg_b`` moves from ``seg_t`` with state row ``seg_s``).
+
+Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
+
+* Sphere: as the 2D disk. After an impact on a plane pushing it (``g_n = n . g < 0``), when
+  ``E_ex = m v_N^2 / 2 + m |g_n| (h - r) < m zeno_speed^2 / 2`` the run jumps to the
+  accumulation point and the sphere then slides with Coulomb friction (slip direction
+  fixed when the plane is level or the slip is along the slope: closed form) until its
+  contact point stops ("roll"), then rolls (or rests). A slip that would curve (slope not
+  along the slip) has no closed form: ``ERR_SLIDE_CURVE``. Requires spherical inertia.
+* Box (on the face most aligned with the plane) and capsule (on its side):
+  ``E_ex = m v_N^2 / 2 + w . I w / 2 + m |g_n| (h - h_rest)``; when below the threshold
+  the run jumps to the accumulation point, snaps the body onto the face (rotation to the
+  face, normal velocity and rotation removed: event "contact") and it then rests or
+  slides without rotating (closed form; the face must carry the friction moment, else
+  ``ERR_TIPPING``; a capsule must slide along its axis, else ``ERR_UNSUPPORTED``).
+* Chatter: impacts that accumulate at a point or an edge of a box or capsule (a contact
+  leaves with normal speed below ``sqrt(2 |g''| rest_length)`` while its gap accelerates
+  into the plane) need a persistent pivoting contact with no closed form. If ``capture``
+  is on, the plane is level and the body's energy above its rest on the nearest face is
+  below the lowest energy barrier out of that face's basin (box: the lowest support
+  height on the boundary of the face's basin; capsule: standing on a cap), then the body
+  can only end at rest on that face, whatever the remaining rocking: it is snapped onto
+  that face as above (normal motion and rotation removed, the tangential velocity of the
+  centre of mass kept: it then rests or slides in closed form; event "capture", ``dE`` the
+  energy removed). Otherwise ``ERR_CHATTER``.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .common import P_E, P_MU
+from .dispatch import resolve_3d
+from .flight3d import N_WS, RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
+    qrot, qrot_inv
+from .pivot3d import (CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N,
+                      CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL,
+                      FW_C1, FW_F1, FW_LAM, FW_MARG, FW_R1, FW_S1, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP,
+                      PI_OK, PI_TOO_MANY_STEPS, PV_OK, pivot_eval, pivot_forces,
+                      pivot_next_event, pivot_start)
+from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
+from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
+
+INF = math.inf
+
+# shape kinds
+SH_SPHERE = 0
+SH_BOX = 1
+SH_CAPSULE = 2
+
+# persistent modes (pm[:, 0])
+PM_FLIGHT = 0
+PM_SLIDE = 1
+PM_ROLL = 2
+PM_REST = 3
+PM_PIVOT = 4   # integrated point or edge contact (kernels/pivot3d.py)
+
+# event kinds (ev_i[:, 0]); a persistent mode m is logged as kind m + 1
+EV_IMPACT = 0
+EV_CONTACT = 1
+EV_SLIDE = 2
+EV_ROLL = 3
+EV_REST = 4
+EV_RELEASE = 5
+EV_CAPTURE = 6
+EV_PIVOT = 7
+EV_STICK = 8
+EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "capture", "pivot",
+               "stick")
+
+POL_SIMULTANEOUS = 0
+POL_SEQUENTIAL = 1
+
+# tolerance slots
+TF_REST_LENGTH = 0
+TF_ZENO_SPEED = 1
+TF_GAP_TOL = 2
+TF_TOI_RTOL = 3
+TF_TOI_ATOL = 4
+TF_SIMUL_TIME = 5
+TF_SIMUL_TOL = 6
+TF_SEQ_VTOL = 7
+TF_T_END = 8
+TF_ROT_TOL = 9
+TF_CONTACT_TOL = 10
+TF_SLIP_EPS = 11
+N_TF = 12
+TI_TOI_MAXIT = 0
+TI_SIMUL_MAXIT = 1
+TI_SEQ_MAXSTEPS = 2
+TI_STALL = 3
+TI_POLICY = 4
+TI_MAX_EVENTS = 5
+TI_ROT_MAX_STEPS = 6
+TI_CAPTURE = 7
+N_TI = 8
+
+RC_DONE = 0
+RC_MAX_EVENTS = 1
+RC_BUFFER_FULL = 2
+ERR_NO_SOLUTION = -1
+ERR_NONFINITE = -2
+ERR_MISSED = -3
+ERR_TOI = -4
+ERR_CHATTER = -5
+ERR_SEQ = -6
+ERR_PGS = -7
+ERR_TIPPING = -8
+ERR_SLIDE_CURVE = -9
+ERR_STALL = -10
+ERR_TOO_MANY = -11
+ERR_JOINT_E = -12
+ERR_ROT = -13
+ERR_UNSUPPORTED = -14
+ERR_PAINLEVE = -15
+ERR_CONTACT_STEPS = -16
+
+#: a plane is level (for capture) when the tangential part of gravity is below this
+#: fraction of |g| (dimensionless); a slip is "along the slope" when the sine of the angle
+#: between the slip and the tangential gravity is below it
+PARALLEL_RTOL = 1e-12
+#: joint solve: a sweep has converged when no velocity changes by more than
+#: simul_tol + SIMUL_RTOL * max |v_i| (m/s): the relative part absorbs round-off cycling
+SIMUL_RTOL = 1e-11
+#: integrated contact: a slip direction u is consistent when the slip's acceleration along
+#: it, u . a_T, exceeds -SLIP_ACC_TOL |g| (dimensionless)
+SLIP_ACC_TOL = 1e-9
+#: integrated contact: angular scan steps over the tangent plane when looking for the
+#: consistent direction in which a contact starts to slip
+N_SLIP_SCAN = 72
+#: a face holds the friction moment when the pressure centre stays inside it by this
+#: fraction of the face's half extent (dimensionless round-off allowance)
+FACE_RTOL = 1e-12
+
+MAXC = 24          # contacts resolved at one instant
+N_CI = 6
+CI_TYPE, CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF = 0, 1, 2, 3, 4, 5
+N_CF = 25
+CF_N, CF_T1, CF_T2, CF_P, CF_RA, CF_RB, CF_VI, CF_PI, CF_VCMN = 0, 3, 6, 9, 12, 15, 18, 21, 24
+N_EF = 19
+N_SEG = 20 + N_CP   # segment row: state (19), integrated-contact flag, contact parameters
+N_ERR = 20          # err: t, a, b, xyz, x1, x2, x3, |v_T|, v (3), W (6 upper entries)
+
+
+def event_margin(toli, nb):
+    """Free event rows the loop needs before it handles one more instant."""
+    return int(toli[TI_SEQ_MAXSTEPS]) + 8 * MAXC + 6 * nb + 16
+
+
+def segment_margin(nb):
+    return 6 * nb + 4 * MAXC + 16
+
+
+# ------------------------------------------------------------------ small helpers
+
+
+@njit(cache=True)
+def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, c_f, c, vi0, vi1, vi2,
+         vf0, vf1, vf2, P0, P1, P2, dE):
+    """Log an event whose point and frame are row c of c_f."""
+    k = cnt[0]
+    ev_t[k] = t
+    ev_i[k, 0] = kind
+    ev_i[k, 1] = a
+    ev_i[k, 2] = b
+    ev_i[k, 3] = mode
+    ev_i[k, 4] = cluster
+    for j in range(3):
+        ev_f[k, j] = c_f[c, CF_P + j]
+        ev_f[k, 3 + j] = c_f[c, CF_N + j]
+        ev_f[k, 6 + j] = c_f[c, CF_T1 + j]
+    ev_f[k, 9] = vi0
+    ev_f[k, 10] = vi1
+    ev_f[k, 11] = vi2
+    ev_f[k, 12] = vf0
+    ev_f[k, 13] = vf1
+    ev_f[k, 14] = vf2
+    ev_f[k, 15] = P0
+    ev_f[k, 16] = P1
+    ev_f[k, 17] = P2
+    ev_f[k, 18] = dE
+    cnt[0] = k + 1
+
+
+@njit(cache=True)
+def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
+    k = cnt[1]
+    seg_t[k] = tref[i]
+    seg_b[k] = i
+    for j in range(19):
+        seg_s[k, j] = st[i, j]
+    if pm[i, 0] == PM_PIVOT:
+        seg_s[k, 19] = 1.0
+        for j in range(N_CP):
+            seg_s[k, 20 + j] = pv[i, j]
+    else:
+        seg_s[k, 19] = 0.0
+    cnt[1] = k + 1
+
+
+@njit(cache=True)
+def _set_err(err, t, a, b, px, py, pz, x1, x2, x3):
+    err[0] = t
+    err[1] = a
+    err[2] = b
+    err[3] = px
+    err[4] = py
+    err[5] = pz
+    err[6] = x1
+    err[7] = x2
+    err[8] = x3
+
+
+@njit(cache=True)
+def _finite(st, i):
+    for j in range(19):
+        if not math.isfinite(st[i, j]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _vz2(tolf, gabs):
+    """Squared accumulation speed (m^2/s^2) for a normal acceleration magnitude gabs."""
+    z = tolf[TF_ZENO_SPEED]
+    if z >= 0.0:
+        return z * z
+    return 2.0 * gabs * tolf[TF_REST_LENGTH]
+
+
+@njit(cache=True)
+def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw):
+    """Advance body i's state row to time t (a new segment starts there). Returns 0,
+    ERR_ROT, ERR_CONTACT_STEPS or ERR_PAINLEVE."""
+    s = t - tref[i]
+    if s != 0.0 and pm[i, 0] == PM_PIVOT:
+        rc = pivot_eval(pw[i], pv[i], fw, s, pose)
+        if rc != PI_OK:
+            return ERR_CONTACT_STEPS if rc == PI_TOO_MANY_STEPS else ERR_PAINLEVE
+        for j in range(13):
+            st[i, j] = pose[j]
+    elif s != 0.0:
+        rc = pose_at(st[i], bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2], bflt[i, 3],
+                     ws[i], s, tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pose)
+        if rc != RK_OK:
+            return ERR_ROT
+        for j in range(19):
+            st[i, j] = pose[j]
+    tref[i] = t
+    ws[i, WS_MODE] = -1.0
+    return 0
+
+
+@njit(cache=True)
+def _iinv(st, i, bflt, Ii):
+    """World inverse inertia tensor of body i at its current orientation into Ii (3x3)."""
+    w, x, y, z = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+    r00 = 1.0 - 2.0 * (y * y + z * z)
+    r01 = 2.0 * (x * y - w * z)
+    r02 = 2.0 * (x * z + w * y)
+    r10 = 2.0 * (x * y + w * z)
+    r11 = 1.0 - 2.0 * (x * x + z * z)
+    r12 = 2.0 * (y * z - w * x)
+    r20 = 2.0 * (x * z - w * y)
+    r21 = 2.0 * (y * z + w * x)
+    r22 = 1.0 - 2.0 * (x * x + y * y)
+    a = 1.0 / bflt[i, 1]
+    b = 1.0 / bflt[i, 2]
+    c = 1.0 / bflt[i, 3]
+    Ii[0, 0] = r00 * r00 * a + r01 * r01 * b + r02 * r02 * c
+    Ii[0, 1] = r00 * r10 * a + r01 * r11 * b + r02 * r12 * c
+    Ii[0, 2] = r00 * r20 * a + r01 * r21 * b + r02 * r22 * c
+    Ii[1, 1] = r10 * r10 * a + r11 * r11 * b + r12 * r12 * c
+    Ii[1, 2] = r10 * r20 * a + r11 * r21 * b + r12 * r22 * c
+    Ii[2, 2] = r20 * r20 * a + r21 * r21 * b + r22 * r22 * c
+    Ii[1, 0] = Ii[0, 1]
+    Ii[2, 0] = Ii[0, 2]
+    Ii[2, 1] = Ii[1, 2]
+
+
+@njit(cache=True)
+def _rot_energy(st, i, bflt):
+    """Rotational kinetic energy (J) of body i."""
+    bx, by, bz = qrot_inv(st[i, 3], st[i, 4], st[i, 5], st[i, 6], st[i, 10], st[i, 11],
+                          st[i, 12])
+    return 0.5 * (bflt[i, 1] * bx * bx + bflt[i, 2] * by * by + bflt[i, 3] * bz * bz)
+
+
+@njit(cache=True)
+def _energy(st, bflt, grav, i):
+    m = bflt[i, 0]
+    return (0.5 * m * (st[i, 7] ** 2 + st[i, 8] ** 2 + st[i, 9] ** 2) + _rot_energy(st, i, bflt)
+            - m * (grav[0] * st[i, 0] + grav[1] * st[i, 1] + grav[2] * st[i, 2]))
+
+
+# ------------------------------------------------------------------ contact geometry
+
+
+@njit(cache=True)
+def _frame(c_f, c, nx, ny, nz):
+    a0, a1, a2, b0, b1, b2 = tangent_basis(nx, ny, nz)
+    c_f[c, CF_N] = nx
+    c_f[c, CF_N + 1] = ny
+    c_f[c, CF_N + 2] = nz
+    c_f[c, CF_T1] = a0
+    c_f[c, CF_T1 + 1] = a1
+    c_f[c, CF_T1 + 2] = a2
+    c_f[c, CF_T2] = b0
+    c_f[c, CF_T2 + 1] = b1
+    c_f[c, CF_T2 + 2] = b2
+
+
+@njit(cache=True)
+def _point_vel(st, i, rx, ry, rz):
+    """Velocity (m/s) of the material point at arm r of body i."""
+    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
+    return (st[i, 7] + wy * rz - wz * ry, st[i, 8] + wz * rx - wx * rz,
+            st[i, 9] + wx * ry - wy * rx)
+
+
+@njit(cache=True)
+def _contact_velocity(st, c_i, c_f, c):
+    """(v_N, v_T1, v_T2) of A's contact point minus B's (m/s)."""
+    a = c_i[c, CI_A]
+    ux, uy, uz = _point_vel(st, a, c_f[c, CF_RA], c_f[c, CF_RA + 1], c_f[c, CF_RA + 2])
+    if c_i[c, CI_TYPE] == 1:
+        wx, wy, wz = _point_vel(st, c_i[c, CI_B], c_f[c, CF_RB], c_f[c, CF_RB + 1],
+                                c_f[c, CF_RB + 2])
+        ux -= wx
+        uy -= wy
+        uz -= wz
+    vn = ux * c_f[c, CF_N] + uy * c_f[c, CF_N + 1] + uz * c_f[c, CF_N + 2]
+    v1 = ux * c_f[c, CF_T1] + uy * c_f[c, CF_T1 + 1] + uz * c_f[c, CF_T1 + 2]
+    v2 = ux * c_f[c, CF_T2] + uy * c_f[c, CF_T2 + 1] + uz * c_f[c, CF_T2 + 2]
+    return vn, v1, v2
+
+
+@njit(cache=True)
+def _arm_cross(c_f, c, roff, k):
+    """r x e_k with r = c_f[c, roff:roff+3] and e_k the k-th contact basis vector."""
+    rx = c_f[c, roff]
+    ry = c_f[c, roff + 1]
+    rz = c_f[c, roff + 2]
+    ex = c_f[c, 3 * k]
+    ey = c_f[c, 3 * k + 1]
+    ez = c_f[c, 3 * k + 2]
+    return ry * ez - rz * ey, rz * ex - rx * ez, rx * ey - ry * ex
+
+
+@njit(cache=True)
+def _block(c, d, j, sc, sd, st, bflt, c_f, Ii, out, o0, o1):
+    """Add the coupling of contacts c and d through body j (arm slots sc, sd: CF_RA or
+    CF_RB; the sign is applied by the caller) to out[o0:o0+3, o1:o1+3]."""
+    _iinv(st, j, bflt, Ii)
+    im = 1.0 / bflt[j, 0]
+    sgn = (1.0 if sc == CF_RA else -1.0) * (1.0 if sd == CF_RA else -1.0)
+    for a in range(3):
+        ax, ay, az = _arm_cross(c_f, c, sc, a)
+        ea0 = c_f[c, 3 * a]
+        ea1 = c_f[c, 3 * a + 1]
+        ea2 = c_f[c, 3 * a + 2]
+        for b in range(3):
+            bx, by, bz = _arm_cross(c_f, d, sd, b)
+            lin = (ea0 * c_f[d, 3 * b] + ea1 * c_f[d, 3 * b + 1] + ea2 * c_f[d, 3 * b + 2]) * im
+            ang = (ax * (Ii[0, 0] * bx + Ii[0, 1] * by + Ii[0, 2] * bz)
+                   + ay * (Ii[1, 0] * bx + Ii[1, 1] * by + Ii[1, 2] * bz)
+                   + az * (Ii[2, 0] * bx + Ii[2, 1] * by + Ii[2, 2] * bz))
+            out[o0 + a, o1 + b] += sgn * (lin + ang)
+
+
+@njit(cache=True)
+def _contact_W(st, bflt, c_i, c_f, c, W3, Ii):
+    """Delassus matrix (1/kg) of contact c (DESIGN §3) into W3 (3x3)."""
+    for a in range(3):
+        for b in range(3):
+            W3[a, b] = 0.0
+    _block(c, c, c_i[c, CI_A], CF_RA, CF_RA, st, bflt, c_f, Ii, W3, 0, 0)
+    if c_i[c, CI_TYPE] == 1:
+        _block(c, c, c_i[c, CI_B], CF_RB, CF_RB, st, bflt, c_f, Ii, W3, 0, 0)
+    # exact symmetry
+    for a in range(3):
+        for b in range(a + 1, 3):
+            m = 0.5 * (W3[a, b] + W3[b, a])
+            W3[a, b] = m
+            W3[b, a] = m
+
+
+@njit(cache=True)
+def _apply_body(st, bflt, i, rx, ry, rz, jx, jy, jz, Ii):
+    m = bflt[i, 0]
+    st[i, 7] += jx / m
+    st[i, 8] += jy / m
+    st[i, 9] += jz / m
+    cx = ry * jz - rz * jy
+    cy = rz * jx - rx * jz
+    cz = rx * jy - ry * jx
+    _iinv(st, i, bflt, Ii)
+    st[i, 10] += Ii[0, 0] * cx + Ii[0, 1] * cy + Ii[0, 2] * cz
+    st[i, 11] += Ii[1, 0] * cx + Ii[1, 1] * cy + Ii[1, 2] * cz
+    st[i, 12] += Ii[2, 0] * cx + Ii[2, 1] * cy + Ii[2, 2] * cz
+
+
+@njit(cache=True)
+def _apply(st, bflt, c_i, c_f, c, P0, P1, P2, Ii):
+    """Apply the contact-space impulse (P_N, P_T1, P_T2) to A and its opposite to B."""
+    jx = P0 * c_f[c, CF_N] + P1 * c_f[c, CF_T1] + P2 * c_f[c, CF_T2]
+    jy = P0 * c_f[c, CF_N + 1] + P1 * c_f[c, CF_T1 + 1] + P2 * c_f[c, CF_T2 + 1]
+    jz = P0 * c_f[c, CF_N + 2] + P1 * c_f[c, CF_T1 + 2] + P2 * c_f[c, CF_T2 + 2]
+    _apply_body(st, bflt, c_i[c, CI_A], c_f[c, CF_RA], c_f[c, CF_RA + 1],
+                c_f[c, CF_RA + 2], jx, jy, jz, Ii)
+    if c_i[c, CI_TYPE] == 1:
+        _apply_body(st, bflt, c_i[c, CI_B], c_f[c, CF_RB], c_f[c, CF_RB + 1],
+                    c_f[c, CF_RB + 2], -jx, -jy, -jz, Ii)
+
+
+@njit(cache=True)
+def _bcode(c_i, c):
+    if c_i[c, CI_TYPE] == 0:
+        return -1 - c_i[c, CI_B]
+    return c_i[c, CI_B]
+
+
+@njit(cache=True)
+def _free_alpha(st, i, bflt):
+    """Torque-free angular acceleration (rad/s^2, world) of body i: I^-1 ((I w) x w)."""
+    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+    bx, by, bz = qrot_inv(q0, q1, q2, q3, st[i, 10], st[i, 11], st[i, 12])
+    I1, I2, I3 = bflt[i, 1], bflt[i, 2], bflt[i, 3]
+    return qrot(q0, q1, q2, q3, (I2 - I3) * by * bz / I1, (I3 - I1) * bz * bx / I2,
+                (I1 - I2) * bx * by / I3)
+
+
+@njit(cache=True)
+def _gap_accel(st, bflt, c_i, c_f, c):
+    """Second time derivative (m/s^2) of the contact's gap in free flight, now."""
+    nx = c_f[c, CF_N]
+    ny = c_f[c, CF_N + 1]
+    nz = c_f[c, CF_N + 2]
+    a = c_i[c, CI_A]
+    if c_i[c, CI_TYPE] == 1:
+        b = c_i[c, CI_B]
+        dvx = st[a, 7] - st[b, 7]
+        dvy = st[a, 8] - st[b, 8]
+        dvz = st[a, 9] - st[b, 9]
+        vn = dvx * nx + dvy * ny + dvz * nz
+        vt2 = dvx * dvx + dvy * dvy + dvz * dvz - vn * vn
+        R = bflt[a, 4] + bflt[b, 4]
+        return (nx * (st[a, 13] - st[b, 13]) + ny * (st[a, 14] - st[b, 14])
+                + nz * (st[a, 15] - st[b, 15]) + max(vt2, 0.0) / R)
+    rad = bflt[a, 4]
+    # arm of the feature centre
+    rx = c_f[c, CF_RA] + rad * nx
+    ry = c_f[c, CF_RA + 1] + rad * ny
+    rz = c_f[c, CF_RA + 2] + rad * nz
+    wx, wy, wz = st[a, 10], st[a, 11], st[a, 12]
+    alx, aly, alz = _free_alpha(st, a, bflt)
+    acc = nx * st[a, 13] + ny * st[a, 14] + nz * st[a, 15]
+    # n . (al x r)
+    acc += nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz) + nz * (alx * ry - aly * rx)
+    # n . (w x (w x r)) = (n.w)(w.r) - (n.r)|w|^2
+    acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
+            - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
+    return acc
+
+
+# ------------------------------------------------------------------ candidates
+
+
+@njit(cache=True)
+def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl,
+                      bft, bp_off, ws, tolf, toli, skip, pose, err):
+    """Next impact time of body i (state at t_now = tref[i]) against every plane."""
+    npl = planes.shape[0]
+    for p in range(npl):
+        skip[p] = 0
+        if (bp_off[i, p] != 0 or (pm[i, 0] != PM_FLIGHT and pm[i, 1] == p)
+                or (tz[i] < INF and zp[i] == p)):
+            skip[p] = 1
+    S = tolf[TF_T_END] - t_now
+    s, p, k, code = body_planes_toi(st[i], bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2],
+                                    bflt[i, 3], ws[i], feats, bint[i, 1], bint[i, 2],
+                                    bflt[i, 4], planes, skip, t_now, S, tolf[TF_TOI_RTOL],
+                                    tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT],
+                                    tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pose)
+    if code == TOI_MISSED:
+        _set_err(err, t_now + s, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], k, 0.0, 0.0)
+        return ERR_MISSED
+    if code == TOI_NOT_CONVERGED:
+        _set_err(err, t_now, i, -1, st[i, 0], st[i, 1], st[i, 2], s, 0.0, 0.0)
+        return ERR_TOI
+    if code == TOI_ROT_FAILED:
+        _set_err(err, t_now + s, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        return ERR_ROT
+    bt[i] = t_now + s
+    bpl[i] = p
+    bft[i] = k
+    return 0
+
+
+@njit(cache=True)
+def _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, err):
+    if pr_off[q] != 0:
+        pr_t[q] = INF
+        return 0
+    a = pairs[q, 0]
+    b = pairs[q, 1]
+    sa = t_now - tref[a]
+    sb = t_now - tref[b]
+    ha = 0.5 * sa * sa
+    hb = 0.5 * sb * sb
+    d0 = (st[a, 0] + st[a, 7] * sa + st[a, 13] * ha) - (st[b, 0] + st[b, 7] * sb + st[b, 13] * hb)
+    d1 = (st[a, 1] + st[a, 8] * sa + st[a, 14] * ha) - (st[b, 1] + st[b, 8] * sb + st[b, 14] * hb)
+    d2 = (st[a, 2] + st[a, 9] * sa + st[a, 15] * ha) - (st[b, 2] + st[b, 9] * sb + st[b, 15] * hb)
+    u0 = (st[a, 7] + st[a, 13] * sa) - (st[b, 7] + st[b, 13] * sb)
+    u1 = (st[a, 8] + st[a, 14] * sa) - (st[b, 8] + st[b, 14] * sb)
+    u2 = (st[a, 9] + st[a, 15] * sa) - (st[b, 9] + st[b, 15] * sb)
+    R = bflt[a, 4] + bflt[b, 4]
+    s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, st[a, 13] - st[b, 13],
+                                st[a, 14] - st[b, 14], st[a, 15] - st[b, 15], R, t_now,
+                                tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    if code == TOI_MISSED:
+        _set_err(err, t_now, a, b, st[a, 0], st[a, 1], st[a, 2], 0.0, 0.0, 0.0)
+        return ERR_MISSED
+    if code == TOI_NOT_CONVERGED:
+        _set_err(err, t_now, a, b, st[a, 0], st[a, 1], st[a, 2], s, 0.0, 0.0)
+        return ERR_TOI
+    pr_t[q] = t_now + s
+    return 0
+
+
+# ------------------------------------------------------------------ integrated point/edge contact
+
+
+@njit(cache=True)
+def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv, pw, fw,
+                     tolf, toli, skip, ybuf, vals, vals0, vfl, err):
+    """Next event of body i in integrated point/edge contact (state at t_now)."""
+    bt[i] = INF
+    for p in range(planes.shape[0]):
+        skip[p] = 1 if bp_off[i, p] != 0 else 0
+    pivot_start(pw[i], st[i], pv[i], tolf[TF_CONTACT_TOL], toli[TI_ROT_MAX_STEPS])
+    S = tolf[TF_T_END] - t_now
+    s, kind, idx, code = pivot_next_event(pw[i], pv[i], fw, feats, bint[i, 1], bint[i, 2],
+                                          planes, skip, S, t_now, tolf[TF_TOI_RTOL],
+                                          tolf[TF_TOI_ATOL], ybuf, vals, vals0, vfl)
+    if code != PI_OK:
+        _set_err(err, t_now + s, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2],
+                 code, 0.0, 0.0)
+        return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
+    if kind == PE_NONE:
+        ttr[i] = INF
+    else:
+        ttr[i] = t_now + s
+    pk[i, 0] = kind
+    pk[i, 1] = idx
+    return 0
+
+
+@njit(cache=True)
+def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp, bt,
+                    bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose, err, ttr, pk,
+                    pv, pw, fw, ybuf, vals, vals0, vfl):
+    if pm[i, 0] == PM_PIVOT:
+        return _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
+                                pw, fw, tolf, toli, skip, ybuf, vals, vals0, vfl, err)
+    rc = _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt,
+                           bpl, bft, bp_off, ws, tolf, toli, skip, pose, err)
+    if rc < 0:
+        return rc
+    for q in range(pairs.shape[0]):
+        if pairs[q, 0] == i or pairs[q, 1] == i:
+            rc = _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli,
+                                 err)
+            if rc < 0:
+                return rc
+    return 0
+
+
+@njit(cache=True)
+def _pv_arm(st, i, pv, k):
+    """Arm (contact point minus centre of mass) of integrated contact k of body i."""
+    po = CP_P1 + 3 * k
+    sx, sy, sz = qrot(st[i, 3], st[i, 4], st[i, 5], st[i, 6], pv[i, po], pv[i, po + 1],
+                      pv[i, po + 2])
+    rad = pv[i, CP_RAD]
+    return (sx - rad * pv[i, CP_N], sy - rad * pv[i, CP_N + 1], sz - rad * pv[i, CP_N + 2])
+
+
+@njit(cache=True)
+def _pv_frame(c_f, cw, st, i, pv, k):
+    """Frame row cw: the plane's frame at integrated contact k of body i."""
+    rx, ry, rz = _pv_arm(st, i, pv, k)
+    _frame(c_f, cw, pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2])
+    c_f[cw, CF_RA] = rx
+    c_f[cw, CF_RA + 1] = ry
+    c_f[cw, CF_RA + 2] = rz
+    for j in range(3):
+        c_f[cw, CF_P + j] = st[i, j] + c_f[cw, CF_RA + j]
+        c_f[cw, CF_RB + j] = 0.0
+
+
+@njit(cache=True)
+def _pv_drop(pv, i, k):
+    """Remove integrated contact k of body i."""
+    K = int(pv[i, CP_K])
+    if k == 0 and K == 2:
+        for j in range(3):
+            pv[i, CP_P1 + j] = pv[i, CP_P2 + j]
+            pv[i, CP_U1 + j] = pv[i, CP_U2 + j]
+        pv[i, CP_S1] = pv[i, CP_S2]
+        pv[i, CP_F1] = pv[i, CP_F2]
+    pv[i, CP_K] = K - 1
+
+
+@njit(cache=True)
+def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
+    """For contact k sliding along u(phi) (the others as they are): (F, D, lam) with
+    F = n . (u x a_T), D = u . a_T the slip's acceleration across and along u and lam the
+    normal force."""
+    c = math.cos(phi)
+    s = math.sin(phi)
+    ux = c * t1x + s * t2x
+    uy = c * t1y + s * t2y
+    uz = c * t1z + s * t2z
+    uo = CP_U1 + 3 * k
+    pv[i, uo] = ux
+    pv[i, uo + 1] = uy
+    pv[i, uo + 2] = uz
+    rc = pivot_forces(st[i], pv[i], fw)
+    if rc != PV_OK:
+        return 0.0, -math.inf, -1.0
+    nx, ny, nz = pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2]
+    ro = FW_R1 + 3 * k
+    so = FW_S1 + 3 * k
+    rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]
+    sx, sy, sz = fw[so], fw[so + 1], fw[so + 2]
+    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
+    alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
+    ws = wx * sx + wy * sy + wz * sz
+    w2 = wx * wx + wy * wy + wz * wz
+    ax = fw[FW_A] + aly * rz - alz * ry + wx * ws - sx * w2
+    ay = fw[FW_A + 1] + alz * rx - alx * rz + wy * ws - sy * w2
+    az = fw[FW_A + 2] + alx * ry - aly * rx + wz * ws - sz * w2
+    an = ax * nx + ay * ny + az * nz
+    ax -= an * nx
+    ay -= an * ny
+    az -= an * nz
+    F = nx * (uy * az - uz * ay) + ny * (uz * ax - ux * az) + nz * (ux * ay - uy * ax)
+    D = ux * ax + uy * ay + uz * az
+    return F, D, fw[FW_LAM + k]
+
+
+@njit(cache=True)
+def _pv_slide(st, i, pv, k, fw):
+    """Contact k starts sliding: in the consistent direction u (the slip's acceleration
+    a_T is along +u: ``u x a_T = 0``, ``u . a_T >= -SLIP_ACC_TOL |g|``, with a positive
+    normal force), the one closest to the direction opposite to the tangential part of
+    its current (sticking) force; when no direction is consistent, that opposite
+    direction. Leaves fw as computed with the chosen direction; returns True when the
+    direction is consistent."""
+    nx, ny, nz = pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2]
+    fo = FW_F1 + 3 * k
+    lam = fw[FW_LAM + k]
+    fx = fw[fo] - lam * nx
+    fy = fw[fo + 1] - lam * ny
+    fz = fw[fo + 2] - lam * nz
+    f = math.sqrt(fx * fx + fy * fy + fz * fz)
+    t1x, t1y, t1z, t2x, t2y, t2z = tangent_basis(nx, ny, nz)
+    if f > 0.0:
+        phi0 = math.atan2(-(fx * t2x + fy * t2y + fz * t2z), -(fx * t1x + fy * t1y + fz * t1z))
+    else:
+        phi0 = 0.0
+    pv[i, CP_S1 + k] = 0.0
+    gsc = SLIP_ACC_TOL * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
+                                   + pv[i, CP_G + 2] ** 2)
+    best = math.inf
+    bphi = phi0
+    dphi = 2.0 * math.pi / N_SLIP_SCAN
+    Fa, Da, La = _slip_F(st, i, pv, k, fw, phi0, t1x, t1y, t1z, t2x, t2y, t2z)
+    pa = phi0
+    for j in range(1, N_SLIP_SCAN + 1):
+        pb = phi0 + j * dphi
+        Fb, Db, Lb = _slip_F(st, i, pv, k, fw, pb, t1x, t1y, t1z, t2x, t2y, t2z)
+        if (Fa <= 0.0 < Fb) or (Fb <= 0.0 < Fa) or Fa == 0.0:
+            lo = pa
+            hi = pb
+            flo = Fa
+            for it in range(60):
+                mid = 0.5 * (lo + hi)
+                Fm, Dm, Lm = _slip_F(st, i, pv, k, fw, mid, t1x, t1y, t1z, t2x, t2y, t2z)
+                if (Fm > 0.0) == (flo > 0.0):
+                    lo = mid
+                    flo = Fm
+                else:
+                    hi = mid
+            r = 0.5 * (lo + hi)
+            Fr, Dr, Lr = _slip_F(st, i, pv, k, fw, r, t1x, t1y, t1z, t2x, t2y, t2z)
+            if Dr >= -gsc and Lr > 0.0:
+                d = abs(math.atan2(math.sin(r - phi0), math.cos(r - phi0)))
+                if d < best:
+                    best = d
+                    bphi = r
+        pa = pb
+        Fa = Fb
+    _slip_F(st, i, pv, k, fw, bphi, t1x, t1y, t1z, t2x, t2y, t2z)
+    return best < math.inf
+
+
+@njit(cache=True)
+def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
+    """Remove the slip of integrated contact k by a tangential impulse at that contact."""
+    _pv_frame(c_f, cw, st, i, pv, k)
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    # tangential block of W
+    w11, w12, w22 = _W_body_tt(st, i, bflt, c_f, cw, Ii)
+    det = w11 * w22 - w12 * w12
+    p1 = -(w22 * v1 - w12 * v2) / det
+    p2 = -(w11 * v2 - w12 * v1) / det
+    jx = p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
+    jy = p1 * c_f[cw, CF_T1 + 1] + p2 * c_f[cw, CF_T2 + 1]
+    jz = p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
+    _apply_body(st, bflt, i, c_f[cw, CF_RA], c_f[cw, CF_RA + 1], c_f[cw, CF_RA + 2], jx, jy,
+                jz, Ii)
+
+
+@njit(cache=True)
+def _W_body_tt(st, i, bflt, c_f, cw, Ii):
+    """(W_11, W_12, W_22) of the tangential block of body i's Delassus matrix at row cw."""
+    _iinv(st, i, bflt, Ii)
+    m = bflt[i, 0]
+    a0, a1, a2 = _arm_cross(c_f, cw, CF_RA, 1)
+    b0, b1, b2 = _arm_cross(c_f, cw, CF_RA, 2)
+    ia0 = Ii[0, 0] * a0 + Ii[0, 1] * a1 + Ii[0, 2] * a2
+    ia1 = Ii[1, 0] * a0 + Ii[1, 1] * a1 + Ii[1, 2] * a2
+    ia2 = Ii[2, 0] * a0 + Ii[2, 1] * a1 + Ii[2, 2] * a2
+    ib0 = Ii[0, 0] * b0 + Ii[0, 1] * b1 + Ii[0, 2] * b2
+    ib1 = Ii[1, 0] * b0 + Ii[1, 1] * b1 + Ii[1, 2] * b2
+    ib2 = Ii[2, 0] * b0 + Ii[2, 1] * b1 + Ii[2, 2] * b2
+    return (1.0 / m + a0 * ia0 + a1 * ia1 + a2 * ia2, b0 * ia0 + b1 * ia1 + b2 * ia2,
+            1.0 / m + b0 * ib0 + b1 * ib1 + b2 * ib2)
+
+
+@njit(cache=True)
+def _pv_validate(i, t, st, pv, fw, err):
+    """Make the integrated contacts of body i consistent: contacts whose normal force
+    would be negative are dropped (most negative first), sticking contacts outside their
+    friction cone slide (opposite to their friction force). Returns 0, 1 (no contact
+    left) or ERR_PAINLEVE."""
+    for attempt in range(8):
+        K = int(pv[i, CP_K])
+        if K == 0:
+            return 1
+        rc = pivot_forces(st[i], pv[i], fw)
+        if rc != PV_OK:
+            _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2], rc,
+                     pv[i, CP_MU], K)
+            return ERR_PAINLEVE
+        kneg = -1
+        lmin = 0.0
+        for k in range(K):
+            if fw[FW_LAM + k] < lmin:
+                lmin = fw[FW_LAM + k]
+                kneg = k
+        if kneg >= 0:
+            _pv_drop(pv, i, kneg)
+            continue
+        changed = False
+        two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
+        for k in range(K):
+            if pv[i, CP_S1 + k] == 1.0 and fw[FW_MARG + k] < 0.0:
+                changed = True
+        if changed:
+            for k in range(K):
+                if pv[i, CP_S1 + k] == 1.0 and (two or fw[FW_MARG + k] < 0.0):
+                    pivot_forces(st[i], pv[i], fw)
+                    _pv_slide(st, i, pv, k, fw)
+            continue
+        return 0
+    _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2], 3.0,
+             pv[i, CP_MU], pv[i, CP_K])
+    return ERR_PAINLEVE
+
+
+@njit(cache=True)
+def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                 pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
+    """Body i keeps features kf1 (and kf2 when K == 2; feature rows) on plane p: remove
+    their (tiny) normal velocities with normal impulses, choose stick or slip, and enter
+    integrated contact (event "pivot"). Returns 0, 1 (no contact can persist) or an
+    error."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    pv[i, CP_M] = bflt[i, 0]
+    for j in range(3):
+        pv[i, CP_I + j] = bflt[i, 1 + j]
+        pv[i, CP_G + j] = grav[j]
+        pv[i, CP_N + j] = planes[p, j]
+        pv[i, CP_P1 + j] = feats[kf1, j]
+        pv[i, CP_P2 + j] = feats[kf2, j] if K == 2 else 0.0
+        pv[i, CP_U1 + j] = 0.0
+        pv[i, CP_U2 + j] = 0.0
+    pv[i, CP_D] = planes[p, 3]
+    pv[i, CP_MU] = law_par[bp_law[i, p], P_MU]
+    pv[i, CP_K] = K
+    pv[i, CP_RAD] = bflt[i, 4]
+    pv[i, CP_EPS] = tolf[TF_SLIP_EPS]
+    pv[i, CP_PLANE] = p
+    pv[i, CP_F1] = kf1
+    pv[i, CP_F2] = kf2 if K == 2 else -1
+    pv[i, CP_L] = math.sqrt(bflt[i, 5] ** 2 + bflt[i, 6] ** 2 + bflt[i, 7] ** 2) + bflt[i, 4]
+    e0 = _energy(st, bflt, grav, i)
+    m = bflt[i, 0]
+    vx0 = st[i, 7]
+    vy0 = st[i, 8]
+    vz0 = st[i, 9]
+    _pv_frame(c_f, cw, st, i, pv, 0)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    # normal velocities to zero: W_NN (K x K) dP = -v_N
+    _iinv(st, i, bflt, Ii)
+    ax, ay, az = _pv_arm(st, i, pv, 0)
+    cx1 = ay * nz - az * ny
+    cy1 = az * nx - ax * nz
+    cz1 = ax * ny - ay * nx
+    u1x, u1y, u1z = _point_vel(st, i, ax, ay, az)
+    v1n = u1x * nx + u1y * ny + u1z * nz
+    i1x = Ii[0, 0] * cx1 + Ii[0, 1] * cy1 + Ii[0, 2] * cz1
+    i1y = Ii[1, 0] * cx1 + Ii[1, 1] * cy1 + Ii[1, 2] * cz1
+    i1z = Ii[2, 0] * cx1 + Ii[2, 1] * cy1 + Ii[2, 2] * cz1
+    w11 = 1.0 / m + cx1 * i1x + cy1 * i1y + cz1 * i1z
+    if K == 1:
+        d1 = -v1n / w11
+        _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
+    else:
+        bx, by, bz = _pv_arm(st, i, pv, 1)
+        cx2 = by * nz - bz * ny
+        cy2 = bz * nx - bx * nz
+        cz2 = bx * ny - by * nx
+        u2x, u2y, u2z = _point_vel(st, i, bx, by, bz)
+        v2n = u2x * nx + u2y * ny + u2z * nz
+        w12 = 1.0 / m + cx2 * i1x + cy2 * i1y + cz2 * i1z
+        i2x = Ii[0, 0] * cx2 + Ii[0, 1] * cy2 + Ii[0, 2] * cz2
+        i2y = Ii[1, 0] * cx2 + Ii[1, 1] * cy2 + Ii[1, 2] * cz2
+        i2z = Ii[2, 0] * cx2 + Ii[2, 1] * cy2 + Ii[2, 2] * cz2
+        w22 = 1.0 / m + cx2 * i2x + cy2 * i2y + cz2 * i2z
+        det = w11 * w22 - w12 * w12
+        if abs(det) > 1e-12 * w11 * w22:
+            d1 = -(w22 * v1n - w12 * v2n) / det
+            d2 = -(w11 * v2n - w12 * v1n) / det
+        else:
+            d1 = -0.5 * (v1n + v2n) / w11
+            d2 = d1
+        _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
+        _apply_body(st, bflt, i, bx, by, bz, d2 * nx, d2 * ny, d2 * nz, Ii)
+    # stick or slip
+    eps = tolf[TF_SLIP_EPS]
+    for k in range(K):
+        _pv_frame(c_f, cw, st, i, pv, k)
+        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        c = math.sqrt(v1 * v1 + v2 * v2)
+        if c > eps:
+            pv[i, CP_S1 + k] = 0.0
+            uo = CP_U1 + 3 * k
+            for j in range(3):
+                pv[i, uo + j] = (v1 * c_f[cw, CF_T1 + j] + v2 * c_f[cw, CF_T2 + j]) / c
+        else:
+            pv[i, CP_S1 + k] = 1.0
+            if c > 0.0:
+                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+    rc = _pv_validate(i, t, st, pv, fw, err)
+    if rc != 0:
+        return rc
+    pm[i, 0] = PM_PIVOT
+    pm[i, 1] = p
+    ttr[i] = INF
+    tz[i] = INF
+    for j in range(6):
+        st[i, 13 + j] = 0.0
+    _pv_frame(c_f, cw, st, i, pv, 0)
+    vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
+    dvx = m * (st[i, 7] - vx0)
+    dvy = m * (st[i, 8] - vy0)
+    dvz = m * (st[i, 9] - vz0)
+    P0 = dvx * c_f[cw, CF_N] + dvy * c_f[cw, CF_N + 1] + dvz * c_f[cw, CF_N + 2]
+    P1 = dvx * c_f[cw, CF_T1] + dvy * c_f[cw, CF_T1 + 1] + dvz * c_f[cw, CF_T1 + 2]
+    P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, int(pv[i, CP_K]), 0, c_f, cw, vi0,
+         vi1, vi2, vf0, vf1, vf2, P0, P1, P2, _energy(st, bflt, grav, i) - e0)
+    return 0
+
+
+@njit(cache=True)
+def _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, k):
+    """The last integrated contact (k) lifts off: free flight (event "release")."""
+    _pv_frame(c_f, cw, st, i, pv, k)
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    pm[i, 0] = PM_FLIGHT
+    for j in range(3):
+        st[i, 13 + j] = grav[j]
+        st[i, 16 + j] = 0.0
+    ttr[i] = INF
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - int(pv[i, CP_PLANE]), 0, 0, c_f, cw,
+         v0, v1, v2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv, pw, fw, ws,
+                 tolf, toli, pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
+    """Handle the scheduled event of body i in integrated contact. Returns (rc, recompute):
+    recompute is False when the event is an impact left to the impact step."""
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    if rc < 0:
+        _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        return rc, False
+    kind = pk[i, 0]
+    idx = pk[i, 1]
+    ttr[i] = INF
+    if kind == PE_GAP:
+        bt[i] = t
+        bpl[i] = idx // 1000
+        bft[i] = idx % 1000
+        return 0, False
+    K = int(pv[i, CP_K])
+    p = int(pv[i, CP_PLANE])
+    if kind == PE_LIFT:
+        if K == 1:
+            _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, 0)
+            return 0, True
+        _pv_frame(c_f, cw, st, i, pv, idx)
+        v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 1, 0, c_f, cw, v0, v1, v2, v0,
+             v1, v2, 0.0, 0.0, 0.0, 0.0)
+        _pv_drop(pv, i, idx)
+    elif kind == PE_SLIP:
+        rc = pivot_forces(st[i], pv[i], fw)
+        if rc != PV_OK:
+            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], rc, pv[i, CP_MU], K)
+            return ERR_PAINLEVE, False
+        two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
+        for k in range(K):
+            if k == idx or two:
+                pivot_forces(st[i], pv[i], fw)
+                _pv_slide(st, i, pv, k, fw)
+                _pv_frame(c_f, cw, st, i, pv, k)
+                v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+                _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - p, 1, 0, c_f, cw, v0, v1, v2,
+                     v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
+    elif kind == PE_STOP:
+        _pv_frame(c_f, cw, st, i, pv, idx)
+        v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        _pv_unslip(st, i, bflt, pv, idx, c_f, cw, Ii)
+        pv[i, CP_S1 + idx] = 1.0
+        _pv_frame(c_f, cw, st, i, pv, idx)
+        u0, u1, u2 = _contact_velocity_row(st, i, c_f, cw)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK, i, -1 - p, 2, 0, c_f, cw, v0, v1, v2, u0, u1,
+             u2, 0.0, 0.0, 0.0, 0.0)
+    rc = _pv_validate(i, t, st, pv, fw, err)
+    if rc < 0:
+        return rc, False
+    if rc == 1:
+        _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, 0)
+    return 0, True
+
+
+@njit(cache=True)
+def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
+    """Features of body i (in flight) that touch a plane pushing it with a normal speed
+    below the accumulation speed while their gap accelerates into it: impacts would
+    accumulate there. Returns (plane, count, first feature row, second feature row,
+    several planes?)."""
+    f0 = bint[i, 1]
+    nf = bint[i, 2]
+    rad = bflt[i, 4]
+    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
+    alx, aly, alz = _free_alpha(st, i, bflt)
+    bp = -1
+    cnt = 0
+    k1 = -1
+    k2 = -1
+    multi = False
+    for p in range(planes.shape[0]):
+        if bp_off[i, p] != 0:
+            continue
+        nx = planes[p, 0]
+        ny = planes[p, 1]
+        nz = planes[p, 2]
+        if not (nx * grav[0] + ny * grav[1] + nz * grav[2] < 0.0):
+            continue
+        for k in range(nf):
+            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
+                              feats[f0 + k, 2])
+            g = (nx * (st[i, 0] + rx) + ny * (st[i, 1] + ry) + nz * (st[i, 2] + rz)
+                 - planes[p, 3] - rad)
+            if g > tolf[TF_GAP_TOL]:
+                continue
+            ux, uy, uz = _point_vel(st, i, rx, ry, rz)
+            vn = nx * ux + ny * uy + nz * uz
+            acc = nx * st[i, 13] + ny * st[i, 14] + nz * st[i, 15]
+            acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
+                    + nz * (alx * ry - aly * rx))
+            acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
+                    - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
+            if not (acc < 0.0 and vn * vn < _vz2(tolf, -acc)):
+                continue
+            if bp >= 0 and bp != p:
+                multi = True
+                continue
+            bp = p
+            if cnt == 0:
+                k1 = f0 + k
+            elif cnt == 1:
+                k2 = f0 + k
+            cnt += 1
+    return bp, cnt, k1, k2, multi
+
+
+# ------------------------------------------------------------------ rest configurations
+
+
+@njit(cache=True)
+def _rest_face(i, p, st, bint, bflt, planes):
+    """Nearest resting configuration of body i on plane p: (face, h_rest, ux, uy, uz)
+    with ``u`` the world direction that must become ``-n`` at rest (box: outward normal
+    of the face most aligned with -n, face = 2 axis + (0 if +axis else 1); capsule: its
+    axis projected... returned as the axis itself, face -1; sphere: face -1)."""
+    kind = bint[i, 0]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    if kind == SH_SPHERE:
+        return -1, bflt[i, 4], -nx, -ny, -nz
+    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+    if kind == SH_CAPSULE:
+        ax, ay, az = qrot(q0, q1, q2, q3, 0.0, 0.0, 1.0)
+        return -1, bflt[i, 4], ax, ay, az
+    bx, by, bz = qrot_inv(q0, q1, q2, q3, nx, ny, nz)
+    k = 0
+    nb = bx
+    if abs(by) > abs(nb):
+        k = 1
+        nb = by
+    if abs(bz) > abs(nb):
+        k = 2
+        nb = bz
+    sg = -1.0 if nb > 0.0 else 1.0
+    ex = sg if k == 0 else 0.0
+    ey = sg if k == 1 else 0.0
+    ez = sg if k == 2 else 0.0
+    ux, uy, uz = qrot(q0, q1, q2, q3, ex, ey, ez)
+    return 2 * k + (0 if sg > 0.0 else 1), bflt[i, 5 + k], ux, uy, uz
+
+
+@njit(cache=True)
+def _barrier(i, face, bint, bflt, gabs):
+    """Lowest energy (J) above the rest on ``face`` at which body i can leave the face's
+    basin: box, the lowest support height on the boundary of the region where that face
+    is the most aligned with the plane, min over the four neighbours G of
+    min((h_F + h_G)/sqrt 2, (h_F + h_G + h_other)/sqrt 3), minus h_F; capsule: standing on
+    a cap, L/2. Times m |g_n|."""
+    m = bflt[i, 0]
+    if bint[i, 0] == SH_CAPSULE:
+        return m * gabs * bflt[i, 7]
+    if bint[i, 0] != SH_BOX:
+        return 0.0
+    k = face // 2
+    hF = bflt[i, 5 + k]
+    best = INF
+    tot = bflt[i, 5] + bflt[i, 6] + bflt[i, 7]
+    for g in range(3):
+        if g == k:
+            continue
+        hG = bflt[i, 5 + g]
+        h = min((hF + hG) / math.sqrt(2.0), tot / math.sqrt(3.0))
+        if h < best:
+            best = h
+    return m * gabs * (best - hF)
+
+
+@njit(cache=True)
+def _excess(i, p, st, bint, bflt, planes, grav, hrest):
+    """(E_ex, E_above) of body i over its rest on plane p (J): E_ex the energy of the
+    normal motion, of the rotation (not for a sphere) and of the height above the rest;
+    E_above all the kinetic energy plus the height above the rest."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    g = -(nx * grav[0] + ny * grav[1] + nz * grav[2])
+    m = bflt[i, 0]
+    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+    v2 = st[i, 7] ** 2 + st[i, 8] ** 2 + st[i, 9] ** 2
+    erot = _rot_energy(st, i, bflt)
+    if bint[i, 0] == SH_SPHERE:
+        return 0.5 * m * vN * vN + m * g * max(hc - hrest, 0.0), 0.5 * m * v2 + erot
+    return (0.5 * m * vN * vN + erot + m * g * (hc - hrest),
+            0.5 * m * v2 + erot + m * g * (hc - hrest))
+
+
+@njit(cache=True)
+def _snap(i, p, st, bint, bflt, planes, hrest, ux, uy, uz):
+    """Rotate body i about its centre of mass so that u becomes -n (box) or u becomes
+    parallel to the plane (capsule), then put it at height hrest above plane p."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    kind = bint[i, 0]
+    if kind != SH_SPHERE:
+        if kind == SH_BOX:
+            tx, ty, tz = -nx, -ny, -nz
+        else:
+            d = ux * nx + uy * ny + uz * nz
+            tx = ux - d * nx
+            ty = uy - d * ny
+            tz = uz - d * nz
+            k = math.sqrt(tx * tx + ty * ty + tz * tz)
+            tx /= k
+            ty /= k
+            tz /= k
+        # shortest rotation u -> t: quaternion (1 + u.t, u x t), normalised
+        c = ux * tx + uy * ty + uz * tz
+        r0, r1, r2, r3 = qnormalize(1.0 + c, uy * tz - uz * ty, uz * tx - ux * tz,
+                                    ux * ty - uy * tx)
+        a0, a1, a2, a3 = qmul(r0, r1, r2, r3, st[i, 3], st[i, 4], st[i, 5], st[i, 6])
+        a0, a1, a2, a3 = qnormalize(a0, a1, a2, a3)
+        st[i, 3] = a0
+        st[i, 4] = a1
+        st[i, 5] = a2
+        st[i, 6] = a3
+    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+    st[i, 0] += (hrest - hc) * nx
+    st[i, 1] += (hrest - hc) * ny
+    st[i, 2] += (hrest - hc) * nz
+
+
+@njit(cache=True)
+def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err):
+    """Choose the persistent mode of body i on plane p (normal velocity already zero;
+    a box or capsule already without rotation) and set its constant accelerations and
+    next transition time. Returns 0, 1 (the plane does not push: release) or an error."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    gn = nx * grav[0] + ny * grav[1] + nz * grav[2]
+    gtx = grav[0] - gn * nx
+    gty = grav[1] - gn * ny
+    gtz = grav[2] - gn * nz
+    gt = math.sqrt(gtx * gtx + gty * gty + gtz * gtz)
+    ttr[i] = INF
+    if not gn < 0.0:
+        return 1
+    m = bflt[i, 0]
+    mu = law_par[bp_law[i, p], P_MU]
+    N = -m * gn
+    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    vtx = st[i, 7] - vN * nx
+    vty = st[i, 8] - vN * ny
+    vtz = st[i, 9] - vN * nz
+    kind = bint[i, 0]
+    for j in range(3):
+        st[i, 16 + j] = 0.0
+    mode = PM_REST
+    if kind == SH_SPHERE:
+        if bint[i, 3] != ROT_SPHERICAL:
+            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 1.0, 0.0, 0.0)
+            return ERR_UNSUPPORTED
+        r = bflt[i, 4]
+        inertia = bflt[i, 1]
+        kinv = 1.0 / m + r * r / inertia
+        # slip of the contact point: v_T + w x (-r n)
+        cx = vtx - r * (st[i, 11] * nz - st[i, 12] * ny)
+        cy = vty - r * (st[i, 12] * nx - st[i, 10] * nz)
+        cz = vtz - r * (st[i, 10] * ny - st[i, 11] * nx)
+        c = math.sqrt(cx * cx + cy * cy + cz * cz)
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        if c == 0.0:
+            # rolling needs F = -m g_t / (m kinv)
+            fx = -gtx / kinv
+            fy = -gty / kinv
+            fz = -gtz / kinv
+            if gt / kinv <= mu * N:
+                w2 = st[i, 10] ** 2 + st[i, 11] ** 2 + st[i, 12] ** 2
+                v2 = vtx * vtx + vty * vty + vtz * vtz
+                mode = PM_REST if (gt == 0.0 and v2 == 0.0 and w2 == 0.0) else PM_ROLL
+            else:
+                fx = -mu * N * gtx / gt
+                fy = -mu * N * gty / gt
+                fz = -mu * N * gtz / gt
+                mode = PM_SLIDE
+        else:
+            ex = cx / c
+            ey = cy / c
+            ez = cz / c
+            # the slip keeps its direction only if the slope is along it
+            if gt > 0.0:
+                sx = ey * gtz - ez * gty
+                sy = ez * gtx - ex * gtz
+                sz = ex * gty - ey * gtx
+                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
+                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], c, gt, mu)
+                    return ERR_SLIDE_CURVE
+            fx = -mu * N * ex
+            fy = -mu * N * ey
+            fz = -mu * N * ez
+            mode = PM_SLIDE
+            k = (ex * gtx + ey * gty + ez * gtz) - mu * N * kinv
+            if k < 0.0:
+                ttr[i] = t + c / (-k)
+        st[i, 13] = gtx + fx / m
+        st[i, 14] = gty + fy / m
+        st[i, 15] = gtz + fz / m
+        # torque (-r n) x F
+        st[i, 16] = -r * (ny * fz - nz * fy) / inertia
+        st[i, 17] = -r * (nz * fx - nx * fz) / inertia
+        st[i, 18] = -r * (nx * fy - ny * fx) / inertia
+    else:
+        vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        if vt == 0.0:
+            if gt <= mu * (-gn):
+                mode = PM_REST
+                fx = -m * gtx
+                fy = -m * gty
+                fz = -m * gtz
+            else:
+                fx = -mu * N * gtx / gt
+                fy = -mu * N * gty / gt
+                fz = -mu * N * gtz / gt
+                mode = PM_SLIDE
+        else:
+            ex = vtx / vt
+            ey = vty / vt
+            ez = vtz / vt
+            if gt > 0.0:
+                sx = ey * gtz - ez * gty
+                sy = ez * gtx - ex * gtz
+                sz = ex * gty - ey * gtx
+                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
+                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], vt, gt, mu)
+                    return ERR_SLIDE_CURVE
+            fx = -mu * N * ex
+            fy = -mu * N * ey
+            fz = -mu * N * ez
+            mode = PM_SLIDE
+            k = (ex * gtx + ey * gty + ez * gtz) - mu * N / m
+            if k < 0.0:
+                ttr[i] = t + vt / (-k)
+        if mode == PM_REST:
+            st[i, 13] = 0.0
+            st[i, 14] = 0.0
+            st[i, 15] = 0.0
+        else:
+            st[i, 13] = gtx + fx / m
+            st[i, 14] = gty + fy / m
+            st[i, 15] = gtz + fz / m
+        # the face must hold the friction moment: pressure centre offset d = -h F / N
+        # (from the centre of mass's foot) inside the face (box) or on the contact
+        # segment (capsule)
+        h = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+        dx = -h * fx / N
+        dy = -h * fy / N
+        dz = -h * fz / N
+        q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+        bx, by, bz = qrot_inv(q0, q1, q2, q3, dx, dy, dz)
+        if kind == SH_BOX:
+            k = pm[i, 2] // 2
+            ok = True
+            if k != 0 and abs(bx) > bflt[i, 5] * (1.0 + FACE_RTOL):
+                ok = False
+            if k != 1 and abs(by) > bflt[i, 6] * (1.0 + FACE_RTOL):
+                ok = False
+            if k != 2 and abs(bz) > bflt[i, 7] * (1.0 + FACE_RTOL):
+                ok = False
+            if not ok:
+                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2],
+                         math.sqrt(fx * fx + fy * fy + fz * fz), N, h)
+                return ERR_TIPPING
+        else:
+            dd = math.sqrt(dx * dx + dy * dy + dz * dz)
+            if (math.sqrt(bx * bx + by * by) > FACE_RTOL * (dd + bflt[i, 4])
+                    or abs(bz) > bflt[i, 7] * (1.0 + FACE_RTOL)):
+                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2],
+                         math.sqrt(fx * fx + fy * fy + fz * fz), N, 2.0)
+                return ERR_UNSUPPORTED
+    pm[i, 0] = mode
+    pm[i, 1] = p
+    return 0
+
+
+@njit(cache=True)
+def _foot(c_f, c, st, i, planes, p):
+    """Frame row c: the plane's frame at the foot of body i's centre of mass."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+    _frame(c_f, c, nx, ny, nz)
+    for j in range(3):
+        c_f[c, CF_P + j] = st[i, j] - hc * planes[p, j]
+        c_f[c, CF_RA + j] = -hc * planes[p, j]
+        c_f[c, CF_RB + j] = 0.0
+
+
+@njit(cache=True)
+def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw):
+    p = pm[i, 1]
+    _foot(c_f, cw, st, i, planes, p)
+    pm[i, 0] = PM_FLIGHT
+    for j in range(3):
+        st[i, 13 + j] = grav[j]
+        st[i, 16 + j] = 0.0
+    ttr[i] = INF
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, c_f, cw, v0, v1, v2, v0, v1,
+         v2, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _contact_velocity_row(st, i, c_f, c):
+    """Contact-space velocity of body i's material point at arm c_f[c, CF_RA] (plane)."""
+    ux, uy, uz = _point_vel(st, i, c_f[c, CF_RA], c_f[c, CF_RA + 1], c_f[c, CF_RA + 2])
+    return (ux * c_f[c, CF_N] + uy * c_f[c, CF_N + 1] + uz * c_f[c, CF_N + 2],
+            ux * c_f[c, CF_T1] + uy * c_f[c, CF_T1 + 1] + uz * c_f[c, CF_T1 + 2],
+            ux * c_f[c, CF_T2] + uy * c_f[c, CF_T2 + 1] + uz * c_f[c, CF_T2 + 2])
+
+
+@njit(cache=True)
+def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, capture, ev_t,
+            ev_i, ev_f, cnt, c_f, cw, err):
+    """Snap body i (state at t) onto its rest on plane p (rotation onto the face, normal
+    velocity and, not for a sphere, rotation removed) and enter persistent contact: event
+    "contact", or "capture" when ``capture`` (the same snap, decided by the capture rule).
+    Returns 0, 1 (the plane does not push: stays in flight) or an error code."""
+    face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    m = bflt[i, 0]
+    e0 = _energy(st, bflt, grav, i)
+    _foot(c_f, cw, st, i, planes, p)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    v0x = st[i, 7]
+    v0y = st[i, 8]
+    v0z = st[i, 9]
+    _snap(i, p, st, bint, bflt, planes, hr, ux, uy, uz)
+    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    for j in range(3):
+        st[i, 7 + j] -= vN * planes[p, j]
+        if bint[i, 0] != SH_SPHERE:
+            st[i, 10 + j] = 0.0
+    pm[i, 2] = face
+    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err)
+    if rc != 0:
+        return rc
+    _foot(c_f, cw, st, i, planes, p)
+    vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
+    dvx = m * (st[i, 7] - v0x)
+    dvy = m * (st[i, 8] - v0y)
+    dvz = m * (st[i, 9] - v0z)
+    P0 = dvx * c_f[cw, CF_N] + dvy * c_f[cw, CF_N + 1] + dvz * c_f[cw, CF_N + 2]
+    P1 = dvx * c_f[cw, CF_T1] + dvy * c_f[cw, CF_T1 + 1] + dvz * c_f[cw, CF_T1 + 2]
+    P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CAPTURE if capture else EV_CONTACT, i, -1 - p,
+         pm[i, 0], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
+         _energy(st, bflt, grav, i) - e0)
+    return 0
+
+
+@njit(cache=True)
+def _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2):
+    p = pm[i, 1]
+    _foot(c_f, cw, st, i, planes, p)
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    _log(ev_t, ev_i, ev_f, cnt, t, pm[i, 0] + 1, i, -1 - p, pm[i, 0], 0, c_f, cw, vi0, vi1,
+         vi2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, ws, tolf,
+                toli, ev_t, ev_i, ev_f, cnt, c_f, cw, pose, err, pv, pw, fw):
+    """Slip of a persistent contact stops at t: roll, rest or slide on."""
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    if rc < 0:
+        _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        return rc
+    ttr[i] = INF
+    p = pm[i, 1]
+    _foot(c_f, cw, st, i, planes, p)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    if bint[i, 0] == SH_SPHERE:
+        # contact point exactly at rest: w = (w.n) n + n x v_T / r
+        r = bflt[i, 4]
+        vtx = st[i, 7] - vN * nx
+        vty = st[i, 8] - vN * ny
+        vtz = st[i, 9] - vN * nz
+        wn = st[i, 10] * nx + st[i, 11] * ny + st[i, 12] * nz
+        st[i, 10] = wn * nx + (ny * vtz - nz * vty) / r
+        st[i, 11] = wn * ny + (nz * vtx - nx * vtz) / r
+        st[i, 12] = wn * nz + (nx * vty - ny * vtx) / r
+    else:
+        for j in range(3):
+            st[i, 7 + j] = 0.0
+    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err)
+    if rc < 0:
+        return rc
+    _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2)
+    return 0
+
+
+@njit(cache=True)
+def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, tolf, ev_t,
+                ev_i, ev_f, cnt, c_f, cw, err):
+    """A body in persistent contact received an impulse: keep the contact (zeroing the
+    normal velocity and, not for a sphere, the rotation) when that motion carries less
+    energy than the accumulation threshold, else release it to free flight."""
+    p = pm[i, 1]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    gn = nx * grav[0] + ny * grav[1] + nz * grav[2]
+    m = bflt[i, 0]
+    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    ex = 0.5 * m * vN * vN
+    if bint[i, 0] != SH_SPHERE:
+        ex += _rot_energy(st, i, bflt)
+    if gn < 0.0 and ex <= 0.5 * m * _vz2(tolf, -gn):
+        _foot(c_f, cw, st, i, planes, p)
+        vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+        for j in range(3):
+            st[i, 7 + j] -= vN * planes[p, j]
+            if bint[i, 0] != SH_SPHERE:
+                st[i, 10 + j] = 0.0
+        old = pm[i, 0]
+        rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                            err)
+        if rc < 0:
+            return rc
+        if rc == 0:
+            if pm[i, 0] != old:
+                _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1,
+                          vi2)
+            return 0
+    _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
+    return 0
+
+
+# ------------------------------------------------------------------ impact resolution
+
+
+@njit(cache=True)
+def _single(c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii, ev_t, ev_i,
+            ev_f, cnt, err):
+    """Resolve contact c with its pair law at its current velocity. Returns (rc, v_fN)."""
+    vi0, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
+    v3[0] = vi0
+    v3[1] = vi1
+    v3[2] = vi2
+    _contact_W(st, bflt, c_i, c_f, c, W3, Ii)
+    li = c_i[c, CI_LAW]
+    mode = resolve_3d(law_ids[li], v3, W3, law_par[li], P3)
+    if mode < 0:
+        _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
+                 c_f[c, CF_P + 2], mode, vi0, c_i[c, CI_LAW])
+        err[9] = math.sqrt(vi1 * vi1 + vi2 * vi2)
+        err[10] = vi0
+        err[11] = vi1
+        err[12] = vi2
+        err[13] = W3[0, 0]
+        err[14] = W3[0, 1]
+        err[15] = W3[0, 2]
+        err[16] = W3[1, 1]
+        err[17] = W3[1, 2]
+        err[18] = W3[2, 2]
+        return ERR_NO_SOLUTION, 0.0
+    P0 = P3[0]
+    P1 = P3[1]
+    P2 = P3[2]
+    _apply(st, bflt, c_i, c_f, c, P0, P1, P2, Ii)
+    vf0, vf1, vf2 = _contact_velocity(st, c_i, c_f, c)
+    c_f[c, CF_PI] += P0
+    c_f[c, CF_PI + 1] += P1
+    c_f[c, CF_PI + 2] += P2
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_IMPACT, c_i[c, CI_A], _bcode(c_i, c), mode, cluster,
+         c_f, c, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
+         0.5 * (P0 * (vi0 + vf0) + P1 * (vi1 + vf1) + P2 * (vi2 + vf2)))
+    return 0, vf0
+
+
+@njit(cache=True)
+def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli, ev_t,
+           ev_i, ev_f, cnt, err):
+    """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
+    K contacts (projected block Gauss-Seidel on the stacked Delassus matrix)."""
+    n3 = 3 * K
+    for a in range(n3):
+        for b in range(n3):
+            Wb[a, b] = 0.0
+    for a in range(K):
+        c = members[a]
+        vi0, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
+        c_f[c, CF_VI] = vi0
+        c_f[c, CF_VI + 1] = vi1
+        c_f[c, CF_VI + 2] = vi2
+        e = law_par[c_i[c, CI_LAW], P_E]
+        if not (0.0 <= e <= 1.0):
+            _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
+                     c_f[c, CF_P + 2], e, 0.0, 0.0)
+            return ERR_JOINT_E
+        vb[3 * a] = vi0
+        vb[3 * a + 1] = vi1
+        vb[3 * a + 2] = vi2
+        tb[3 * a] = -e * min(vi0, 0.0)
+        Pb[3 * a] = 0.0
+        Pb[3 * a + 1] = 0.0
+        Pb[3 * a + 2] = 0.0
+        for b in range(K):
+            d = members[b]
+            # shared bodies: A of c with A or B of d, B of c with A or B of d
+            for sc in range(2):
+                if sc == 1 and c_i[c, CI_TYPE] == 0:
+                    continue
+                jc = c_i[c, CI_A] if sc == 0 else c_i[c, CI_B]
+                for sd in range(2):
+                    if sd == 1 and c_i[d, CI_TYPE] == 0:
+                        continue
+                    jd = c_i[d, CI_A] if sd == 0 else c_i[d, CI_B]
+                    if jd != jc:
+                        continue
+                    _block(c, d, jc, CF_RA if sc == 0 else CF_RB, CF_RA if sd == 0 else CF_RB,
+                           st, bflt, c_f, Ii, Wb, 3 * a, 3 * b)
+    for a in range(n3):
+        for b in range(a + 1, n3):
+            m = 0.5 * (Wb[a, b] + Wb[b, a])
+            Wb[a, b] = m
+            Wb[b, a] = m
+    vsc = 0.0
+    for a in range(n3):
+        vsc = max(vsc, abs(vb[a]))
+    tol = tolf[TF_SIMUL_TOL] + SIMUL_RTOL * vsc
+    converged = False
+    dmax = 0.0
+    for it in range(toli[TI_SIMUL_MAXIT]):
+        dmax = 0.0
+        for a in range(K):
+            mu = law_par[c_i[members[a], CI_LAW], P_MU]
+            i0 = 3 * a
+            # normal
+            new = Pb[i0] - (vb[i0] - tb[i0]) / Wb[i0, i0]
+            if new < 0.0:
+                new = 0.0
+            dp = new - Pb[i0]
+            if dp != 0.0:
+                Pb[i0] = new
+                for k in range(n3):
+                    vb[k] += Wb[k, i0] * dp
+                dv = abs(dp) * Wb[i0, i0]
+                if dv > dmax:
+                    dmax = dv
+            # tangential block: drive v_T to zero, then project on the friction disk
+            w11 = Wb[i0 + 1, i0 + 1]
+            w12 = Wb[i0 + 1, i0 + 2]
+            w22 = Wb[i0 + 2, i0 + 2]
+            det = w11 * w22 - w12 * w12
+            d1 = -(w22 * vb[i0 + 1] - w12 * vb[i0 + 2]) / det
+            d2 = -(w11 * vb[i0 + 2] - w12 * vb[i0 + 1]) / det
+            n1 = Pb[i0 + 1] + d1
+            n2 = Pb[i0 + 2] + d2
+            lim = mu * Pb[i0]
+            nt = math.sqrt(n1 * n1 + n2 * n2)
+            if nt > lim:
+                if nt > 0.0:
+                    n1 *= lim / nt
+                    n2 *= lim / nt
+                else:
+                    n1 = 0.0
+                    n2 = 0.0
+            dp1 = n1 - Pb[i0 + 1]
+            dp2 = n2 - Pb[i0 + 2]
+            if dp1 != 0.0 or dp2 != 0.0:
+                Pb[i0 + 1] = n1
+                Pb[i0 + 2] = n2
+                for k in range(n3):
+                    vb[k] += Wb[k, i0 + 1] * dp1 + Wb[k, i0 + 2] * dp2
+                dv = abs(dp1) * w11 + abs(dp2) * w22
+                if dv > dmax:
+                    dmax = dv
+        if dmax <= tol:
+            converged = True
+            break
+    if not converged:
+        c = members[0]
+        _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
+                 c_f[c, CF_P + 2], K, dmax, 0.0)
+        return ERR_PGS
+    for a in range(K):
+        c = members[a]
+        _apply(st, bflt, c_i, c_f, c, Pb[3 * a], Pb[3 * a + 1], Pb[3 * a + 2], Ii)
+    for a in range(K):
+        c = members[a]
+        P0 = Pb[3 * a]
+        P1 = Pb[3 * a + 1]
+        P2 = Pb[3 * a + 2]
+        vi0 = c_f[c, CF_VI]
+        vi1 = c_f[c, CF_VI + 1]
+        vi2 = c_f[c, CF_VI + 2]
+        c_f[c, CF_PI] += P0
+        c_f[c, CF_PI + 1] += P1
+        c_f[c, CF_PI + 2] += P2
+        if P0 == 0.0 and vi0 >= 0.0:
+            continue
+        vf0, vf1, vf2 = _contact_velocity(st, c_i, c_f, c)
+        mu = law_par[c_i[c, CI_LAW], P_MU]
+        if P0 == 0.0:
+            mode = 0
+        elif math.sqrt(P1 * P1 + P2 * P2) < mu * P0 * (1.0 - 1e-12):
+            mode = 1
+        else:
+            mode = 2
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_IMPACT, c_i[c, CI_A], _bcode(c_i, c), mode, K,
+             c_f, c, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
+             0.5 * (P0 * (vi0 + vf0) + P1 * (vi1 + vf1) + P2 * (vi2 + vf2)))
+    return 0
+
+
+@njit(cache=True)
+def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii, tolf,
+                toli, ev_t, ev_i, ev_f, cnt, err):
+    """Sequential policy: repeatedly resolve, with its pair law, the contact that approaches
+    fastest (ties: lowest contact index), until none approaches faster than seq_vtol."""
+    vtol = tolf[TF_SEQ_VTOL]
+    for step in range(toli[TI_SEQ_MAXSTEPS]):
+        best = -1
+        vbest = -vtol
+        for a in range(K):
+            c = members[a]
+            if c_i[c, CI_OFF] != 0:
+                continue
+            vN, v1, v2 = _contact_velocity(st, c_i, c_f, c)
+            if vN < vbest:
+                vbest = vN
+                best = c
+        if best < 0:
+            return 0
+        rc, vfN = _single(best, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii,
+                          ev_t, ev_i, ev_f, cnt, err)
+        if rc < 0:
+            return rc
+        if vfN < 0.0:
+            c_i[best, CI_OFF] = 1
+    c = members[0]
+    _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
+             c_f[c, CF_P + 2], K, toli[TI_SEQ_MAXSTEPS], 0.0)
+    return ERR_SEQ
+
+
+# ------------------------------------------------------------------ the event loop
+
+
+@njit(cache=True)
+def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
+             st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
+             pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f, skip, pose, fw, ybuf,
+             vals, vals0, vfl, err):
+    """Start a run at glob[0]: settle bodies that start resting on a plane, log the first
+    trajectory segments and compute every candidate event."""
+    nb = st.shape[0]
+    t = glob[0]
+    cw = MAXC - 1
+    for i in range(nb):
+        tref[i] = t
+        ws[i, WS_MODE] = -1.0
+        for j in range(3):
+            st[i, 13 + j] = grav[j]
+            st[i, 16 + j] = 0.0
+        if not _finite(st, i):
+            _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE
+    for i in range(nb):
+        for p in range(planes.shape[0]):
+            if pm[i, 0] != PM_FLIGHT:
+                break
+            gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
+            if not gn < 0.0:
+                continue
+            face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
+            hc = (planes[p, 0] * st[i, 0] + planes[p, 1] * st[i, 1] + planes[p, 2] * st[i, 2]
+                  - planes[p, 3])
+            if hc - hr > tolf[TF_GAP_TOL]:
+                continue
+            eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
+            if eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+                rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                             False, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                if rc < 0:
+                    return rc
+    for i in range(nb):
+        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+    for i in range(nb):
+        rc = _recompute_planes(i, t, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl,
+                               bft, bp_off, ws, tolf, toli, skip, pose, err)
+        if rc < 0:
+            return rc
+    for q in range(pairs.shape[0]):
+        rc = _recompute_pair(q, t, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, err)
+        if rc < 0:
+            return rc
+    return 0
+
+
+@njit(cache=True)
+def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
+                  tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
+                  Ii, err):
+    """Body i (in flight) took part in the impacts at t: schedule an accumulation point,
+    enter integrated point/edge contact, snap onto a face, or leave it in flight."""
+    cw = MAXC - 1
+    # accumulation of bounces on a face (Zeno): excess energy below the threshold
+    for c in range(nc):
+        if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
+            continue
+        p = c_i[c, CI_B]
+        if bp_off[i, p] != 0:
+            continue
+        gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
+        if not gn < 0.0:
+            continue
+        face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
+        eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
+        if not eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+            continue
+        after = planes[p, 0] * st[i, 7] + planes[p, 1] * st[i, 8] + planes[p, 2] * st[i, 9]
+        before = c_f[c, CF_VCMN]
+        dt = 0.0
+        if after > 0.0:
+            dt = 2.0 * after / (-gn)
+            if before < 0.0:
+                ek = -after / before
+                if ek < 1.0:
+                    dt = dt / (1.0 - ek)
+        tz[i] = t + dt
+        zp[i] = p
+        return 0
+    # impacts accumulating at one or two features (a corner, an edge, a cap; or a face)
+    if bint[i, 0] != SH_SPHERE:
+        p, K, k1, k2, multi = _persist_candidates(i, st, bint, bflt, feats, planes, grav,
+                                                  bp_off, tolf)
+        if multi:
+            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 3.0, 0.0, 0.0)
+            return ERR_UNSUPPORTED
+        if K >= 3 or (K == 2 and bint[i, 0] == SH_CAPSULE):
+            gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
+            face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
+            eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
+            small = eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+            if small or (K >= 3 and capture_on):
+                return _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                               not small, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+            if K >= 3:
+                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                return ERR_CHATTER
+        if K >= 1:
+            rc = _pivot_enter(i, p, k1, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
+                              bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                              Ii, err)
+            if rc == 1:
+                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                return ERR_CHATTER
+            return rc
+    # sphere pairs (and anything else) accumulating: not supported
+    for c in range(nc):
+        if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
+            continue
+        if c_i[c, CI_OFF] != 0:
+            continue
+        vN, v1, v2 = _contact_velocity(st, c_i, c_f, c)
+        acc = _gap_accel(st, bflt, c_i, c_f, c)
+        if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+            _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
+                     c_f[c, CF_P + 2], vN, acc, 0.0)
+            return ERR_CHATTER
+    return 0
+
+
+@njit(cache=True)
+def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
+             st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
+             pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
+             bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl, err):
+    """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the contract."""
+    nb = st.shape[0]
+    npl = planes.shape[0]
+    npr = pairs.shape[0]
+    t_end = tolf[TF_T_END]
+    max_events = toli[TI_MAX_EVENTS]
+    margin_e = toli[TI_SEQ_MAXSTEPS] + 8 * MAXC + 6 * nb + 16
+    margin_s = 6 * nb + 4 * MAXC + 16
+    cap_e = ev_t.shape[0]
+    cap_s = seg_t.shape[0]
+    policy = toli[TI_POLICY]
+    capture_on = toli[TI_CAPTURE] != 0
+    cw = MAXC - 1   # scratch row of c_f for persistent-contact events
+    while True:
+        t_now = glob[0]
+        tmin = INF
+        for i in range(nb):
+            if tz[i] < tmin:
+                tmin = tz[i]
+            if ttr[i] < tmin:
+                tmin = ttr[i]
+            if bt[i] < tmin:
+                tmin = bt[i]
+        for q in range(npr):
+            if pr_t[q] < tmin:
+                tmin = pr_t[q]
+        if tmin > t_end:
+            glob[0] = t_end
+            return RC_DONE
+        if cnt[0] >= max_events:
+            return RC_MAX_EVENTS
+        if cnt[0] + margin_e > cap_e or cnt[1] + margin_s > cap_s:
+            return RC_BUFFER_FULL
+        if tmin <= t_now:
+            tmin = t_now
+            cnt[2] += 1
+            if cnt[2] > toli[TI_STALL]:
+                _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[2], 0.0, 0.0)
+                return ERR_STALL
+        else:
+            cnt[2] = 0
+        t = tmin
+        glob[0] = t
+
+        # ---- scheduled switches: accumulation points, end of slip, integrated contacts
+        did = False
+        for i in range(nb):
+            recompute = True
+            if tz[i] <= t:
+                p = zp[i]
+                tz[i] = INF
+                rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+                if rc < 0:
+                    _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                    return rc
+                rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                             False, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                if rc < 0:
+                    return rc
+            elif ttr[i] <= t and pm[i, 0] == PM_PIVOT:
+                rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl,
+                                             bft, pk, pv, pw, fw, ws, tolf, toli, pose, ev_t,
+                                             ev_i, ev_f, cnt, c_f, cw, Ii, err)
+                if rc < 0:
+                    return rc
+            elif ttr[i] <= t:
+                rc = _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
+                                 pm, ttr, ws, tolf, toli, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                 pose, err, pv, pw, fw)
+                if rc < 0:
+                    return rc
+            else:
+                continue
+            if not _finite(st, i):
+                _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                return ERR_NONFINITE
+            if not recompute:
+                continue
+            did = True
+            ws[i, WS_MODE] = -1.0
+            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+            rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
+                                 bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip,
+                                 pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl)
+            if rc < 0:
+                return rc
+        if did:
+            continue
+
+        # ---- impacts: gather every contact touching within [t, t + simul_time]
+        tw = t + tolf[TF_SIMUL_TIME]
+        nc = 0
+        for i in range(nb):
+            bmark[i] = 0
+            if bt[i] <= tw:
+                bmark[i] = 1
+        for q in range(npr):
+            if pr_t[q] <= tw:
+                bmark[pairs[q, 0]] = 1
+                bmark[pairs[q, 1]] = 1
+        # bring the bodies involved to t; a pending accumulation point is cancelled
+        for i in range(nb):
+            if bmark[i] != 0:
+                rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+                if rc < 0:
+                    _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                    return rc
+                tz[i] = INF
+        for i in range(nb):
+            if bt[i] > tw:
+                continue
+            f0 = bint[i, 1]
+            nf = bint[i, 2]
+            rad = bflt[i, 4]
+            q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+            piv = pm[i, 0] == PM_PIVOT
+            for p in range(npl):
+                if bp_off[i, p] != 0:
+                    continue
+                if pm[i, 0] != PM_FLIGHT and not piv and pm[i, 1] == p:
+                    continue
+                nx = planes[p, 0]
+                ny = planes[p, 1]
+                nz = planes[p, 2]
+                for k in range(nf):
+                    rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
+                                      feats[f0 + k, 2])
+                    g = (nx * (st[i, 0] + rx) + ny * (st[i, 1] + ry) + nz * (st[i, 2] + rz)
+                         - planes[p, 3] - rad)
+                    ux, uy, uz = _point_vel(st, i, rx, ry, rz)
+                    gd = nx * ux + ny * uy + nz * uz
+                    take = gd < 0.0 and g + gd * (tw - t) <= 0.0
+                    if p == bpl[i] and k == bft[i]:
+                        take = True
+                    if piv and p == pm[i, 1] and (f0 + k == int(pv[i, CP_F1]) or (
+                            pv[i, CP_K] == 2.0 and f0 + k == int(pv[i, CP_F2]))):
+                        take = True
+                    if not take:
+                        continue
+                    if nc >= MAXC - 1:
+                        _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], MAXC - 1,
+                                 0.0, 0.0)
+                        return ERR_TOO_MANY
+                    c_i[nc, CI_TYPE] = 0
+                    c_i[nc, CI_A] = i
+                    c_i[nc, CI_B] = p
+                    c_i[nc, CI_FEAT] = f0 + k
+                    c_i[nc, CI_LAW] = bp_law[i, p]
+                    c_i[nc, CI_OFF] = 0
+                    _frame(c_f, nc, nx, ny, nz)
+                    for j in range(3):
+                        r = (rx, ry, rz)[j] - rad * planes[p, j]
+                        c_f[nc, CF_RA + j] = r
+                        c_f[nc, CF_RB + j] = 0.0
+                        c_f[nc, CF_P + j] = st[i, j] + r
+                    nc += 1
+            if piv:
+                # the integrated contact ends with the impact: the body is in flight at t
+                # (after the impacts, _after_impact decides what persists)
+                pm[i, 0] = PM_FLIGHT
+                ttr[i] = INF
+                for j in range(3):
+                    st[i, 13 + j] = grav[j]
+                    st[i, 16 + j] = 0.0
+        for q in range(npr):
+            if pr_t[q] > tw:
+                continue
+            if nc >= MAXC - 1:
+                _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, 0.0, MAXC - 1, 0.0, 0.0)
+                return ERR_TOO_MANY
+            a = pairs[q, 0]
+            b = pairs[q, 1]
+            c_i[nc, CI_TYPE] = 1
+            c_i[nc, CI_A] = a
+            c_i[nc, CI_B] = b
+            c_i[nc, CI_FEAT] = -1
+            c_i[nc, CI_LAW] = pairs[q, 2]
+            c_i[nc, CI_OFF] = 0
+            dx = st[a, 0] - st[b, 0]
+            dy = st[a, 1] - st[b, 1]
+            dz = st[a, 2] - st[b, 2]
+            dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+            _frame(c_f, nc, dx / dist, dy / dist, dz / dist)
+            ra = bflt[a, 4]
+            rb = bflt[b, 4]
+            for j in range(3):
+                nj = c_f[nc, CF_N + j]
+                c_f[nc, CF_RA + j] = -ra * nj
+                c_f[nc, CF_RB + j] = rb * nj
+                c_f[nc, CF_P + j] = st[b, j] + rb * nj
+            nc += 1
+        for c in range(nc):
+            a = c_i[c, CI_A]
+            c_f[c, CF_PI] = 0.0
+            c_f[c, CF_PI + 1] = 0.0
+            c_f[c, CF_PI + 2] = 0.0
+            c_f[c, CF_VCMN] = (c_f[c, CF_N] * st[a, 7] + c_f[c, CF_N + 1] * st[a, 8]
+                               + c_f[c, CF_N + 2] * st[a, 9])
+        # clusters: contacts sharing a body
+        for c in range(nc):
+            comp[c] = c
+        changed = True
+        while changed:
+            changed = False
+            for c in range(nc):
+                for d in range(c + 1, nc):
+                    if comp[c] == comp[d]:
+                        continue
+                    share = c_i[c, CI_A] == c_i[d, CI_A]
+                    if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
+                        share = True
+                    if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
+                            c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
+                        share = True
+                    if share:
+                        lo = min(comp[c], comp[d])
+                        comp[c] = lo
+                        comp[d] = lo
+                        changed = True
+        for root in range(nc):
+            K = 0
+            for c in range(nc):
+                if comp[c] == root:
+                    K += 1
+            if K == 0:
+                continue
+            k = 0
+            for c in range(nc):
+                if comp[c] == root:
+                    comp[MAXC + k] = c
+                    k += 1
+            members = comp[MAXC:MAXC + K]
+            if K == 1:
+                c = members[0]
+                viN, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
+                if viN >= 0.0:
+                    continue
+                rc, vfN = _single(c, t, 1, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
+                                  Ii, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+                if vfN < 0.0:
+                    c_i[c, CI_OFF] = 1
+            elif policy == POL_SIMULTANEOUS:
+                rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
+                            tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+            else:
+                rc = _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3,
+                                 P3, Ii, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+        # perforating impacts disable their pair for good
+        for c in range(nc):
+            if c_i[c, CI_OFF] == 0:
+                continue
+            if c_i[c, CI_TYPE] == 0:
+                bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
+            else:
+                for q in range(npr):
+                    if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
+                            or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
+                        pr_off[q] = 1
+        # persistent contacts, accumulation (Zeno) points, integrated contacts
+        for i in range(nb):
+            if bmark[i] == 0:
+                continue
+            if pm[i, 0] != PM_FLIGHT:
+                rc = _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                                 tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                if rc < 0:
+                    return rc
+                continue
+            rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                               pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw,
+                               ev_t, ev_i, ev_f, cnt, Ii, err)
+            if rc < 0:
+                return rc
+        for i in range(nb):
+            if bmark[i] == 0:
+                continue
+            if not _finite(st, i):
+                _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                return ERR_NONFINITE
+            ws[i, WS_MODE] = -1.0
+            bt[i] = INF
+            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+        for i in range(nb):
+            if bmark[i] == 0:
+                continue
+            rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
+                                 bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose,
+                                 err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl)
+            if rc < 0:
+                return rc

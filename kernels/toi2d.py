@@ -1,0 +1,271 @@
+"""Time of impact in 2D: the earliest root with g' < 0 of a smooth gap function g(s).
+
+Contact features (DESIGN §6, issue 3) and their gap functions, for a body whose state row
+``st = (x, y, angle, vx, vy, omega, ax, ay, alpha)`` holds at ``s = 0`` (see ``flight2d``),
+against a static half-plane ``{q : n . q >= d}`` (``n`` the unit normal into the free side):
+
+* ``FEAT_VERTEX``: a body-frame point ``p`` carrying a radius ``r`` (a disk is its centre
+  with its radius; a polygon's corner has ``r = 0``; a rod's ends carry the capsule radius):
+  ``g(s) = n . (x(s) + R(angle(s)) p) - r - d``;
+* ``FEAT_ELLIPSE``: semi-axes ``a`` (body x) and ``b`` (body y):
+  ``g(s) = n . x(s) - sqrt(a^2 (n . e1)^2 + b^2 (n . e2)^2) - d``, ``e1, e2`` the body axes.
+
+Disk against disk: ``g(s) = |x_A(s) - x_B(s)| - r_A - r_B``.
+
+Method. When the gap is an exact quadratic (no rotation, or the point is the centre of
+mass; two disks with equal accelerations) its roots are taken in closed form with the
+cancellation-free quadratic formula. Otherwise conservative advancement: with a bound
+``M >= |g''|`` over the search window, ``g(s + h) >= g(s) + g'(s) h - M h^2 / 2``, so stepping
+to the first zero of that lower bound never passes the first root of ``g`` (grazing roots
+included); near a transversal root the steps converge quadratically (the step is a Newton
+step from the safe side). The iteration stops when the step is below
+``atol + rtol * |t0 + s|`` (s); the root is then within about that of the true one.
+
+Bounds used: vertex ``|d^2/ds^2 n.R p| <= |p| (omega_max^2 + |alpha|)``; ellipse support
+``h(angle)``: ``|h''| <= |a^2 - b^2| / min(a, b)`` and ``|h'| <= max(a, b)``; two disks
+with relative acceleration ``da``: ``|g''| <= (|dv| + |da| H)^2 / (r_A + r_B) + |da|`` over a
+window of length ``H`` (valid up to the first root, where the distance is >= r_A + r_B).
+
+Return convention: ``(s, code)`` with ``s`` the root (``inf`` if none in ``[0, S]``) and
+``code`` one of ``TOI_OK``, ``TOI_MISSED`` (the gap is already below ``-gap_tol``: an event
+was missed or the body started inside), ``TOI_NOT_CONVERGED`` (iteration limit).
+"""
+import math
+
+from numba import njit
+
+FEAT_VERTEX = 0
+FEAT_ELLIPSE = 1
+
+TOI_OK = 0
+TOI_MISSED = 1
+TOI_NOT_CONVERGED = 2
+
+INF = math.inf
+
+
+@njit(cache=True, _nrt=False)
+def quadratic_descending_root(g0, g1, g2, S, gap_tol):
+    """Earliest ``s`` in ``[0, S]`` with ``g(s) = g0 + g1 s + g2 s^2 / 2 = 0`` and ``g'(s) < 0``.
+
+    ``g0 <= 0`` with ``g1 < 0`` (or ``g1 = 0 < -g2``) is an impact now (``s = 0``). A gap
+    below ``-gap_tol`` reports ``TOI_MISSED``. Returns ``(s, code)``.
+    """
+    if g0 <= 0.0:
+        code = TOI_MISSED if g0 < -gap_tol else TOI_OK
+        if g1 < 0.0 or (g1 == 0.0 and g2 < 0.0):
+            return 0.0, code
+        if g2 < 0.0:
+            disc = g1 * g1 - 2.0 * g0 * g2
+            if disc < 0.0:
+                return INF, code
+            s = (g1 + math.sqrt(disc)) / (-g2)
+            return (s if s <= S else INF), code
+        return INF, code
+    a = 0.5 * g2
+    b = g1
+    c = g0
+    if a == 0.0:
+        if b < 0.0:
+            s = -c / b
+            return (s if s <= S else INF), TOI_OK
+        return INF, TOI_OK
+    disc = b * b - 4.0 * a * c
+    if disc <= 0.0:
+        return INF, TOI_OK
+    sq = math.sqrt(disc)
+    q = -0.5 * (b + math.copysign(sq, b))
+    best = INF
+    r1 = q / a
+    r2 = c / q
+    if r1 >= 0.0 and 2.0 * a * r1 + b < 0.0 and r1 < best:
+        best = r1
+    if r2 >= 0.0 and 2.0 * a * r2 + b < 0.0 and r2 < best:
+        best = r2
+    return (best if best <= S else INF), TOI_OK
+
+
+@njit(cache=True, _nrt=False)
+def _safe_step(g, gd, M):
+    """First zero h >= 0 of g + gd h - M h^2/2 (g >= 0), cancellation-free; inf if none."""
+    if M > 0.0:
+        root = math.sqrt(gd * gd + 2.0 * M * g)
+        if gd <= 0.0:
+            den = root - gd
+            return 2.0 * g / den if den > 0.0 else 0.0
+        return (gd + root) / M
+    if gd < 0.0:
+        return -g / gd
+    return INF
+
+
+@njit(cache=True, _nrt=False)
+def vertex_gap(st, px, py, rad, nx, ny, d, s):
+    """Gap (m) and its rate (m/s) at ``s`` of the point ``p`` (radius ``rad``) of a body."""
+    h = 0.5 * s * s
+    x = st[0] + st[3] * s + st[6] * h
+    y = st[1] + st[4] * s + st[7] * h
+    th = st[2] + st[5] * s + st[8] * h
+    vx = st[3] + st[6] * s
+    vy = st[4] + st[7] * s
+    w = st[5] + st[8] * s
+    if px == 0.0 and py == 0.0:
+        return (nx * x + ny * y - d) - rad, nx * vx + ny * vy
+    c = math.cos(th)
+    sn = math.sin(th)
+    wx = c * px - sn * py
+    wy = sn * px + c * py
+    g = (nx * x + ny * y - d) + (nx * wx + ny * wy) - rad
+    gd = nx * vx + ny * vy + w * (ny * wx - nx * wy)
+    return g, gd
+
+
+@njit(cache=True, _nrt=False)
+def ellipse_support(th, ea, eb, nx, ny):
+    """Support distance ``h`` (m) of the ellipse along ``-n`` and ``dh/dangle`` (m/rad)."""
+    c = math.cos(th)
+    sn = math.sin(th)
+    nbx = c * nx + sn * ny
+    nby = -sn * nx + c * ny
+    hh = math.sqrt(ea * ea * nbx * nbx + eb * eb * nby * nby)
+    dh = (ea * ea - eb * eb) * nbx * nby / hh
+    return hh, dh
+
+
+@njit(cache=True, _nrt=False)
+def ellipse_gap(st, ea, eb, nx, ny, d, s):
+    h = 0.5 * s * s
+    x = st[0] + st[3] * s + st[6] * h
+    y = st[1] + st[4] * s + st[7] * h
+    th = st[2] + st[5] * s + st[8] * h
+    vx = st[3] + st[6] * s
+    vy = st[4] + st[7] * s
+    w = st[5] + st[8] * s
+    hh, dh = ellipse_support(th, ea, eb, nx, ny)
+    return (nx * x + ny * y - d) - hh, nx * vx + ny * vy - w * dh
+
+
+@njit(cache=True, _nrt=False)
+def feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s):
+    if kind == FEAT_VERTEX:
+        return vertex_gap(st, px, py, rad, nx, ny, d, s)
+    return ellipse_gap(st, ea, eb, nx, ny, d, s)
+
+
+@njit(cache=True, _nrt=False)
+def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, atol, gap_tol,
+                      maxit):
+    """Earliest impact ``s`` in ``[0, S]`` (s after ``t0``) of one feature with a plane.
+
+    ``st`` float64[9] is the body state at ``t0``; see the module docstring.
+    Returns ``(s, code)``.
+    """
+    na = nx * st[6] + ny * st[7]
+    if kind == FEAT_VERTEX:
+        K1 = math.sqrt(px * px + py * py)
+        K2 = K1
+    else:
+        K1 = max(ea, eb)
+        K2 = abs(ea * ea - eb * eb) / min(ea, eb)
+    rot = K2 > 0.0 and (st[5] != 0.0 or st[8] != 0.0)
+    if not rot:
+        # exact quadratic: the rotating part of the gap is constant
+        g0, g1 = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, 0.0)
+        return quadratic_descending_root(g0, g1, na, S, gap_tol)
+    wmax = abs(st[5]) + abs(st[8]) * S
+    M = abs(na) + K2 * wmax * wmax + K1 * abs(st[8])
+    s = 0.0
+    g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
+    if g <= 0.0:
+        code = TOI_MISSED if g < -gap_tol else TOI_OK
+        if gd < 0.0 or code == TOI_MISSED:
+            return 0.0, code
+        g = 0.0
+    for _ in range(maxit):
+        h = _safe_step(g, gd, M)
+        tol = atol + rtol * abs(t0 + s)
+        if h <= tol:
+            if gd < 0.0:
+                r = s + h
+                return (r if r <= S else INF), TOI_OK
+            h = tol  # tangency (grazing without crossing): step past it
+        s += h
+        if s > S:
+            return INF, TOI_OK
+        g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
+        if g <= 0.0:
+            if gd < 0.0:
+                return s, TOI_OK
+            g = 0.0
+    return s, TOI_NOT_CONVERGED
+
+
+@njit(cache=True, _nrt=False)
+def disk_disk_toi(dx, dy, dvx, dvy, dax, day, R, t0, S, rtol, atol, gap_tol, maxit):
+    """Earliest ``s`` in ``[0, S]`` at which two disks (radii summing to ``R``) touch while
+    approaching, given their relative position, velocity and acceleration (A minus B) at
+    ``t0``. Equal accelerations (both in free flight): exact quadratic. Returns ``(s, code)``.
+    """
+    dist = math.sqrt(dx * dx + dy * dy)
+    g0 = dist - R
+    if dax == 0.0 and day == 0.0:
+        b = 2.0 * (dx * dvx + dy * dvy)
+        if g0 <= 0.0:
+            code = TOI_MISSED if g0 < -gap_tol else TOI_OK
+            if b < 0.0:
+                return 0.0, code
+            return INF, code
+        if b >= 0.0:
+            return INF, TOI_OK
+        a = dvx * dvx + dvy * dvy
+        c = g0 * (dist + R)
+        disc = b * b - 4.0 * a * c
+        if disc <= 0.0:
+            return INF, TOI_OK
+        q = -0.5 * (b - math.sqrt(disc))
+        s = c / q
+        return (s if s <= S else INF), TOI_OK
+    # conservative advancement on g(s) = |dx(s)| - R with a windowed bound on |g''|
+    da = math.sqrt(dax * dax + day * day)
+    s = 0.0
+    ex, ey, ux, uy = dx, dy, dvx, dvy
+    g = g0
+    gd = (ex * ux + ey * uy) / dist
+    if g <= 0.0:
+        code = TOI_MISSED if g < -gap_tol else TOI_OK
+        if gd < 0.0 or code == TOI_MISSED:
+            return 0.0, code
+        g = 0.0
+    H = S
+    for _ in range(maxit):
+        Hw = min(H, S - s)
+        dvn = math.sqrt(ux * ux + uy * uy)
+        M = (dvn + da * Hw) ** 2 / R + da
+        h = _safe_step(g, gd, M)
+        tol = atol + rtol * abs(t0 + s)
+        if h >= Hw:
+            h = Hw
+            H = 2.0 * H
+        else:
+            if h <= tol:
+                if gd < 0.0:
+                    r = s + h
+                    return (r if r <= S else INF), TOI_OK
+                h = tol
+            H = 4.0 * h
+        s += h
+        if s >= S:
+            return INF, TOI_OK
+        hs = 0.5 * s * s
+        ex = dx + dvx * s + dax * hs
+        ey = dy + dvy * s + day * hs
+        ux = dvx + dax * s
+        uy = dvy + day * s
+        dist = math.sqrt(ex * ex + ey * ey)
+        g = dist - R
+        gd = (ex * ux + ey * uy) / dist
+        if g <= 0.0:
+            if gd < 0.0:
+                return s, TOI_OK
+            g = 0.0
+    return s, TOI_NOT_CONVERGED

@@ -1,0 +1,241 @@
+"""The result of a 3D event-driven run: events, exact trajectories, energy, export, plot.
+
+``Result3D.events`` is a structured NumPy array, one row per event, in time order, with
+the fields of the 2D ``Result`` (vectors with three components) plus ``tangent``:
+
+=========  ==================================================================================
+field      meaning
+=========  ==================================================================================
+t          time (s)
+kind       "impact", "contact", "slide", "roll", "rest", "release" as in 2D, and "capture":
+           impacts accumulated at a point or edge of a box or capsule whose energy no
+           longer allows it to leave its nearest face; it is placed at rest on that face
+a, b       body index of A; B's body index, or ``-1 - plane index`` for a plane
+point      contact point (m); for persistent-contact events, the foot of the centre of mass
+normal     unit contact normal n, from B into A
+tangent    the first tangent t1 of the contact basis (``t2 = n x t1``; DESIGN §3)
+v_i, v_f   contact-space velocity (v_N, v_T1, v_T2) in m/s of A's contact point minus B's,
+           before and after the event
+P          impulse on A (N s), (P_N, P_T1, P_T2); for "contact"/"capture": ``m`` times the
+           change of the centre of mass's velocity
+mode       impact: the law's mode code (joint solve: 0 separating, 1 stick, 2 slip);
+           persistent events: the new mode (1 slide, 2 roll, 3 rest)
+dE         energy change (J): impacts ``P . (v_i + v_f) / 2``; "contact"/"capture": change of
+           kinetic plus potential energy by the snap; else 0
+cluster    number of contacts resolved together at that instant (1: a single contact)
+=========  ==================================================================================
+
+Trajectories are stored as segments of exact motion (``rbimpact.kernels.flight3d``):
+``sample(times)`` re-evaluates them (exact closed forms; integrated rotations are
+re-integrated from the segment start with the run's ``rot_tol``, reproducing the run).
+"""
+import csv
+import json
+import math
+
+import numpy as np
+
+__all__ = ["Result3D", "EVENT_DTYPE_3D"]
+
+EVENT_DTYPE_3D = np.dtype([
+    ("t", "f8"), ("kind", "U8"), ("a", "i8"), ("b", "i8"),
+    ("point", "f8", (3,)), ("normal", "f8", (3,)), ("tangent", "f8", (3,)),
+    ("v_i", "f8", (3,)), ("v_f", "f8", (3,)), ("P", "f8", (3,)),
+    ("mode", "i8"), ("dE", "f8"), ("cluster", "i8"),
+])
+
+_FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x",
+               "normal_y", "normal_z", "tangent_x", "tangent_y", "tangent_z", "v_i_N",
+               "v_i_T1", "v_i_T2", "v_f_N", "v_f_T1", "v_f_T2", "P_N", "P_T1", "P_T2",
+               "mode", "dE", "cluster")
+
+
+class Result3D:
+    """Outcome of ``Simulation3D.run``.
+
+    Attributes: ``events`` (see the module docstring), ``status`` ("done" or
+    "max_events"), ``policy``, ``t_start``, ``t_end`` (s: the time reached),
+    ``t_requested`` (s), ``n_bodies``, ``masses`` (kg), ``inertias`` (principal moments,
+    kg m^2, shape (n_bodies, 3)), ``gravity`` (m/s^2), ``law``, ``tolerances``,
+    ``n_impacts``.
+    """
+
+    def __init__(self, events, seg_t, seg_b, seg_s, *, status, policy, t_start, t_end,
+                 t_requested, masses, inertias, rotation, gravity, law, tolerances):
+        self.events = events
+        self.status = status
+        self.policy = policy
+        self.t_start = float(t_start)
+        self.t_end = float(t_end)
+        self.t_requested = float(t_requested)
+        self.masses = np.asarray(masses, dtype=float)
+        self.inertias = np.asarray(inertias, dtype=float).reshape(-1, 3)
+        self.n_bodies = len(self.masses)
+        self.gravity = np.asarray(gravity, dtype=float)
+        self.law = law
+        self.tolerances = dict(tolerances)
+        self._rotation = [tuple(map(int, r)) for r in rotation]
+        order = np.argsort(seg_b, kind="stable")
+        self._seg_t = np.ascontiguousarray(seg_t[order])
+        self._seg_s = np.ascontiguousarray(seg_s[order])
+        counts = np.bincount(seg_b, minlength=self.n_bodies)
+        self._seg_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+
+    @property
+    def n_impacts(self):
+        return int(np.count_nonzero(self.events["kind"] == "impact"))
+
+    def __repr__(self):
+        return (f"Result3D(status={self.status!r}, policy={self.policy!r}, "
+                f"t_end={self.t_end:g}, {len(self.events)} events, {self.n_impacts} impacts)")
+
+    def _times(self, times):
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        if t.ndim != 1:
+            raise ValueError("times must be a scalar or a 1-D array of times (s)")
+        if not np.all(np.isfinite(t)):
+            raise ValueError("times must be finite")
+        slack = 1e-12 * max(1.0, abs(self.t_end))
+        if t.size and (t.min() < self.t_start - slack or t.max() > self.t_end + slack):
+            raise ValueError(f"times must lie in the simulated interval [{self.t_start:g}, "
+                             f"{self.t_end:g}] s, got [{t.min():g}, {t.max():g}]")
+        return t
+
+    def sample(self, times):
+        """State at ``times`` (s): dict of arrays "position" (m) and "velocity" (m/s) of
+        shape ``(len(times), n_bodies, 3)``, "orientation" (unit quaternion (w, x, y, z),
+        ``(len(times), n_bodies, 4)``) and "angular_velocity" (rad/s, world frame,
+        ``(len(times), n_bodies, 3)``). At an event time the state just after the event is
+        returned."""
+        from rbimpact.kernels.flight3d import N_WS
+        from rbimpact.kernels.pivot3d import N_FW, N_PW, sample_segments
+        from .errors import SimulationError
+        t = self._times(times)
+        out = np.empty((t.size, self.n_bodies, 13))
+        order = np.argsort(t, kind="stable")
+        ws = np.zeros(N_WS)
+        pw = np.zeros(N_PW)
+        fw = np.zeros(N_FW)
+        pose = np.zeros(19)
+        rot_tol = float(self.tolerances.get("rot_tol", 1e-12))
+        contact_tol = float(self.tolerances.get("contact_tol", 1e-10))
+        max_steps = int(self.tolerances.get("rot_max_steps", 10_000_000))
+        for i in range(self.n_bodies):
+            rk, axis = self._rotation[i]
+            I1, I2, I3 = self.inertias[i]
+            rc = sample_segments(self._seg_t, self._seg_s, self._seg_start[i],
+                                 self._seg_start[i + 1], rk, axis, I1, I2, I3, rot_tol,
+                                 contact_tol, max_steps, t, order, out, i, ws, pw, fw, pose)
+            if rc != 0:
+                raise SimulationError(f"sample: the integrator of body {i} failed (step "
+                                      f"limit rot_max_steps = {max_steps})")
+        return {"position": out[:, :, 0:3].copy(), "orientation": out[:, :, 3:7].copy(),
+                "velocity": out[:, :, 7:10].copy(), "angular_velocity": out[:, :, 10:13].copy()}
+
+    def energy(self, times, per_body=False):
+        """Total mechanical energy (J, kinetic + gravitational, potential zero at the
+        origin) at ``times`` (s): shape ``(len(times),)``, or ``(len(times), n_bodies)``
+        with ``per_body=True``."""
+        s = self.sample(times)
+        q = s["orientation"]
+        w = s["angular_velocity"]
+        wb = _rotate_inv(q, w)
+        rot = 0.5 * np.sum(self.inertias[None, :, :] * wb * wb, axis=-1)
+        e = (0.5 * self.masses * np.sum(s["velocity"] ** 2, axis=-1) + rot
+             - self.masses * (s["position"] @ self.gravity))
+        return e if per_body else e.sum(axis=1)
+
+    def angular_momentum(self, times):
+        """Angular momentum (kg m^2/s, world frame) of each body about its own centre of
+        mass at ``times``: shape ``(len(times), n_bodies, 3)``."""
+        s = self.sample(times)
+        q = s["orientation"]
+        wb = _rotate_inv(q, s["angular_velocity"])
+        return _rotate(q, self.inertias[None, :, :] * wb)
+
+    # ---------------------------------------------------------------- export
+
+    def _rows(self):
+        for ev in self.events:
+            yield (float(ev["t"]), str(ev["kind"]), int(ev["a"]), int(ev["b"]),
+                   *map(float, ev["point"]), *map(float, ev["normal"]),
+                   *map(float, ev["tangent"]), *map(float, ev["v_i"]),
+                   *map(float, ev["v_f"]), *map(float, ev["P"]),
+                   int(ev["mode"]), float(ev["dE"]), int(ev["cluster"]))
+
+    def to_csv(self, path):
+        """Write the events to ``path`` as CSV (one header line; contact-space columns
+        normal first; ``b < 0`` is plane ``-1 - b``)."""
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(_FIELDS_CSV)
+            for row in self._rows():
+                w.writerow([repr(x) if isinstance(x, float) else x for x in row])
+
+    def to_json(self, path):
+        """Write the run's metadata and events to ``path`` as JSON."""
+        doc = {
+            "status": self.status, "policy": self.policy, "law": self.law,
+            "t_start": self.t_start, "t_end": self.t_end, "t_requested": self.t_requested,
+            "n_bodies": self.n_bodies, "masses": self.masses.tolist(),
+            "inertias": self.inertias.tolist(), "gravity": self.gravity.tolist(),
+            "tolerances": {k: (v if not isinstance(v, float) or math.isfinite(v) else str(v))
+                           for k, v in self.tolerances.items()},
+            "fields": list(_FIELDS_CSV),
+            "events": [dict(zip(_FIELDS_CSV, row)) for row in self._rows()],
+        }
+        with open(path, "w") as f:
+            json.dump(doc, f, indent=1)
+
+    def plot(self, path, n=2000):
+        """Save a figure to ``path``: centre-of-mass trajectories seen from above (x, y) and
+        from the side (x, z) with impact markers, and total energy against time. Needs
+        matplotlib (the ``plot`` extra)."""
+        try:
+            import matplotlib
+            matplotlib.use("Agg", force=False)
+            import matplotlib.pyplot as plt
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("Result3D.plot needs matplotlib: pip install 'rbimpact[plot]'") \
+                from exc
+        t = np.linspace(self.t_start, self.t_end, n)
+        ev_t = self.events["t"]
+        t = np.union1d(t, ev_t[(ev_t >= self.t_start) & (ev_t <= self.t_end)])
+        s = self.sample(t)
+        x = s["position"]
+        fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+        imp = self.events[self.events["kind"] == "impact"]
+        for ax, (a, b), title in ((axes[0], (0, 1), "from above"),
+                                  (axes[1], (0, 2), "from the side")):
+            for i in range(self.n_bodies):
+                ax.plot(x[:, i, a], x[:, i, b], lw=1, label=f"body {i}")
+            if len(imp):
+                ax.plot(imp["point"][:, a], imp["point"][:, b], "k.", ms=3, label="impacts")
+            ax.set_xlabel("xyz"[a] + " (m)")
+            ax.set_ylabel("xyz"[b] + " (m)")
+            ax.set_title(f"centre-of-mass trajectories, {title}")
+            ax.axis("equal")
+        axes[0].legend(fontsize=8)
+        axes[2].plot(t, self.energy(t), lw=1)
+        for te in imp["t"]:
+            axes[2].axvline(te, color="0.85", lw=0.5, zorder=0)
+        axes[2].set_xlabel("t (s)")
+        axes[2].set_ylabel("energy (J)")
+        axes[2].set_title(f"total energy ({self.law}, {len(imp)} impacts)")
+        fig.tight_layout()
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+
+
+def _rotate(q, v):
+    """Rotate vectors v (..., 3) by unit quaternions q (..., 4)."""
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def _rotate_inv(q, v):
+    qc = q.copy()
+    qc[..., 1:] *= -1.0
+    return _rotate(qc, v)

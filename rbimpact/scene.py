@@ -1,0 +1,138 @@
+"""2D scenes: rigid bodies and static half-planes under uniform gravity.
+
+    >>> from rbimpact import Scene2D, Disk
+    >>> scene = Scene2D(gravity=(0.0, -9.81))
+    >>> floor = scene.add_floor(0.0)
+    >>> ball = scene.add_body(Disk(0.05), 1.0, (0.0, 1.05))
+
+Units: m, kg, s, rad. Positions are those of the centres of mass; angles are
+counter-clockwise; ``angular_velocity`` in rad/s (counter-clockwise positive).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .shapes import Shape
+
+__all__ = ["Scene2D", "Body", "Plane"]
+
+
+def _vec2(what, value):
+    try:
+        v = np.array(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be a pair of numbers, got {value!r}") from None
+    if v.shape != (2,):
+        raise ValueError(f"{what} must be a pair of numbers (x, y), got {value!r}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"{what} must be finite, got {value!r}")
+    return v
+
+
+def _real(what, value, unit):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be a number ({unit}), got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{what} must be finite ({unit}), got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Body:
+    """A body of a scene (read-only record; ``Scene2D.add_body`` creates it)."""
+
+    index: int
+    shape: Shape
+    mass: float
+    moment: float
+    position: tuple
+    angle: float
+    velocity: tuple
+    angular_velocity: float
+
+
+@dataclass(frozen=True)
+class Plane:
+    """A static half-plane ``{q : normal . (q - point) >= 0}`` is free space; ``normal`` is
+    the unit normal pointing into the free side. ``index`` is its rank in the scene (the
+    stepper's events name it ``b = -1 - index``). Use the object as a key of
+    ``Simulation(pair_laws=...)``."""
+
+    index: int
+    point: tuple
+    normal: tuple
+
+    @property
+    def offset(self):
+        """``d`` in ``normal . q >= d`` (m)."""
+        return self.normal[0] * self.point[0] + self.normal[1] * self.point[1]
+
+
+class Scene2D:
+    """Rigid bodies and static half-planes under uniform ``gravity`` (m/s^2)."""
+
+    def __init__(self, gravity=(0.0, -9.81)):
+        self.gravity = tuple(_vec2("Scene2D: gravity", gravity))
+        self.bodies = []
+        self.planes = []
+
+    def add_body(self, shape, mass, position, angle=0.0, velocity=(0.0, 0.0),
+                 angular_velocity=0.0, moment=None):
+        """Add a body; returns its index (int).
+
+        ``shape``: a ``Disk``, ``Box``, ``Polygon``, ``Rod`` or ``Ellipse``; ``mass`` (kg) > 0;
+        ``position`` of the centre of mass (m); ``angle`` (rad); ``velocity`` (m/s);
+        ``angular_velocity`` (rad/s); ``moment`` (kg m^2) > 0, by default that of the shape
+        with uniform density.
+        """
+        if not isinstance(shape, Shape):
+            raise ValueError(f"add_body: shape must be a Disk, Box, Polygon, Rod or Ellipse, "
+                             f"got {shape!r}")
+        m = _real("add_body: mass", mass, "kg")
+        if not m > 0.0:
+            raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
+        pos = _vec2("add_body: position", position)
+        ang = _real("add_body: angle", angle, "rad")
+        vel = _vec2("add_body: velocity", velocity)
+        w = _real("add_body: angular_velocity", angular_velocity, "rad/s")
+        if moment is None:
+            inertia = shape.moment(m)
+            if not inertia > 0.0:
+                raise ValueError(f"add_body: {shape!r} has no rotational inertia (a segment "
+                                 f"of zero length?); give moment=")
+        else:
+            inertia = _real("add_body: moment", moment, "kg m^2")
+            if not inertia > 0.0:
+                raise ValueError(f"add_body: moment must be > 0 (kg m^2), got {moment!r}")
+        body = Body(len(self.bodies), shape, m, float(inertia), tuple(pos), ang, tuple(vel), w)
+        self.bodies.append(body)
+        return body.index
+
+    def add_plane(self, point, normal):
+        """Add a static half-plane through ``point`` (m) with ``normal`` pointing into the
+        free side (normalised here); returns its ``Plane``."""
+        pt = _vec2("add_plane: point", point)
+        n = _vec2("add_plane: normal", normal)
+        norm = math.hypot(n[0], n[1])
+        if not norm > 0.0:
+            raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")
+        n = n / norm
+        plane = Plane(len(self.planes), tuple(pt), (float(n[0]), float(n[1])))
+        self.planes.append(plane)
+        return plane
+
+    def add_floor(self, y=0.0):
+        """Add the floor ``y >= y0`` (m); returns its ``Plane``."""
+        y = _real("add_floor: y", y, "m")
+        return self.add_plane((0.0, y), (0.0, 1.0))
+
+    @property
+    def n_bodies(self):
+        return len(self.bodies)
+
+    def __repr__(self):
+        return (f"Scene2D(gravity={self.gravity}, {len(self.bodies)} bodies, "
+                f"{len(self.planes)} planes)")

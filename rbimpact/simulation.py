@@ -1,0 +1,502 @@
+"""The exact event-driven 2D simulation (DESIGN §6, issue 3).
+
+    >>> sim = Simulation(scene, Law("kane_levinson", e=0.8, mu=0.3))
+    >>> result = sim.run(5.0)
+
+What the stepper does
+---------------------
+* **Flight** is exact: between events every body moves with constant accelerations
+  (gravity in flight), so positions are quadratic and angles linear (or quadratic for a
+  disk rolling or sliding) in time. ``Result.sample`` evaluates the same closed forms.
+* **Time of impact**: every contact feature (``rbimpact.kernels.toi2d``) has a smooth gap
+  function; the earliest root with ``g' < 0`` is found in closed form when the gap is a
+  quadratic, else by conservative advancement with a bound on ``|g''|`` (no root is
+  skipped, grazing ones included) converging quadratically to ``toi_atol + toi_rtol * t``.
+* **Impacts**: at each impact the stepper builds ``n``, ``t = (n_y, -n_x)``, the Delassus
+  matrix ``W`` (DESIGN §3; a plane contributes nothing), ``v_i``, calls the pair's law
+  kernel through ``rbimpact.kernels.dispatch.resolve_2d`` and applies ``P``. A law's
+  failure (mode < 0) raises ``NoSolutionError`` naming body, time and point. An impact that
+  leaves the contact approaching (``v_fN < 0``: Brach's perforation, e < 0) disables that
+  body-plane (or disk-disk) pair for the rest of the run: the body has gone through.
+* **Body-body contacts**: disk against disk (an ``Ellipse`` with ``a == b`` is a disk).
+  Any other pair of bodies is rejected when the ``Simulation`` is built, unless
+  ``ignore_unsupported_pairs=True``, in which case those bodies pass through each other.
+  A one-body scene has no pair at all (no pair search runs).
+* **Simultaneous contacts**: all contacts whose impact times lie within ``simul_time`` (s)
+  of the earliest one are gathered and grouped into clusters sharing a body. A cluster of
+  one contact is resolved by its pair law under both policies. For larger clusters:
+
+  - ``policy="simultaneous"`` (default): one joint solve over the cluster: Newton
+    restitution with Coulomb friction, each contact ``k`` taking ``e_k = params[P_E]`` and
+    ``mu_k = params[P_MU]`` from its pair law (whatever the law; ``0 <= e <= 1`` is
+    required): find ``P`` with ``v_f = v_i + W P`` (``W`` the stacked Delassus matrix over
+    all contacts of the cluster) such that for every contact ``0 <= P_N`` complementary
+    to ``v_fN >= -e min(v_iN, 0)``, and ``|P_T| <= mu P_N`` with ``P_T`` the box-projected
+    value driving ``v_fT`` to 0 (sticking when inside the cone). Solved by projected
+    Gauss-Seidel from ``P = 0``, contacts in index order, until no impulse update changes a
+    velocity by more than ``simul_tol`` (m/s) in a sweep, at most ``simul_max_iter``
+    sweeps (else ``SimulationError``). Events carry mode 0 (no impulse), 1 (inside the
+    cone) or 2 (on the cone) and ``cluster = K``. A symmetric landing stays symmetric.
+  - ``policy="sequential"``: repeatedly take the contact of the cluster whose current
+    normal velocity is the most negative (ties: the lowest contact index, i.e. body,
+    then plane, then vertex order) and resolve it alone with its pair law, at the current
+    velocities; stop when no contact approaches faster than ``seq_vtol`` (m/s); at most
+    ``seq_max_steps`` resolutions (else ``SimulationError``). Every resolution is an
+    "impact" event.
+
+  ``Result.policy`` reports the policy.
+* **Zeno and persistent contact**: after an impact on a plane with gravity pushing into it
+  (``g_n = n . g < 0``), the body's *excess energy* ``E_ex`` is computed: kinetic energy
+  of the normal motion of its centre of mass, plus (not for a disk) of its rotation, plus
+  the potential energy above its nearest resting configuration (a disk: on the plane; a
+  polygon or rod: on the face whose two corners are lowest, if the centre of mass lies over
+  that face; an ellipse: its minor axis normal to the plane). When
+  ``E_ex < m zeno_speed^2 / 2``, with ``zeno_speed`` defaulting to
+  ``sqrt(2 |g_n| rest_length)`` (i.e. the body could rise less than ``rest_length``), the
+  bounces are taken to accumulate: the run jumps to the accumulation point
+  ``t_inf = t_k + 2 v_N / (|g_n| (1 - e_k))`` with ``v_N`` the normal velocity of the
+  centre of mass after the impact and ``e_k`` its ratio to the one before (exact for a disk,
+  and for a body landing flat under a Newton-type restitution; ``2 v_N / |g_n|`` when
+  ``e_k >= 1``), flying the body freely meanwhile, and snaps it onto the plane (normal
+  velocity and, for a non-disk, rotation set to zero: event "contact", ``dE`` reports the
+  energy removed). Then, with ``mu`` of the pair law and normal force ``m |g_n|``:
+
+  - a disk slides with Coulomb friction until its contact point stops ("roll" event:
+    exact closed form), then rolls (or rests, "rest", when nothing moves and the plane is
+    level); on an incline where friction cannot hold rolling it keeps sliding;
+  - a polygon or rod rests on its face if ``|g_t| <= mu |g_n|`` ("rest"), else slides and
+    decelerates (event "rest" when it stops; "slide" if it then slides back down), provided
+    neither face corner would lift (tipping raises ``SimulationError``);
+  - an ellipse rests (residual tangential speed below ``zeno_speed`` is absorbed), or
+    slides if frictionless; a rough sliding ellipse would roll and rock (no closed form):
+    ``SimulationError``.
+
+  A body in persistent contact hit by an impulse (a wall, another disk) keeps the contact
+  when its normal (and, not for a disk, rotational) kinetic energy stays below
+  ``m zeno_speed^2 / 2`` (that motion is removed), else it is released ("release") and an
+  approach into the plane is then resolved as an impact at the same instant.
+  Impacts accumulating at a *single point* of a non-disk body (a rod or box pivoting on
+  a corner, e.g. after a plastic impact) need a persistent one-point contact with no
+  closed form: the run stops with ``SimulationError`` (normal speed after impact below
+  ``sqrt(2 |g''| rest_length)`` while the gap is accelerating into the plane).
+* **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
+  below ``-gap_tol``), a time-of-impact search that does not converge, or ``stall_events``
+  consecutive events at one instant raise ``SimulationError`` / ``NoSolutionError``; the
+  exception carries the partial ``Result`` as ``exc.result``. Reaching ``max_events``
+  before ``t_end`` stops early (after the instant in progress), warns, and returns a
+  ``Result`` with ``status == "max_events"``.
+
+The event loop is compiled (``rbimpact.kernels.stepper2d``, Numba, cached on disk); event
+and trajectory buffers are preallocated and grown by doubling between compiled chunks.
+"""
+import math
+import warnings
+
+import numpy as np
+
+from .errors import NoSolutionError, SimulationError
+from .result import Result
+from .scene import Plane, Scene2D
+
+__all__ = ["Simulation", "TOLERANCES"]
+
+#: keyword -> (default, unit, meaning)
+TOLERANCES = {
+    "rest_length": (1e-10, "m", "impacts accumulate (Zeno) when the excess energy of the "
+                    "body's normal and rotational motion would lift it less than this"),
+    "zeno_speed": (None, "m/s", "accumulation speed; None: sqrt(2 |g_n| rest_length) for each "
+                   "plane (and sqrt(2 |g''| rest_length) for a single point)"),
+    "gap_tol": (1e-9, "m", "a gap below -gap_tol is a missed event (or a body starting "
+                "inside a plane or another body)"),
+    "toi_rtol": (1e-14, "-", "relative time tolerance of the time-of-impact search"),
+    "toi_atol": (1e-15, "s", "absolute time tolerance of the time-of-impact search"),
+    "toi_max_iter": (100_000, "-", "iteration limit of one time-of-impact search"),
+    "simul_time": (1e-11, "s", "impacts within this time of the earliest one are "
+                   "simultaneous"),
+    "simul_tol": (1e-13, "m/s", "joint solve: stop when a sweep changes no contact velocity "
+                  "by more than this"),
+    "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
+    "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
+    "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
+    "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+}
+POLICIES = ("simultaneous", "sequential")
+
+
+def _grow(a, used):
+    """A buffer twice as long holding the first ``used`` rows of ``a``."""
+    out = np.empty((2 * len(a),) + a.shape[1:], dtype=a.dtype)
+    out[:used] = a[:used]
+    return out
+
+
+def _shape_name(body):
+    return type(body.shape).__name__
+
+
+def _min_gap_plane(body, plane):
+    """Smallest gap (m) of a body's contact features to a plane, at the initial state."""
+    kind, rad, ea, eb, verts = body.shape._kernel()
+    n = np.array(plane.normal)
+    d = plane.offset
+    x = np.array(body.position)
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    if kind == 2:  # ellipse
+        nb = np.array([c * n[0] + s * n[1], -s * n[0] + c * n[1]])
+        h = math.sqrt(ea * ea * nb[0] ** 2 + eb * eb * nb[1] ** 2)
+        return float(n @ x - h - d)
+    R = np.array([[c, -s], [s, c]])
+    w = verts @ R.T
+    return float(np.min(w @ n) + n @ x - rad - d)
+
+
+class Simulation:
+    """An event-driven simulation of ``scene`` with collision law ``law``.
+
+    ``pair_laws``: optional mapping to other laws: key ``(i, j)`` (two body indices), ``(i,
+    plane)`` or ``(plane, i)`` (a body and a ``Plane`` returned by ``add_plane``), or a
+    ``Plane`` alone (every body against it). Most specific key wins.
+
+    Keywords: ``policy`` ("simultaneous" or "sequential", see the module docstring),
+    ``ignore_unsupported_pairs`` (bool: let non-disk bodies pass through each other instead
+    of rejecting the scene), and the tolerances of ``TOLERANCES`` (name: default, unit):
+    rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
+    toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_tol 1e-13 m/s;
+    simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000.
+    """
+
+    def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
+                 ignore_unsupported_pairs=False, **tolerances):
+        if not isinstance(scene, Scene2D):
+            raise ValueError(f"Simulation: scene must be a Scene2D, got {scene!r}")
+        if not scene.bodies:
+            raise ValueError("Simulation: the scene has no body")
+        if policy not in POLICIES:
+            raise ValueError(f"Simulation: policy must be one of {POLICIES}, got {policy!r}")
+        unknown = [k for k in tolerances if k not in TOLERANCES]
+        if unknown:
+            raise TypeError(f"Simulation: unknown keyword {unknown[0]!r}; tolerances are "
+                            + ", ".join(f"{k} ({u})" for k, (_, u, _) in TOLERANCES.items()))
+        tol = {k: v[0] for k, v in TOLERANCES.items()}
+        tol.update(tolerances)
+        for k, v in tol.items():
+            if k == "zeno_speed" and v is None:
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise ValueError(f"Simulation: {k} must be a number ({TOLERANCES[k][1]}), "
+                                 f"got {v!r}")
+            if not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"Simulation: {k} must be finite and >= 0 "
+                                 f"({TOLERANCES[k][1]}), got {v!r}")
+            if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
+                raise ValueError(f"Simulation: {k} must be a positive integer, got {v!r}")
+        self.scene = scene
+        self.law = self._check_law(law, "law")
+        self.policy = policy
+        self.tolerances = tol
+        self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
+        self._pack(pair_laws or {})
+        self._check_initial()
+
+    # ------------------------------------------------------------ building
+
+    @staticmethod
+    def _check_law(law, what):
+        from .kernels.common import N_PARAMS
+        ok = hasattr(law, "law_id") and hasattr(law, "params")
+        if ok:
+            p = np.asarray(law.params, dtype=float)
+            ok = p.shape == (N_PARAMS,) and np.all(np.isfinite(p))
+        if not ok:
+            raise ValueError(f"Simulation: {what} must be an rbimpact.Law, got {law!r}")
+        return law
+
+    def _pack(self, pair_laws):
+        from .kernels.common import N_PARAMS
+        scene = self.scene
+        bodies, planes = scene.bodies, scene.planes
+        nb, npl = len(bodies), len(planes)
+        laws = [self.law]
+
+        def law_index(law):
+            for k, x in enumerate(laws):
+                if x is law:
+                    return k
+            laws.append(law)
+            return len(laws) - 1
+
+        by_pair, by_body_plane, by_plane = {}, {}, {}
+        for key, law in dict(pair_laws).items():
+            self._check_law(law, f"pair_laws[{key!r}]")
+            if isinstance(key, Plane):
+                self._check_plane(key)
+                by_plane[key.index] = law
+                continue
+            if not (isinstance(key, tuple) and len(key) == 2):
+                raise ValueError(f"Simulation: pair_laws keys are (i, j), (i, plane), (plane, "
+                                 f"i) or a plane; got {key!r}")
+            a, b = key
+            if isinstance(a, Plane):
+                a, b = b, a
+            if isinstance(b, Plane):
+                self._check_plane(b)
+                by_body_plane[(self._check_body(a), b.index)] = law
+            else:
+                i, j = self._check_body(a), self._check_body(b)
+                if i == j:
+                    raise ValueError(f"Simulation: pair_laws key {key!r} pairs a body with "
+                                     f"itself")
+                by_pair[(min(i, j), max(i, j))] = law
+
+        verts, bint, bflt = [], np.zeros((nb, 3), np.int64), np.zeros((nb, 5))
+        row = 0
+        for i, body in enumerate(bodies):
+            kind, rad, ea, eb, v = body.shape._kernel()
+            bint[i] = (kind, row, len(v))
+            bflt[i] = (body.mass, body.moment, rad, ea, eb)
+            verts.append(v)
+            row += len(v)
+        self._bint, self._bflt = bint, bflt
+        self._verts = np.ascontiguousarray(np.concatenate(verts), dtype=float)
+        self._planes = np.array([(p.normal[0], p.normal[1], p.offset) for p in planes],
+                                dtype=float).reshape(npl, 3)
+        bp_law = np.zeros((nb, npl), np.int64)
+        for i in range(nb):
+            for p in range(npl):
+                law = by_body_plane.get((i, p), by_plane.get(p, self.law))
+                bp_law[i, p] = law_index(law)
+        pairs = []
+        for i in range(nb):
+            for j in range(i + 1, nb):
+                if bint[i, 0] == 0 and bint[j, 0] == 0:
+                    pairs.append((i, j, law_index(by_pair.get((i, j), self.law))))
+                elif (i, j) in by_pair or not self.ignore_unsupported_pairs:
+                    raise ValueError(
+                        f"Simulation: bodies {i} ({_shape_name(bodies[i])}) and {j} "
+                        f"({_shape_name(bodies[j])}) could collide, but the 2D stepper only "
+                        f"handles body-body contacts between disks; pass "
+                        f"ignore_unsupported_pairs=True to let such bodies pass through each "
+                        f"other (and give no pair law for them)")
+        self._pairs = np.array(pairs, dtype=np.int64).reshape(len(pairs), 3)
+        self._bp_law = bp_law
+        self._laws = laws
+        self._law_ids = np.array([int(x.law_id) for x in laws], dtype=np.int64)
+        self._law_par = np.array([np.asarray(x.params, dtype=float) for x in laws]
+                                 ).reshape(len(laws), N_PARAMS)
+        self._grav = np.array(scene.gravity, dtype=float)
+
+    def _check_body(self, i):
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
+                or not 0 <= int(i) < len(self.scene.bodies):
+            raise ValueError(f"Simulation: {i!r} is not a body index of the scene "
+                             f"(0..{len(self.scene.bodies) - 1})")
+        return int(i)
+
+    def _check_plane(self, plane):
+        if not (0 <= plane.index < len(self.scene.planes)
+                and self.scene.planes[plane.index] is plane):
+            raise ValueError(f"Simulation: {plane!r} is not a plane of this scene")
+
+    def _check_initial(self):
+        gap_tol = self.tolerances["gap_tol"]
+        for body in self.scene.bodies:
+            for plane in self.scene.planes:
+                g = _min_gap_plane(body, plane)
+                if g < -gap_tol:
+                    raise ValueError(
+                        f"Simulation: body {body.index} ({_shape_name(body)}) starts inside "
+                        f"plane {plane.index} (point {plane.point}, normal {plane.normal}): "
+                        f"its lowest point is {-g:.6g} m below the plane's surface")
+        for i, j, _ in self._pairs:
+            bi, bj = self.scene.bodies[i], self.scene.bodies[j]
+            dist = math.hypot(bi.position[0] - bj.position[0], bi.position[1] - bj.position[1])
+            g = dist - self._bflt[i, 2] - self._bflt[j, 2]
+            if g < -gap_tol:
+                raise ValueError(f"Simulation: disks {i} and {j} overlap at the start by "
+                                 f"{-g:.6g} m")
+
+    # ------------------------------------------------------------ running
+
+    def run(self, t_end, max_events=1_000_000):
+        """Run from t = 0 to ``t_end`` (s) and return a ``Result``.
+
+        ``max_events``: stop after the instant at which the number of logged events
+        reaches it (status "max_events", with a ``RuntimeWarning``).
+        """
+        from .kernels import stepper2d as k
+        if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer,
+                                                              np.floating)) \
+                or not (math.isfinite(t_end) and t_end > 0):
+            raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
+        if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
+                or max_events < 1:
+            raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
+        tol = self.tolerances
+        nb = len(self.scene.bodies)
+        npl = len(self.scene.planes)
+        npr = len(self._pairs)
+        tolf = np.zeros(k.N_TF)
+        tolf[k.TF_REST_LENGTH] = tol["rest_length"]
+        tolf[k.TF_ZENO_SPEED] = -1.0 if tol["zeno_speed"] is None else tol["zeno_speed"]
+        tolf[k.TF_GAP_TOL] = tol["gap_tol"]
+        tolf[k.TF_TOI_RTOL] = tol["toi_rtol"]
+        tolf[k.TF_TOI_ATOL] = tol["toi_atol"]
+        tolf[k.TF_SIMUL_TIME] = tol["simul_time"]
+        tolf[k.TF_SIMUL_TOL] = tol["simul_tol"]
+        tolf[k.TF_SEQ_VTOL] = tol["seq_vtol"]
+        tolf[k.TF_T_END] = float(t_end)
+        toli = np.zeros(k.N_TI, np.int64)
+        toli[k.TI_TOI_MAXIT] = tol["toi_max_iter"]
+        toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
+        toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
+        toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_POLICY] = POLICIES.index(self.policy)
+        toli[k.TI_MAX_EVENTS] = max_events
+
+        st = np.zeros((nb, 9))
+        for i, b in enumerate(self.scene.bodies):
+            st[i, :6] = (*b.position, b.angle, *b.velocity, b.angular_velocity)
+        tref = np.zeros(nb)
+        pm = np.zeros((nb, 4), np.int64)
+        pm[:, 1:] = -1
+        tz = np.full(nb, np.inf)
+        zp = np.full(nb, -1, np.int64)
+        ttr = np.full(nb, np.inf)
+        bp_t = np.full((nb, npl), np.inf)
+        bp_off = np.zeros((nb, npl), np.int64)
+        pr_t = np.full(npr, np.inf)
+        pr_off = np.zeros(npr, np.int64)
+        glob = np.zeros(2)
+        cnt = np.zeros(4, np.int64)
+        me = k.event_margin(toli, nb)
+        ms = k.segment_margin(nb)
+        cap_e = me + min(max_events + 16, 1 << 16)
+        cap_s = ms + nb + min(max_events + 16, 1 << 16)
+        ev_t = np.empty(cap_e)
+        ev_i = np.empty((cap_e, 5), np.int64)
+        ev_f = np.empty((cap_e, 11))
+        seg_t = np.empty(cap_s)
+        seg_b = np.empty(cap_s, np.int64)
+        seg_s = np.empty((cap_s, 9))
+        M = k.MAXC
+        c_i = np.zeros((M, k.N_CI), np.int64)
+        c_f = np.zeros((M, k.N_CF))
+        Wb = np.zeros((2 * M, 2 * M))
+        Pb = np.zeros(2 * M)
+        vb = np.zeros(2 * M)
+        tb = np.zeros(2 * M)
+        comp = np.zeros(2 * M, np.int64)
+        bmark = np.zeros(nb, np.int64)
+        v2 = np.zeros(2)
+        W2 = np.zeros((2, 2))
+        P2 = np.zeros(2)
+        tmp = np.zeros((2, 9))
+        err = np.zeros(8)
+        scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
+                        self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
+        state = (st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt)
+        rc = k.RC_BUFFER_FULL
+        while rc == k.RC_BUFFER_FULL:
+            if rc == k.RC_BUFFER_FULL:
+                if cnt[0] + me > len(ev_t):
+                    ev_t, ev_i, ev_f = (_grow(x, int(cnt[0])) for x in (ev_t, ev_i, ev_f))
+                if cnt[1] + ms > len(seg_t):
+                    seg_t, seg_b, seg_s = (_grow(x, int(cnt[1])) for x in (seg_t, seg_b, seg_s))
+            rc = k.run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
+                            c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err)
+        status = "max_events" if rc == k.RC_MAX_EVENTS else "done"
+        result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob,
+                              status, float(t_end))
+        if rc < 0:
+            raise self._error(rc, err, result)
+        if status == "max_events":
+            warnings.warn(f"Simulation.run: max_events={max_events} reached at t = "
+                          f"{result.t_end:.12g} s, before t_end = {float(t_end):g} s; the "
+                          f"result stops there (status 'max_events')", RuntimeWarning,
+                          stacklevel=2)
+        return result
+
+    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status, t_req):
+        from .kernels.stepper2d import EVENT_KINDS
+        n = int(cnt[0])
+        m = int(cnt[1])
+        bodies = self.scene.bodies
+        return Result(ev_t[:n], ev_i[:n], ev_f[:n], seg_t[:m], seg_b[:m], seg_s[:m],
+                      status=status, policy=self.policy, t_start=0.0, t_end=float(glob[0]),
+                      t_requested=t_req, masses=[b.mass for b in bodies],
+                      moments=[b.moment for b in bodies], gravity=self.scene.gravity,
+                      law=getattr(self.law, "name", repr(self.law)),
+                      tolerances={**self.tolerances, "policy": self.policy},
+                      kinds=EVENT_KINDS)
+
+    def _where(self, b):
+        b = int(b)
+        if b < 0:
+            p = self.scene.planes[-1 - b]
+            return f"plane {p.index} (point {p.point}, normal {p.normal})"
+        return f"body {b} ({_shape_name(self.scene.bodies[b])})"
+
+    def _error(self, rc, err, result):
+        from .kernels import stepper2d as k
+        t, a, b = err[0], int(err[1]), int(err[2])
+        at = f"at t = {t:.12g} s"
+        pt = f"contact point ({err[3]:.9g}, {err[4]:.9g})"
+        body = self._where(a) if a >= 0 else "the scene"
+        if rc == k.ERR_NO_SOLUTION:
+            mode = int(err[5])
+            law = self._laws[int(self._bp_law[a, -1 - b])] if b < 0 else None
+            name = getattr(law or self.law, "name", "the law")
+            exc = NoSolutionError(
+                f"impact of {body} on {self._where(b)} {at}, {pt}, has no solution in law "
+                f"{name} (mode {mode}); pre-impact v = ({err[6]:.9g}, {err[7]:.9g}) m/s",
+                mode_code=mode)
+        elif rc == k.ERR_NONFINITE:
+            exc = SimulationError(f"non-finite state of {body} {at} (position ({err[3]:g}, "
+                                  f"{err[4]:g}))")
+        elif rc == k.ERR_MISSED:
+            exc = SimulationError(f"missed event: {body} is inside {self._where(b)} by more "
+                                  f"than gap_tol = {self.tolerances['gap_tol']:g} m {at} "
+                                  f"(body position ({err[3]:.9g}, {err[4]:.9g}))")
+        elif rc == k.ERR_TOI:
+            exc = SimulationError(f"the time-of-impact search of {body} against "
+                                  f"{self._where(b)} did not converge in toi_max_iter = "
+                                  f"{self.tolerances['toi_max_iter']} steps, from {at}")
+        elif rc == k.ERR_CHATTER:
+            exc = SimulationError(
+                f"impacts accumulate at a single contact point of {body} on {self._where(b)} "
+                f"{at}, {pt}: normal speed after the impact {err[5]:.3g} m/s while the gap "
+                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot "
+                f"on that point in persistent contact, which has no closed form and is not "
+                f"supported by the event-driven stepper")
+        elif rc == k.ERR_SEQ:
+            exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
+                                  f"seq_max_steps = {int(err[6])} resolutions {at}")
+        elif rc == k.ERR_PGS:
+            exc = SimulationError(f"simultaneous policy: the joint solve of {int(err[5])} "
+                                  f"contacts of {body} {at} did not reach simul_tol in "
+                                  f"simul_max_iter sweeps (last change {err[6]:.3g} m/s)")
+        elif rc == k.ERR_TIPPING:
+            exc = SimulationError(f"{body} in persistent contact with {self._where(b)} {at} "
+                                  f"would tip over (face normal forces {err[6]:.3g} N, "
+                                  f"{err[7]:.3g} N): not supported")
+        elif rc == k.ERR_ELLIPSE_SLIDE:
+            exc = SimulationError(f"{body} settles on {self._where(b)} {at} sliding at "
+                                  f"{err[5]:.3g} m/s with friction mu = {err[7]:g}: a rough "
+                                  f"ellipse sliding on a plane rolls and rocks, which has no "
+                                  f"closed form and is not supported")
+        elif rc == k.ERR_STALL:
+            exc = SimulationError(f"the run stalls {at}: more than stall_events = "
+                                  f"{self.tolerances['stall_events']} consecutive events at "
+                                  f"one instant")
+        elif rc == k.ERR_TOO_MANY:
+            exc = SimulationError(f"more than {k.MAXC} contacts at one instant {at} "
+                                  f"({body})")
+        elif rc == k.ERR_JOINT_E:
+            exc = SimulationError(f"simultaneous policy needs 0 <= e <= 1 for the joint "
+                                  f"Newton solve, but the contact of {body} on "
+                                  f"{self._where(b)} {at} has e = {err[5]:g}; use "
+                                  f"policy='sequential'")
+        else:  # pragma: no cover
+            exc = SimulationError(f"stepper error code {rc} {at}")
+        exc.result = result
+        return exc

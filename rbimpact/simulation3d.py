@@ -1,0 +1,558 @@
+"""The exact event-driven 3D simulation (DESIGN §6, issue 5).
+
+    >>> sim = Simulation3D(scene, Law("routh", e=0.6, mu=0.4))
+    >>> result = sim.run(3.0)
+
+The 3D counterpart of ``rbimpact.Simulation``, with the same keywords, policies, event
+kinds, errors and ``Result`` layout (vectors have three components).
+
+What the stepper does
+---------------------
+* **Flight** is exact: positions are quadratic in time; the torque-free rotation is in
+  closed form for spherical and axisymmetric inertia (regular precession) and integrated
+  with error control (``rot_tol``) for general inertia (``rbimpact.kernels.flight3d``).
+* **Time of impact** (``rbimpact.kernels.toi3d``): the box corners, capsule cap centres and
+  sphere centres against every plane, in one conservative-advancement sweep per body with
+  a bound on ``|g''|`` (no root skipped, grazing ones included), converging to
+  ``toi_atol + toi_rtol * t``; sphere pairs by the cancellation-free quadratic formula.
+* **Impacts**: the contact frame is ``n`` with the deterministic tangent basis of DESIGN §3
+  (``rbimpact.kernels.toi3d.tangent_basis``: a floor has ``t1 = x, t2 = y``; a normal in the
+  x-z plane gives the 2D basis of that plane); ``W`` is built from the world inertia
+  tensors and the arms; the pair's law is applied through
+  ``rbimpact.kernels.dispatch.resolve_3d`` (Routh's swerve included). A law failure raises
+  ``NoSolutionError`` naming body, time and point. A perforating impact (``v_fN < 0``)
+  disables that pair for the rest of the run.
+* **Body-body contacts**: sphere against sphere. Any other pair of bodies is rejected when
+  the simulation is built, unless ``ignore_unsupported_pairs=True`` (they pass through).
+* **Simultaneous contacts** (a box landing flat): contacts within ``simul_time`` of the
+  earliest are clustered by shared bodies; ``policy="simultaneous"`` (default) solves each
+  cluster jointly (Newton restitution ``e`` and Coulomb ``mu`` of each contact's pair law,
+  projected block Gauss-Seidel with the friction disk, to ``simul_tol``);
+  ``policy="sequential"`` resolves the fastest-approaching contact with its pair law until
+  none approaches faster than ``seq_vtol``. Same rules as 2D; ``Result3D.policy`` reports it.
+* **Zeno, persistent contact and capture**: see ``rbimpact.kernels.stepper3d``. A sphere
+  slides then rolls; a box or capsule comes to rest on a face or its side (accumulation
+  detected from the excess energy, threshold ``m zeno_speed^2 / 2``); impacts that
+  accumulate at a point or an edge of a box or capsule end with a "capture" event when
+  the body provably can only come to rest on its nearest face (``capture=True``, the
+  default; the remaining rocking is not resolved and its energy is reported as ``dE``),
+  else with ``SimulationError``.
+* **Never silently wrong**: non-finite state, a law without solution, a missed event, a
+  search or an integration that does not converge, unsupported persistent motion, or
+  ``stall_events`` events at one instant raise ``SimulationError``/``NoSolutionError`` with
+  the partial result as ``exc.result``; ``max_events`` stops early with status
+  "max_events" and a ``RuntimeWarning``.
+"""
+import math
+import warnings
+
+import numpy as np
+
+from .errors import NoSolutionError, SimulationError
+from .result3d import EVENT_DTYPE_3D, Result3D
+from .scene3d import Plane3D, Scene3D
+
+__all__ = ["Simulation3D", "TOLERANCES_3D"]
+
+#: keyword -> (default, unit, meaning); the first twelve are those of the 2D Simulation
+TOLERANCES_3D = {
+    "rest_length": (1e-10, "m", "impacts accumulate (Zeno) when the excess energy of the "
+                    "body's normal and rotational motion would lift it less than this"),
+    "zeno_speed": (None, "m/s", "accumulation speed; None: sqrt(2 |g_n| rest_length) for each "
+                   "plane (and sqrt(2 |g''| rest_length) for a single point)"),
+    "gap_tol": (1e-9, "m", "a gap below -gap_tol is a missed event (or a body starting "
+                "inside a plane or another body)"),
+    "toi_rtol": (1e-14, "-", "relative time tolerance of the time-of-impact search"),
+    "toi_atol": (1e-15, "s", "absolute time tolerance of the time-of-impact search"),
+    "toi_max_iter": (100_000, "-", "iteration limit of one time-of-impact search"),
+    "simul_time": (1e-11, "s", "impacts within this time of the earliest one are "
+                   "simultaneous"),
+    "simul_tol": (1e-13, "m/s", "joint solve: stop when a sweep changes no contact velocity "
+                  "by more than this"),
+    "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
+    "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
+    "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
+    "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "rot_tol": (1e-12, "-", "error tolerance of the integrated rotation (general inertia; "
+                "a sliding sphere's orientation): per step, quaternion components within "
+                "rot_tol and body angular velocity within rot_tol |w(0)|"),
+    "rot_max_steps": (10_000_000, "-", "step limit of one integrated rotation (or "
+                      "integrated contact) segment"),
+    "contact_tol": (1e-10, "-", "error tolerance of integrated point/edge contact (a body "
+                    "pivoting on a corner, an edge or a cap): per step, relative to the body's "
+                    "size, speed scale and 1 for the quaternion"),
+    "slip_eps": (1e-9, "m/s", "integrated contact: a sliding contact point sticks when its "
+                 "slip speed falls to slip_eps (the rest is removed by an impulse <= m "
+                 "slip_eps)"),
+}
+POLICIES = ("simultaneous", "sequential")
+# rotation kinds (kernels/flight3d.py ROT_*)
+_ROT_SPHERICAL, _ROT_AXISYM, _ROT_GENERAL = 0, 1, 2
+
+
+def _shape_name(body):
+    return type(body.shape).__name__
+
+
+def rotation_kind(inertia):
+    """(kind, symmetry axis) of principal moments: 0 spherical (all equal), 1 axisymmetric
+    (exactly two equal; axis = the odd one), 2 general."""
+    a, b, c = inertia
+    if a == b == c:
+        return _ROT_SPHERICAL, 2
+    if a == b:
+        return _ROT_AXISYM, 2
+    if a == c:
+        return _ROT_AXISYM, 1
+    if b == c:
+        return _ROT_AXISYM, 0
+    return _ROT_GENERAL, 2
+
+
+def _quat_matrix(q):
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _min_gap_plane(body, plane):
+    """Smallest gap (m) of a body's contact features to a plane, at the initial state."""
+    kind, rad, half, feats = body.shape._kernel()
+    R = _quat_matrix(body.orientation)
+    n = np.array(plane.normal)
+    pts = feats @ R.T + np.array(body.position)
+    return float(np.min(pts @ n) - rad - plane.offset)
+
+
+class Simulation3D:
+    """An event-driven 3D simulation of ``scene`` (a ``Scene3D``) with law ``law``.
+
+    ``pair_laws``: optional mapping to other laws: key ``(i, j)`` (two body indices),
+    ``(i, plane)`` or ``(plane, i)``, or a ``Plane3D`` alone. Most specific key wins.
+
+    Keywords: ``policy`` ("simultaneous" or "sequential"), ``ignore_unsupported_pairs``
+    (bool), ``capture`` (bool, default True: see the module docstring) and the tolerances
+    of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
+    gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
+    1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
+    seq_max_steps 1000; stall_events 10000; rot_tol 1e-12; rot_max_steps 1e7.
+    """
+
+    def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
+                 ignore_unsupported_pairs=False, capture=True, **tolerances):
+        if not isinstance(scene, Scene3D):
+            raise ValueError(f"Simulation3D: scene must be a Scene3D, got {scene!r}")
+        if not scene.bodies:
+            raise ValueError("Simulation3D: the scene has no body")
+        if policy not in POLICIES:
+            raise ValueError(f"Simulation3D: policy must be one of {POLICIES}, got "
+                             f"{policy!r}")
+        unknown = [k for k in tolerances if k not in TOLERANCES_3D]
+        if unknown:
+            raise TypeError(f"Simulation3D: unknown keyword {unknown[0]!r}; tolerances are "
+                            + ", ".join(f"{k} ({u})" for k, (_, u, _) in TOLERANCES_3D.items()))
+        tol = {k: v[0] for k, v in TOLERANCES_3D.items()}
+        tol.update(tolerances)
+        for k, v in tol.items():
+            if k == "zeno_speed" and v is None:
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise ValueError(f"Simulation3D: {k} must be a number "
+                                 f"({TOLERANCES_3D[k][1]}), got {v!r}")
+            if not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"Simulation3D: {k} must be finite and >= 0 "
+                                 f"({TOLERANCES_3D[k][1]}), got {v!r}")
+            if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
+                raise ValueError(f"Simulation3D: {k} must be a positive integer, got {v!r}")
+        if not tol["rot_tol"] > 0:
+            raise ValueError("Simulation3D: rot_tol must be > 0")
+        self.scene = scene
+        self.law = self._check_law(law, "law")
+        self.policy = policy
+        self.capture = bool(capture)
+        self.tolerances = tol
+        self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
+        self._pack(pair_laws or {})
+        self._check_initial()
+
+    # ------------------------------------------------------------ building
+
+    @staticmethod
+    def _check_law(law, what):
+        from .kernels.common import N_PARAMS
+        ok = hasattr(law, "law_id") and hasattr(law, "params")
+        if ok:
+            p = np.asarray(law.params, dtype=float)
+            ok = p.shape == (N_PARAMS,) and np.all(np.isfinite(p))
+        if not ok:
+            raise ValueError(f"Simulation3D: {what} must be an rbimpact.Law, got {law!r}")
+        return law
+
+    def _pack(self, pair_laws):
+        from .kernels.common import N_PARAMS
+        scene = self.scene
+        bodies, planes = scene.bodies, scene.planes
+        nb, npl = len(bodies), len(planes)
+        laws = [self.law]
+
+        def law_index(law):
+            for k, x in enumerate(laws):
+                if x is law:
+                    return k
+            laws.append(law)
+            return len(laws) - 1
+
+        by_pair, by_body_plane, by_plane = {}, {}, {}
+        for key, law in dict(pair_laws).items():
+            self._check_law(law, f"pair_laws[{key!r}]")
+            if isinstance(key, Plane3D):
+                self._check_plane(key)
+                by_plane[key.index] = law
+                continue
+            if not (isinstance(key, tuple) and len(key) == 2):
+                raise ValueError(f"Simulation3D: pair_laws keys are (i, j), (i, plane), "
+                                 f"(plane, i) or a plane; got {key!r}")
+            a, b = key
+            if isinstance(a, Plane3D):
+                a, b = b, a
+            if isinstance(b, Plane3D):
+                self._check_plane(b)
+                by_body_plane[(self._check_body(a), b.index)] = law
+            else:
+                i, j = self._check_body(a), self._check_body(b)
+                if i == j:
+                    raise ValueError(f"Simulation3D: pair_laws key {key!r} pairs a body "
+                                     f"with itself")
+                by_pair[(min(i, j), max(i, j))] = law
+
+        feats, bint, bflt = [], np.zeros((nb, 5), np.int64), np.zeros((nb, 8))
+        self._rot = []
+        row = 0
+        for i, body in enumerate(bodies):
+            kind, rad, half, f = body.shape._kernel()
+            rk, axis = rotation_kind(body.inertia)
+            self._rot.append((rk, axis))
+            bint[i] = (kind, row, len(f), rk, axis)
+            bflt[i] = (body.mass, *body.inertia, rad, *half)
+            feats.append(f)
+            row += len(f)
+        self._bint, self._bflt = bint, bflt
+        self._feats = np.ascontiguousarray(np.concatenate(feats), dtype=float)
+        self._planes = np.array([(*p.normal, p.offset) for p in planes],
+                                dtype=float).reshape(npl, 4)
+        bp_law = np.zeros((nb, npl), np.int64)
+        for i in range(nb):
+            for p in range(npl):
+                bp_law[i, p] = law_index(by_body_plane.get((i, p), by_plane.get(p, self.law)))
+        pairs = []
+        for i in range(nb):
+            for j in range(i + 1, nb):
+                if bint[i, 0] == 0 and bint[j, 0] == 0:
+                    pairs.append((i, j, law_index(by_pair.get((i, j), self.law))))
+                elif (i, j) in by_pair or not self.ignore_unsupported_pairs:
+                    raise ValueError(
+                        f"Simulation3D: bodies {i} ({_shape_name(bodies[i])}) and {j} "
+                        f"({_shape_name(bodies[j])}) could collide, but the 3D stepper only "
+                        f"handles body-body contacts between spheres; pass "
+                        f"ignore_unsupported_pairs=True to let such bodies pass through "
+                        f"each other (and give no pair law for them)")
+        self._pairs = np.array(pairs, dtype=np.int64).reshape(len(pairs), 3)
+        self._bp_law = bp_law
+        self._laws = laws
+        self._law_ids = np.array([int(x.law_id) for x in laws], dtype=np.int64)
+        self._law_par = np.array([np.asarray(x.params, dtype=float) for x in laws]
+                                 ).reshape(len(laws), N_PARAMS)
+        self._grav = np.array(scene.gravity, dtype=float)
+
+    def _check_body(self, i):
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
+                or not 0 <= int(i) < len(self.scene.bodies):
+            raise ValueError(f"Simulation3D: {i!r} is not a body index of the scene "
+                             f"(0..{len(self.scene.bodies) - 1})")
+        return int(i)
+
+    def _check_plane(self, plane):
+        if not (0 <= plane.index < len(self.scene.planes)
+                and self.scene.planes[plane.index] is plane):
+            raise ValueError(f"Simulation3D: {plane!r} is not a plane of this scene")
+
+    def _check_initial(self):
+        gap_tol = self.tolerances["gap_tol"]
+        for body in self.scene.bodies:
+            for plane in self.scene.planes:
+                g = _min_gap_plane(body, plane)
+                if g < -gap_tol:
+                    raise ValueError(
+                        f"Simulation3D: body {body.index} ({_shape_name(body)}) starts inside "
+                        f"plane {plane.index} (point {plane.point}, normal {plane.normal}): "
+                        f"its lowest point is {-g:.6g} m below the plane's surface")
+        for i, j, _ in self._pairs:
+            bi, bj = self.scene.bodies[i], self.scene.bodies[j]
+            dist = float(np.linalg.norm(np.subtract(bi.position, bj.position)))
+            g = dist - self._bflt[i, 4] - self._bflt[j, 4]
+            if g < -gap_tol:
+                raise ValueError(f"Simulation3D: spheres {i} and {j} overlap at the start by "
+                                 f"{-g:.6g} m")
+
+    # ------------------------------------------------------------ running
+
+    def run(self, t_end, max_events=1_000_000):
+        """Run from t = 0 to ``t_end`` (s) and return a ``Result3D``.
+
+        ``max_events``: stop after the instant at which the number of logged events
+        reaches it (status "max_events", with a ``RuntimeWarning``).
+        """
+        from .kernels import stepper3d as k
+        from .kernels.flight3d import N_WS
+        from .kernels.pivot3d import N_CP, N_FW, N_PW
+        if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer,
+                                                              np.floating)) \
+                or not (math.isfinite(t_end) and t_end > 0):
+            raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
+        if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
+                or max_events < 1:
+            raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
+        tol = self.tolerances
+        nb = len(self.scene.bodies)
+        npl = len(self.scene.planes)
+        npr = len(self._pairs)
+        tolf = np.zeros(k.N_TF)
+        tolf[k.TF_REST_LENGTH] = tol["rest_length"]
+        tolf[k.TF_ZENO_SPEED] = -1.0 if tol["zeno_speed"] is None else tol["zeno_speed"]
+        tolf[k.TF_GAP_TOL] = tol["gap_tol"]
+        tolf[k.TF_TOI_RTOL] = tol["toi_rtol"]
+        tolf[k.TF_TOI_ATOL] = tol["toi_atol"]
+        tolf[k.TF_SIMUL_TIME] = tol["simul_time"]
+        tolf[k.TF_SIMUL_TOL] = tol["simul_tol"]
+        tolf[k.TF_SEQ_VTOL] = tol["seq_vtol"]
+        tolf[k.TF_T_END] = float(t_end)
+        tolf[k.TF_ROT_TOL] = tol["rot_tol"]
+        tolf[k.TF_CONTACT_TOL] = tol["contact_tol"]
+        tolf[k.TF_SLIP_EPS] = tol["slip_eps"]
+        toli = np.zeros(k.N_TI, np.int64)
+        toli[k.TI_TOI_MAXIT] = tol["toi_max_iter"]
+        toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
+        toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
+        toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_POLICY] = POLICIES.index(self.policy)
+        toli[k.TI_MAX_EVENTS] = max_events
+        toli[k.TI_ROT_MAX_STEPS] = tol["rot_max_steps"]
+        toli[k.TI_CAPTURE] = 1 if self.capture else 0
+
+        st = np.zeros((nb, 19))
+        for i, b in enumerate(self.scene.bodies):
+            st[i, 0:3] = b.position
+            st[i, 3:7] = b.orientation
+            st[i, 7:10] = b.velocity
+            st[i, 10:13] = b.angular_velocity
+        tref = np.zeros(nb)
+        pm = np.zeros((nb, 3), np.int64)
+        pm[:, 1:] = -1
+        tz = np.full(nb, np.inf)
+        zp = np.full(nb, -1, np.int64)
+        ttr = np.full(nb, np.inf)
+        bt = np.full(nb, np.inf)
+        bpl = np.full(nb, -1, np.int64)
+        bft = np.full(nb, -1, np.int64)
+        bp_off = np.zeros((nb, npl), np.int64)
+        pr_t = np.full(npr, np.inf)
+        pr_off = np.zeros(npr, np.int64)
+        ws = np.zeros((nb, N_WS))
+        ws[:, 0] = -1.0
+        glob = np.zeros(2)
+        cnt = np.zeros(4, np.int64)
+        pk = np.zeros((nb, 2), np.int64)
+        pv = np.zeros((nb, N_CP))
+        pw = np.zeros((nb, N_PW))
+        fw = np.zeros(N_FW)
+        ybuf = np.zeros(13)
+        nv = 6 + max(npl, 1) * int(self._bint[:, 2].max())
+        vals = np.zeros(nv)
+        vals0 = np.zeros(nv)
+        vfl = np.zeros(nv)
+        me = k.event_margin(toli, nb)
+        ms = k.segment_margin(nb)
+        cap_e = me + min(max_events + 16, 1 << 14)
+        cap_s = ms + nb + min(max_events + 16, 1 << 14)
+        ev_t = np.zeros(cap_e)
+        ev_i = np.zeros((cap_e, 5), np.int64)
+        ev_f = np.zeros((cap_e, k.N_EF))
+        seg_t = np.zeros(cap_s)
+        seg_b = np.zeros(cap_s, np.int64)
+        seg_s = np.zeros((cap_s, k.N_SEG))
+        M = k.MAXC
+        c_i = np.zeros((M, k.N_CI), np.int64)
+        c_f = np.zeros((M, k.N_CF))
+        Wb = np.zeros((3 * M, 3 * M))
+        Pb = np.zeros(3 * M)
+        vb = np.zeros(3 * M)
+        tb = np.zeros(3 * M)
+        comp = np.zeros(2 * M, np.int64)
+        bmark = np.zeros(nb, np.int64)
+        v3 = np.zeros(3)
+        W3 = np.zeros((3, 3))
+        P3 = np.zeros(3)
+        Ii = np.zeros((3, 3))
+        skip = np.zeros(max(npl, 1), np.int64)
+        pose = np.zeros(19)
+        err = np.zeros(k.N_ERR)
+        scene_arrays = (self._bint, self._bflt, self._feats, self._planes, self._grav,
+                        self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
+        state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
+                 pk, pv, pw)
+        rc = k.init_run(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f,
+                        skip, pose, fw, ybuf, vals, vals0, vfl, err)
+        while rc == 0 or rc == k.RC_BUFFER_FULL:
+            if rc == k.RC_BUFFER_FULL:
+                if cnt[0] + me > len(ev_t):
+                    n = 2 * len(ev_t)
+                    ev_t = np.concatenate([ev_t, np.zeros(n - len(ev_t))])
+                    ev_i = np.concatenate([ev_i, np.zeros((n - len(ev_i), 5), np.int64)])
+                    ev_f = np.concatenate([ev_f, np.zeros((n - len(ev_f), k.N_EF))])
+                if cnt[1] + ms > len(seg_t):
+                    n = 2 * len(seg_t)
+                    seg_t = np.concatenate([seg_t, np.zeros(n - len(seg_t))])
+                    seg_b = np.concatenate([seg_b, np.zeros(n - len(seg_b), np.int64)])
+                    seg_s = np.concatenate([seg_s, np.zeros((n - len(seg_s), k.N_SEG))])
+            rc = k.run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
+                            c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw,
+                            ybuf, vals, vals0, vfl, err)
+            if rc in (k.RC_DONE, k.RC_MAX_EVENTS):
+                break
+        status = "max_events" if rc == k.RC_MAX_EVENTS else "done"
+        result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status,
+                              float(t_end))
+        if rc < 0:
+            raise self._error(rc, err, result)
+        if status == "max_events":
+            warnings.warn(f"Simulation3D.run: max_events={max_events} reached at t = "
+                          f"{result.t_end:.12g} s, before t_end = {float(t_end):g} s; the "
+                          f"result stops there (status 'max_events')", RuntimeWarning,
+                          stacklevel=2)
+        return result
+
+    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status, t_req):
+        from .kernels.stepper3d import EVENT_KINDS
+        n = int(cnt[0])
+        ev = np.zeros(n, dtype=EVENT_DTYPE_3D)
+        ev["t"] = ev_t[:n]
+        ev["kind"] = np.array(EVENT_KINDS)[ev_i[:n, 0]] if n else []
+        ev["a"] = ev_i[:n, 1]
+        ev["b"] = ev_i[:n, 2]
+        ev["mode"] = ev_i[:n, 3]
+        ev["cluster"] = ev_i[:n, 4]
+        ev["point"] = ev_f[:n, 0:3]
+        ev["normal"] = ev_f[:n, 3:6]
+        ev["tangent"] = ev_f[:n, 6:9]
+        ev["v_i"] = ev_f[:n, 9:12]
+        ev["v_f"] = ev_f[:n, 12:15]
+        ev["P"] = ev_f[:n, 15:18]
+        ev["dE"] = ev_f[:n, 18]
+        m = int(cnt[1])
+        bodies = self.scene.bodies
+        return Result3D(ev, seg_t[:m].copy(), seg_b[:m].copy(), seg_s[:m].copy(),
+                        status=status, policy=self.policy, t_start=0.0, t_end=float(glob[0]),
+                        t_requested=t_req, masses=[b.mass for b in bodies],
+                        inertias=[b.inertia for b in bodies], rotation=self._rot,
+                        gravity=self.scene.gravity,
+                        law=getattr(self.law, "name", repr(self.law)),
+                        tolerances={**self.tolerances, "policy": self.policy,
+                                    "capture": self.capture})
+
+    def _where(self, b):
+        b = int(b)
+        if b < 0:
+            p = self.scene.planes[-1 - b]
+            return f"plane {p.index} (point {p.point}, normal {p.normal})"
+        return f"body {b} ({_shape_name(self.scene.bodies[b])})"
+
+    def _error(self, rc, err, result):
+        from .kernels import stepper3d as k
+        t, a, b = err[0], int(err[1]), int(err[2])
+        at = f"at t = {t:.12g} s"
+        pt = f"contact point ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g})"
+        pos = f"(centre of mass ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g}))"
+        body = self._where(a) if a >= 0 else "the scene"
+        if rc == k.ERR_NO_SOLUTION:
+            mode = int(err[6])
+            law = self._laws[int(err[8])]
+            name = getattr(law, "name", "the law")
+            exc = NoSolutionError(
+                f"impact of {body} on {self._where(b)} {at}, {pt}, has no solution in law "
+                f"{name} (mode {mode}); pre-impact v = {err[10:13].tolist()} m/s, W = "
+                f"{err[[13, 14, 15, 14, 16, 17, 15, 17, 18]].reshape(3, 3).tolist()} 1/kg",
+                mode_code=mode)
+        elif rc == k.ERR_NONFINITE:
+            exc = SimulationError(f"non-finite state of {body} {at} {pos}")
+        elif rc == k.ERR_MISSED:
+            exc = SimulationError(f"missed event: {body} is inside {self._where(b)} by more "
+                                  f"than gap_tol = {self.tolerances['gap_tol']:g} m {at} "
+                                  f"{pos}")
+        elif rc == k.ERR_TOI:
+            exc = SimulationError(f"the time-of-impact search of {body} did not converge in "
+                                  f"toi_max_iter = {self.tolerances['toi_max_iter']} steps, "
+                                  f"from {at}")
+        elif rc == k.ERR_ROT:
+            exc = SimulationError(f"the rotation integrator of {body} exceeded rot_max_steps "
+                                  f"= {self.tolerances['rot_max_steps']} steps {at} (rot_tol "
+                                  f"= {self.tolerances['rot_tol']:g})")
+        elif rc == k.ERR_CHATTER:
+            exc = SimulationError(
+                f"impacts accumulate at a single contact point of {body} on {self._where(b)} "
+                f"{at}, {pt}: normal speed after the impact {err[6]:.3g} m/s while the gap "
+                f"accelerates into the contact at {err[7]:.3g} m/s^2: a persistent contact "
+                f"there is not supported (sphere pairs; a face landing spinning with "
+                f"capture={self.capture})")
+        elif rc == k.ERR_SEQ:
+            exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
+                                  f"seq_max_steps = {int(err[7])} resolutions {at}")
+        elif rc == k.ERR_PGS:
+            exc = SimulationError(f"simultaneous policy: the joint solve of {int(err[6])} "
+                                  f"contacts of {body} {at} did not reach simul_tol in "
+                                  f"simul_max_iter sweeps (last change {err[7]:.3g} m/s)")
+        elif rc == k.ERR_TIPPING:
+            exc = SimulationError(f"{body} in persistent contact with {self._where(b)} {at} "
+                                  f"would tip over (friction force {err[6]:.3g} N against "
+                                  f"normal force {err[7]:.3g} N at height {err[8]:.3g} m): "
+                                  f"not supported")
+        elif rc == k.ERR_SLIDE_CURVE:
+            exc = SimulationError(f"{body} slides on {self._where(b)} {at} at {err[6]:.3g} m/s "
+                                  f"across the slope (tangential gravity {err[7]:.3g} m/s^2, "
+                                  f"mu = {err[8]:g}): the slip direction would curve, which "
+                                  f"has no closed form and is not supported")
+        elif rc == k.ERR_UNSUPPORTED:
+            what = {1.0: "a sphere with non-spherical inertia in persistent contact",
+                    2.0: "a capsule on its side sliding across its axis (it would roll)",
+                    3.0: "persistent contact with two planes at once"}.get(float(err[6]),
+                                                                           "this motion")
+            exc = SimulationError(f"{body} on {self._where(b)} {at}: {what} is not supported")
+        elif rc == k.ERR_PAINLEVE:
+            why = {1.0: "a sliding contact's normal force coefficient is <= 0 (Painleve "
+                        "paradox: no consistent contact force)",
+                   2.0: "the contact force system is singular",
+                   3.0: "no consistent stick/slip/lift-off state was found"}.get(
+                float(err[6]), "the contact forces failed")
+            exc = SimulationError(f"integrated contact of {body} with {self._where(b)} {at} "
+                                  f"{pos}: {why} (mu = {err[7]:g}, {int(err[8])} contact "
+                                  f"point(s))")
+        elif rc == k.ERR_CONTACT_STEPS:
+            exc = SimulationError(f"the integrated contact of {body} exceeded rot_max_steps "
+                                  f"= {self.tolerances['rot_max_steps']} steps {at} "
+                                  f"(contact_tol = {self.tolerances['contact_tol']:g})")
+        elif rc == k.ERR_STALL:
+            exc = SimulationError(f"the run stalls {at}: more than stall_events = "
+                                  f"{self.tolerances['stall_events']} consecutive events at "
+                                  f"one instant")
+        elif rc == k.ERR_TOO_MANY:
+            exc = SimulationError(f"more than {k.MAXC - 1} contacts at one instant {at} "
+                                  f"({body})")
+        elif rc == k.ERR_JOINT_E:
+            exc = SimulationError(f"simultaneous policy needs 0 <= e <= 1 for the joint "
+                                  f"Newton solve, but the contact of {body} on "
+                                  f"{self._where(b)} {at} has e = {err[6]:g}; use "
+                                  f"policy='sequential'")
+        else:  # pragma: no cover
+            exc = SimulationError(f"stepper error code {rc} {at}")
+        exc.result = result
+        return exc
