@@ -94,6 +94,8 @@ MAX_SCAN = 700
 """3D scan path: maximum number of samples (covers P_max / P_min up to ~1e35)."""
 CERT_RTOL = 1e-12
 """Safety margin (relative to trace S) on the 3D uniqueness certificate against round-off."""
+CERT_MAXIT = 8
+"""Newton steps maximizing the concave certificate function phi(tau) (stops at phi > 0)."""
 SECULAR_TOL = 1e-15
 """Set-valued 3D slip: relative tolerance on the secular-equation root s."""
 
@@ -449,6 +451,51 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
 
 
 @njit(cache=True)
+def _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu):
+    """True if the 3D Smith equation provably has at most one physical root.
+
+    Two roots b1 != b2 would give (b1 - b2).(G1 - G2) >= 0 (g monotone) and
+    (b1 - b2).(G1 - G2) = c (H(G1) - H(G2)).(G1 - G2) = c int d^T (dH/dG) d, with
+    D^2/mu d^T (dH/dG) d = -d^T S d + mu (d.x)(JG.d), S = W_NN T - w w^T, x = T J w
+    (identity (w.G) I - G w^T = (J w)(J G)^T, J the 90-degree rotation). Since |JG| <= 1,
+    uniqueness follows if  d^T S d > mu |d.x|  for every unit d. By trust-region (S-lemma)
+    duality that holds iff  phi(tau) = tau - mu^2/4 x^T (S - tau I)^-1 x > 0  for some
+    tau < lambda_min(S); phi is concave, maximized by a few Newton steps (any positive
+    value is a valid certificate)."""
+    s11 = Wnn * t11 - w1 * w1
+    s22 = Wnn * t22 - w2 * w2
+    s12 = Wnn * t12 - w1 * w2
+    tr = s11 + s22
+    lmin = 0.5 * (tr - math.sqrt((s11 - s22) * (s11 - s22) + 4.0 * s12 * s12))
+    margin = CERT_RTOL * tr
+    if not (lmin > margin):
+        return False
+    x1 = t11 * w2 - t12 * w1
+    x2 = t12 * w2 - t22 * w1
+    m4 = 0.25 * mu * mu
+    if m4 * (x1 * x1 + x2 * x2) == 0.0:
+        return True
+    tau = 0.5 * lmin
+    for it in range(CERT_MAXIT):
+        a11 = s11 - tau
+        a22 = s22 - tau
+        y1, y2 = solve2(a11, s12, a22, x1, x2)           # (S - tau I)^-1 x
+        phi = tau - m4 * (x1 * y1 + x2 * y2)
+        if phi > margin:
+            return True
+        z1, z2 = solve2(a11, s12, a22, y1, y2)
+        d1 = 1.0 - m4 * (y1 * y1 + y2 * y2)               # phi'
+        d2 = -2.0 * m4 * (y1 * z1 + y2 * z2)              # phi'' < 0
+        tn = tau - d1 / d2
+        if tn >= lmin:
+            tn = 0.5 * (tau + lmin)
+        if not (tn > -math.inf) or abs(tn - tau) <= 1e-12 * lmin:
+            return False
+        tau = tn
+    return False
+
+
+@njit(cache=True)
 def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     """Smith 3D on scalars (upper triangle of W): returns ``(mode, P_N, P_T1, P_T2)``.
 
@@ -486,14 +533,7 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     t11 = cs * cs * T11 + 2.0 * cs * sn * T12 + sn * sn * T22
     t22 = sn * sn * T11 - 2.0 * cs * sn * T12 + cs * cs * T22
     t12 = (cs * cs - sn * sn) * T12 + cs * sn * (T22 - T11)
-    # uniqueness certificate: mu |T J w| < lambda_min(S), S = Wnn T - w w^T
-    s11 = Wnn * t11 - w1 * w1
-    s22 = Wnn * t22 - w2 * w2
-    s12 = Wnn * t12 - w1 * w2
-    lmin = 0.5 * (s11 + s22 - math.sqrt((s11 - s22) * (s11 - s22) + 4.0 * s12 * s12))
-    q1 = t11 * w2 - t12 * w1
-    q2 = t12 * w2 - t22 * w1
-    cert = mu * math.sqrt(q1 * q1 + q2 * q2) < lmin - CERT_RTOL * (s11 + s22)
+    cert = _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu)
     ok = False
     b1 = 0.0
     b2 = 0.0

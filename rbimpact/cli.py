@@ -4,6 +4,8 @@ import sys
 
 import numpy as np
 
+from .errors import NoSolutionError, SimulationError
+
 # DESIGN §5 case 1b: rod at 45 degrees, v = (-1, 1), e = 1, mu = 0.3
 CASE_1B = {"v": [-1.0, 1.0], "W": [2.5, -1.5, -1.5, 2.5], "e": 1.0, "mu": 0.3}
 
@@ -84,6 +86,13 @@ def _cmd_crosscheck(args):
     return 0
 
 
+def _cmd_stability(args):
+    from .stability import stability_report
+    text, _, ok = stability_report(quick=args.quick, out=args.out)
+    print(text)
+    return 0 if ok else 1
+
+
 def _cmd_list(args):
     from .run import list_text
     print(list_text())
@@ -98,7 +107,8 @@ def _cmd_run(args):
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="rbimpact", description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(prog="rbimpact", description="Algebraic collision laws "
+                                "with friction and an exact event-driven rigid-body stepper.")
     sub = p.add_subparsers(dest="command", required=True)
 
     def contact(q):
@@ -153,6 +163,12 @@ def _parser():
     q.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="scenario parameter (repeatable)")
     q.set_defaults(func=_cmd_crosscheck)
+
+    q = sub.add_parser("stability", help="stiff and extreme cases for every law and the "
+                       "stepper (exits 1 if any breaks)")
+    q.add_argument("--quick", action="store_true", help="a subset that runs in seconds")
+    q.add_argument("--out", help="write the table to this CSV file")
+    q.set_defaults(func=_cmd_stability)
     return p
 
 
@@ -167,6 +183,9 @@ def main(argv=None):
     except ValueError as exc:
         print(f"rbimpact {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except (NoSolutionError, SimulationError) as exc:
+        print(f"rbimpact {args.command}: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":
