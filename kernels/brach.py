@@ -29,9 +29,9 @@ Painleve-type coupling.) It remains as a guard against rounding and bad input.
 Negative ``e`` is perforation: ``v_fN = -e v_N`` keeps the sign of ``v_N``; ``e = -1`` gives
 ``P_N = 0``. ``mu == 0`` takes the frictionless path ``P = (a / W_NN, 0)`` (``MODE_SLIP``).
 
-Scalar cores ``brach_2d_core(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N, P_T)`` and
-``brach_3d_core(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et) -> (mode, P_N, P_T1,
-P_T2)`` (upper triangle of ``W``) are what batch loops should call (no array views).
+Scalar twins ``brach_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N, P_T)`` and
+``brach_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et) -> (mode, P_N, P_T1,
+P_T2)`` (upper triangle of ``W``) are what batch loops should call (no array views, no reference counting).
 """
 import math
 
@@ -51,8 +51,8 @@ from .common import (
 
 
 @njit(cache=True, error_model="numpy")
-def brach_2d_core(vn, vt, wnn, wnt, wtt, e, mu, et):
-    """Scalar core of ``brach_2d``: returns ``(mode, P_N, P_T)``; failures return zeros."""
+def brach_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et):
+    """Scalar twin of ``brach_2d``: returns ``(mode, P_N, P_T)``; failures return zeros."""
     if vn >= 0.0:
         return MODE_SEPARATING, 0.0, 0.0
     a = -(1.0 + e) * vn
@@ -87,7 +87,7 @@ def brach_2d(v, W, params, P_out):
 
     ``v`` (2,) m/s, ``W`` (2, 2) 1/kg, ``params`` with P_E, P_MU, P_ET; writes the impulse
     on A (N s) into ``P_out`` (2,). See the module docstring."""
-    mode, pn, pt = brach_2d_core(v[0], v[1], W[0, 0], W[0, 1], W[1, 1],
+    mode, pn, pt = brach_2d_scalar(v[0], v[1], W[0, 0], W[0, 1], W[1, 1],
                                  params[P_E], params[P_MU], params[P_ET])
     P_out[0] = pn
     P_out[1] = pt
@@ -95,8 +95,8 @@ def brach_2d(v, W, params, P_out):
 
 
 @njit(cache=True, error_model="numpy")
-def brach_3d_core(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
-    """Scalar core of ``brach_3d``: returns ``(mode, P_N, P_T1, P_T2)``; failures return zeros.
+def brach_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
+    """Scalar twin of ``brach_3d``: returns ``(mode, P_N, P_T1, P_T2)``; failures return zeros.
 
     ``W`` is given by its upper triangle ``W[0,0], W[0,1], W[0,2], W[1,1], W[1,2], W[2,2]``."""
     if vn >= 0.0:
@@ -138,7 +138,7 @@ def brach_3d(v, W, params, P_out):
 
     ``v`` (3,) m/s, ``W`` (3, 3) symmetric 1/kg (upper triangle read), ``params`` with
     P_E, P_MU, P_ET; writes the impulse on A (N s) into ``P_out`` (3,)."""
-    mode, p0, p1, p2 = brach_3d_core(
+    mode, p0, p1, p2 = brach_3d_scalar(
         v[0], v[1], v[2], W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2],
         params[P_E], params[P_MU], params[P_ET])
     P_out[0] = p0

@@ -26,8 +26,8 @@ zeroed) only guards that by rounding, a ``W`` that is not positive definite, or 
 non-finite result. ``mu == 0`` takes the frictionless path ``P = ((1 + e) P_I,N, 0)``
 (``MODE_SLIP``).
 
-Scalar cores ``chatterjee_ruina_2d_core(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N,
-P_T)`` and ``chatterjee_ruina_3d_core(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et)
+Scalar twins ``chatterjee_ruina_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N,
+P_T)`` and ``chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et)
 -> (mode, P_N, P_T1, P_T2)`` (upper triangle of ``W``) are what batch loops should call.
 """
 import math
@@ -48,8 +48,8 @@ from .common import (
 
 
 @njit(cache=True, error_model="numpy")
-def chatterjee_ruina_2d_core(vn, vt, wnn, wnt, wtt, e, mu, et):
-    """Scalar core of ``chatterjee_ruina_2d``: returns ``(mode, P_N, P_T)``; failures zeros."""
+def chatterjee_ruina_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et):
+    """Scalar twin of ``chatterjee_ruina_2d``: returns ``(mode, P_N, P_T)``; failures zeros."""
     if vn >= 0.0:
         return MODE_SEPARATING, 0.0, 0.0
     pi = -vn / wnn                       # P_I,N
@@ -87,7 +87,7 @@ def chatterjee_ruina_2d(v, W, params, P_out):
 
     ``v`` (2,) m/s, ``W`` (2, 2) 1/kg, ``params`` with P_E, P_MU, P_ET; writes the impulse
     on A (N s) into ``P_out`` (2,). See the module docstring."""
-    mode, pn, pt = chatterjee_ruina_2d_core(v[0], v[1], W[0, 0], W[0, 1], W[1, 1],
+    mode, pn, pt = chatterjee_ruina_2d_scalar(v[0], v[1], W[0, 0], W[0, 1], W[1, 1],
                                             params[P_E], params[P_MU], params[P_ET])
     P_out[0] = pn
     P_out[1] = pt
@@ -95,8 +95,8 @@ def chatterjee_ruina_2d(v, W, params, P_out):
 
 
 @njit(cache=True, error_model="numpy")
-def chatterjee_ruina_3d_core(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
-    """Scalar core of ``chatterjee_ruina_3d``: returns ``(mode, P_N, P_T1, P_T2)``.
+def chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
+    """Scalar twin of ``chatterjee_ruina_3d``: returns ``(mode, P_N, P_T1, P_T2)``.
 
     ``W`` is given by its upper triangle ``W[0,0], W[0,1], W[0,2], W[1,1], W[1,2], W[2,2]``.
     Failures return zeros."""
@@ -137,7 +137,7 @@ def chatterjee_ruina_3d(v, W, params, P_out):
 
     ``v`` (3,) m/s, ``W`` (3, 3) symmetric 1/kg (upper triangle read), ``params`` with
     P_E, P_MU, P_ET; writes the impulse on A (N s) into ``P_out`` (3,)."""
-    mode, p0, p1, p2 = chatterjee_ruina_3d_core(
+    mode, p0, p1, p2 = chatterjee_ruina_3d_scalar(
         v[0], v[1], v[2], W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2],
         params[P_E], params[P_MU], params[P_ET])
     P_out[0] = p0

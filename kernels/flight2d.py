@@ -18,7 +18,7 @@ N_STATE = 9
 X, Y, ANGLE, VX, VY, OMEGA, AX, AY, ALPHA = range(9)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def fly_into(st, s, out):
     """Write into ``out`` (float64[9]) the state ``st`` (float64[9]) advanced by ``s`` (s)."""
     h = 0.5 * s * s
@@ -33,7 +33,7 @@ def fly_into(st, s, out):
     out[8] = st[8]
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def fly_row(st, i, s):
     """Advance row ``i`` of the state table ``st`` (float64[n, 9]) in place by ``s`` (s)."""
     if s == 0.0:

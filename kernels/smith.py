@@ -619,8 +619,9 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
     bl1 = al
     bl2 = 0.0
     p = pmin
-    b1 = al
-    b2 = 0.0
+    # predictor from p = 0 (b = a, g = a/|a| = e1, J = -I): b ~ a + p (w - mu T e1)
+    b1 = al + p * (w1 - mu * t11)
+    b2 = p * (w2 - mu * t12)
     found = False
     exhausted = False
     R = -c
@@ -645,7 +646,14 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
         if p >= pmax:
             exhausted = True
             break
-        p = min(p * SCAN_RATIO, pmax)
+        pn = min(p * SCAN_RATIO, pmax)
+        # tangent predictor: db/dp = -J^-1 (w - mu T g)
+        db1, db2 = _lin2(J11, J12, J21, J22, -(w1 - mu * (t11 * g1 + t12 * g2)),
+                         -(w2 - mu * (t12 * g1 + t22 * g2)))
+        if abs(db1) < math.inf and abs(db2) < math.inf:
+            b1 += (pn - p) * db1
+            b2 += (pn - p) * db2
+        p = pn
     if not found:
         if exhausted:
             return MODE_NO_SOLUTION, 0.0, 0.0, 0.0

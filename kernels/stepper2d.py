@@ -1,8 +1,9 @@
 """The compiled event loop of the exact 2D event-driven stepper (DESIGN §6, issue 3).
 
-Everything here is ``@njit(cache=True, _nrt=False)`` (no reference counting: the kernels
-only index preallocated arrays, never allocate), so nothing is allocated per event. ``rbimpact.simulation`` packs a scene into the arrays
-below, calls ``init_run`` once and ``run_loop`` until it returns ``RC_DONE`` or
+Everything here is ``@njit(cache=True, _nrt=False)``: no reference counting, because the
+kernels only index preallocated arrays and never allocate (nothing is allocated per
+event). ``rbimpact.simulation`` packs a scene into the arrays below and calls
+``run_loop`` (the first call initialises the run) until it returns ``RC_DONE`` or
 ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles the event/segment buffers
 and calls again; the loop resumes exactly where it stopped). Negative return codes are
 errors (``ERR_*``), with details in ``err``.
@@ -51,15 +52,10 @@ _f = float64
 _i = int64
 
 from .common import N_PARAMS, P_E, P_MU
-try:
-    from .dispatch import resolve_2d
-except ImportError:  # DEV-ONLY fallback, removed once kernels/dispatch.py imports cleanly
-    import sys as _sys
-    _sys.path.insert(0, "/tmp/rbstandin")
-    from standin_dispatch import resolve_2d
+from .dispatch import resolve_2d
 from .flight2d import fly_into, fly_row
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED,
-                    disk_disk_toi, ellipse_support, plane_feature_toi)
+                    disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
 
 INF = math.inf
 
@@ -97,7 +93,8 @@ TF_SIMUL_TIME = 5
 TF_SIMUL_TOL = 6
 TF_SEQ_VTOL = 7
 TF_T_END = 8
-N_TF = 9
+TF_SIMUL_GAP = 9
+N_TF = 10
 TI_TOI_MAXIT = 0
 TI_SIMUL_MAXIT = 1
 TI_SEQ_MAXSTEPS = 2
@@ -175,7 +172,7 @@ def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, vi
     cnt[0] = k + 1
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i):
     k = cnt[1]
     seg_t[k] = tref[i]
@@ -197,12 +194,12 @@ def _set_err(err, t, a, b, px, py, x1, x2, x3):
     err[7] = x3
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _point_vel(st, i, rx, ry):
     return st[i, 3] - st[i, 5] * ry, st[i, 4] + st[i, 5] * rx
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _w_body(m, inertia, rx, ry, nx, ny):
     tx = ny
     ty = -nx
@@ -221,7 +218,7 @@ def _energy(st, bflt, grav, i):
             - m * (grav[0] * st[i, 0] + grav[1] * st[i, 1]))
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _vz2(tolf, gabs):
     """Squared accumulation speed (m^2/s^2) for a normal acceleration magnitude gabs."""
     z = tolf[TF_ZENO_SPEED]
@@ -230,7 +227,7 @@ def _vz2(tolf, gabs):
     return 2.0 * gabs * tolf[TF_REST_LENGTH]
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _finite(st, i):
     for j in range(9):
         if not math.isfinite(st[i, j]):
@@ -269,7 +266,7 @@ def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny):
     return st[i, 0] + rx, st[i, 1] + ry, rx, ry
 
 
-@njit((_A2, _I2, _A2, _i), cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _contact_velocity(st, c_i, c_f, c):
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
@@ -282,7 +279,7 @@ def _contact_velocity(st, c_i, c_f, c):
     return ux * nx + uy * ny, ux * ny - uy * nx
 
 
-@njit((_A2, _I2, _A2, _i, _A2), cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _contact_W(bflt, c_i, c_f, c, W2):
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
@@ -301,7 +298,7 @@ def _contact_W(bflt, c_i, c_f, c, W2):
     W2[1, 1] = wtt
 
 
-@njit((_A2, _A2, _I2, _A2, _i, _f, _f), cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _apply(st, bflt, c_i, c_f, c, PN, PT):
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
@@ -805,7 +802,7 @@ def _single(c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, ev_
     return 0, vfN
 
 
-@njit((_I2, _i), cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _bcode(c_i, c):
     if c_i[c, CI_TYPE] == 0:
         return -1 - c_i[c, CI_B]
@@ -881,7 +878,10 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, tol
             Wb[2 * a + 1, 2 * b] = w10
             Wb[2 * a + 1, 2 * b + 1] = w11
     n2 = 2 * K
-    tol = tolf[TF_SIMUL_TOL]
+    vmax = 0.0
+    for k in range(n2):
+        vmax = max(vmax, abs(vb[k]))
+    tol = tolf[TF_SIMUL_TOL] * vmax
     converged = False
     for it in range(toli[TI_SIMUL_MAXIT]):
         dmax = 0.0
@@ -1132,7 +1132,12 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
                             tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                             tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
                         if not (tref[i] + s <= tw):
-                            continue
+                            g, gd = feature_gap(kind, st[i], verts[v0 + k, 0],
+                                                verts[v0 + k, 1], bflt[i, 2], bflt[i, 3],
+                                                bflt[i, 4], planes[p, 0], planes[p, 1],
+                                                planes[p, 2], t - tref[i])
+                            if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
+                                continue
                     if nc >= MAXC:
                         _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], MAXC, 0.0, 0.0)
                         return ERR_TOO_MANY

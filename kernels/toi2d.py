@@ -85,7 +85,7 @@ def quadratic_descending_root(g0, g1, g2, S, gap_tol):
     return (best if best <= S else INF), TOI_OK
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _safe_step(g, gd, M):
     """First zero h >= 0 of g + gd h - M h^2/2 (g >= 0), cancellation-free; inf if none."""
     if M > 0.0:
@@ -99,7 +99,7 @@ def _safe_step(g, gd, M):
     return INF
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def vertex_gap(st, px, py, rad, nx, ny, d, s):
     """Gap (m) and its rate (m/s) at ``s`` of the point ``p`` (radius ``rad``) of a body."""
     h = 0.5 * s * s
@@ -120,7 +120,7 @@ def vertex_gap(st, px, py, rad, nx, ny, d, s):
     return g, gd
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ellipse_support(th, ea, eb, nx, ny):
     """Support distance ``h`` (m) of the ellipse along ``-n`` and ``dh/dangle`` (m/rad)."""
     c = math.cos(th)
@@ -132,7 +132,7 @@ def ellipse_support(th, ea, eb, nx, ny):
     return hh, dh
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def ellipse_gap(st, ea, eb, nx, ny, d, s):
     h = 0.5 * s * s
     x = st[0] + st[3] * s + st[6] * h
@@ -145,7 +145,7 @@ def ellipse_gap(st, ea, eb, nx, ny, d, s):
     return (nx * x + ny * y - d) - hh, nx * vx + ny * vy - w * dh
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s):
     if kind == FEAT_VERTEX:
         return vertex_gap(st, px, py, rad, nx, ny, d, s)

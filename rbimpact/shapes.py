@@ -112,7 +112,8 @@ class Polygon(Shape):
         area2 = float(np.sum(v[:, 0] * np.roll(v, -1, axis=0)[:, 1]
                              - np.roll(v, -1, axis=0)[:, 0] * v[:, 1]))
         if area2 == 0.0:
-            raise ValueError(f"{_name}: the polygon has zero area")
+            raise ValueError(f"{_name}: the outline has zero signed area (degenerate or "
+                             f"self-intersecting), not a convex polygon")
         if area2 < 0.0:  # clockwise: reverse to counter-clockwise
             v = v[::-1].copy()
             return self.__init__(v, _name)

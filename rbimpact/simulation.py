@@ -23,7 +23,9 @@ What the stepper does
   ``ignore_unsupported_pairs=True``, in which case those bodies pass through each other.
   A one-body scene has no pair at all (no pair search runs).
 * **Simultaneous contacts**: all contacts whose impact times lie within ``simul_time`` (s)
-  of the earliest one are gathered and grouped into clusters sharing a body. A cluster of
+  of the earliest one, and the other corners of a body in such an impact whose gap is
+  already below ``simul_gap`` (m) and closing, are gathered and grouped into clusters
+  sharing a body. A cluster of
   one contact is resolved by its pair law under both policies. For larger clusters:
 
   - ``policy="simultaneous"`` (default): one joint solve over the cluster: Newton
@@ -34,7 +36,8 @@ What the stepper does
     to ``v_fN >= -e min(v_iN, 0)``, and ``|P_T| <= mu P_N`` with ``P_T`` the box-projected
     value driving ``v_fT`` to 0 (sticking when inside the cone). Solved by projected
     Gauss-Seidel from ``P = 0``, contacts in index order, until no impulse update changes a
-    velocity by more than ``simul_tol`` (m/s) in a sweep, at most ``simul_max_iter``
+    velocity by more than ``simul_tol`` times the largest pre-impact contact speed of the
+    cluster in a sweep, at most ``simul_max_iter``
     sweeps (else ``SimulationError``). Events carry mode 0 (no impulse), 1 (inside the
     cone) or 2 (on the cone) and ``cluster = K``. A symmetric landing stays symmetric.
   - ``policy="sequential"``: repeatedly take the contact of the cluster whose current
@@ -113,8 +116,10 @@ TOLERANCES = {
     "toi_max_iter": (100_000, "-", "iteration limit of one time-of-impact search"),
     "simul_time": (1e-11, "s", "impacts within this time of the earliest one are "
                    "simultaneous"),
-    "simul_tol": (1e-13, "m/s", "joint solve: stop when a sweep changes no contact velocity "
-                  "by more than this"),
+    "simul_gap": (1e-12, "m", "a corner of a body already in an impact at that instant whose "
+                  "gap is below this and closing joins the same cluster"),
+    "simul_tol": (1e-14, "-", "joint solve: stop when a sweep changes no contact velocity "
+                  "by more than this times the largest pre-impact contact speed"),
     "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
@@ -161,7 +166,7 @@ class Simulation:
     ``ignore_unsupported_pairs`` (bool: let non-disk bodies pass through each other instead
     of rejecting the scene), and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
-    toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_tol 1e-13 m/s;
+    toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m; simul_tol 1e-14 (relative);
     simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000.
     """
 
@@ -343,6 +348,7 @@ class Simulation:
         tolf[k.TF_TOI_ATOL] = tol["toi_atol"]
         tolf[k.TF_SIMUL_TIME] = tol["simul_time"]
         tolf[k.TF_SIMUL_TOL] = tol["simul_tol"]
+        tolf[k.TF_SIMUL_GAP] = tol["simul_gap"]
         tolf[k.TF_SEQ_VTOL] = tol["seq_vtol"]
         tolf[k.TF_T_END] = float(t_end)
         toli = np.zeros(k.N_TI, np.int64)
@@ -465,7 +471,7 @@ class Simulation:
             exc = SimulationError(
                 f"impacts accumulate at a single contact point of {body} on {self._where(b)} "
                 f"{at}, {pt}: normal speed after the impact {err[5]:.3g} m/s while the gap "
-                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot "
+                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot or roll "
                 f"on that point in persistent contact, which has no closed form and is not "
                 f"supported by the event-driven stepper")
         elif rc == k.ERR_SEQ:

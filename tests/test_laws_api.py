@@ -266,10 +266,11 @@ def test_bad_contacts(v, W, match):
         resolve("kane_levinson", v, W, e=0.5, mu=0.3)
 
 
-def test_painleve_jam_raises_no_solution():
-    """A 3D contact with strong coupling: while sliding, the normal slope W_NN - mu W_NT.u
-    turns negative before compression ends, so Routh's law has no solution; with
-    mu = 3 it does. (In 2D a positive definite W never jams a single contact.)"""
+def test_routh_no_solution_raises():
+    """A strongly coupled 3D contact: with mu = 7.5 the normal velocity, while sliding,
+    falls back to zero during restitution (a second compression), which Routh's kernel
+    reports as no solution (kernels/routh.py); with mu = 3 it resolves. (A positive
+    definite W never jams Routh in compression: see the kernel's docstring.)"""
     W = np.array([[0.178, -0.179, -0.096], [-0.179, 0.217, 0.084], [-0.096, 0.084, 0.062]])
     v = np.array([-0.5, 1.0, -0.4])
     assert Law("routh", e=0.5, mu=3.0).resolve(v, W).P[0] > 0

@@ -1,0 +1,349 @@
+"""The exact event-driven 2D stepper (issue 3, DESIGN §5-6): real physics, closed forms."""
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from rbimpact.errors import SimulationError
+from rbimpact.laws import Law
+from rbimpact.scene import Scene2D
+from rbimpact.shapes import Box, Disk, Polygon, Rod
+from rbimpact.simulation import Simulation
+
+G0 = 9.80665
+
+
+def drop_ball(e=0.8, h=1.0, g=G0, r=0.05, mu=0.0, vx=0.0, law="kane_levinson"):
+    scene = Scene2D(gravity=(0.0, -g))
+    scene.add_floor(0.0)
+    scene.add_body(Disk(r), 1.0, (0.0, h + r), velocity=(vx, 0.0))
+    return Simulation(scene, Law(law, e=e, mu=mu))
+
+
+def exact_bounce_times(n, e, h, g):
+    t1 = math.sqrt(2 * h / g)
+    t = [t1]
+    for k in range(1, n):
+        t.append(t[-1] + 2 * e ** k * math.sqrt(2 * g * h) / g)
+    return np.array(t)
+
+
+# ---------------------------------------------------------------- bouncing ball (Zeno)
+
+def test_bouncing_ball_times_accumulation_and_rest():
+    e, h = 0.8, 1.0
+    res = drop_ball(e, h).run(6.0)
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    exact = exact_bounce_times(30, e, h, G0)
+    assert np.max(np.abs(imp["t"][:30] - exact) / exact) < 1e-10
+    # each impact reverses the normal velocity with ratio e exactly
+    np.testing.assert_allclose(imp["v_f"][:30, 0], -e * imp["v_i"][:30, 0], rtol=1e-12)
+    # one switch to persistent contact, at the accumulation point t_inf = t1 (1+e)/(1-e)
+    sw = ev[ev["kind"] != "impact"]
+    assert list(sw["kind"]) == ["contact"]
+    t_inf = math.sqrt(2 * h / G0) * (1 + e) / (1 - e)
+    assert abs(t_inf - 4.064406802) < 1e-9
+    assert abs(sw["t"][0] - t_inf) < 1e-6
+    assert sw["mode"][0] == 3                     # rest
+    assert np.all(imp["t"] < sw["t"][0])
+    assert -1e-8 < sw["dE"][0] <= 0.0             # the snap removes at most m g rest_length
+    s = res.sample(np.array([t_inf + 1e-6, 5.0, 6.0]))
+    np.testing.assert_allclose(s["y"][:, 0], 0.05, atol=1e-12)
+    np.testing.assert_allclose(s["vy"][:, 0], 0.0, atol=1e-12)
+    assert res.status == "done" and res.t_end == 6.0
+
+
+def test_sample_is_exact_flight_between_impacts():
+    e, h, r = 0.8, 1.0, 0.05
+    res = drop_ball(e, h, r=r).run(2.0)
+    t = exact_bounce_times(3, e, h, G0)
+    v1 = e * math.sqrt(2 * G0 * h)                 # speed leaving the first impact
+    ts = np.linspace(t[0], t[1], 7)[1:-1]
+    s = res.sample(ts)
+    y = r + v1 * (ts - t[0]) - 0.5 * G0 * (ts - t[0]) ** 2
+    np.testing.assert_allclose(s["y"][:, 0], y, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(s["vy"][:, 0], v1 - G0 * (ts - t[0]), atol=1e-12)
+    # energy is constant in flight and drops by exactly the dE of each impact
+    E = res.energy(np.array([0.0, 0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2])]))
+    imp = res.events[res.events["kind"] == "impact"]
+    np.testing.assert_allclose(np.diff(E), imp["dE"][:2], rtol=1e-9)
+    with pytest.raises(ValueError):
+        res.sample([3.0])
+
+
+def test_elastic_ball_1e5_impacts_conserves_energy():
+    sim = drop_ball(e=1.0, mu=0.0)
+    period = 2 * math.sqrt(2 * 1.0 / G0)
+    res = sim.run(1e5 * period - 0.25 * period)
+    assert res.n_impacts == 100_000 and res.status == "done"
+    E = res.energy(np.linspace(0.0, res.t_end, 2001))
+    assert np.max(np.abs(E - E[0])) / E[0] < 1e-9
+    t = res.events["t"]
+    assert abs(t[-1] - (period / 2 + 99_999 * period)) / t[-1] < 1e-10
+
+
+def test_max_events_stops_early_with_warning():
+    sim = drop_ball(e=1.0)
+    with pytest.warns(RuntimeWarning, match="max_events"):
+        res = sim.run(100.0, max_events=10)
+    assert res.status == "max_events" and len(res.events) == 10
+    assert res.t_end < 100.0 and res.t_end == res.events["t"][-1]
+    res.sample([res.t_end])
+
+
+# ---------------------------------------------------------------- rods
+
+def test_spinning_rod_first_touch():
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_floor()
+    scene.add_body(Rod(1.0), 1.0, (0.0, 1.0), angular_velocity=3.0)
+    res = Simulation(scene, Law("kane_levinson", e=0.5, mu=0.3)).run(0.4)
+    t1 = res.events["t"][0]
+    assert abs(t1 - 0.341679324) < 1e-9
+    # the gap of the touching end is zero there
+    s = res.sample([t1])
+    th, y = s["angle"][0, 0], s["y"][0, 0]
+    assert abs(y - 0.5 * abs(math.sin(th))) < 1e-12
+
+
+def flat_rod(policy, e=0.5, mu=0.0, h=0.5, L=1.0, t_end=0.35):
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_floor()
+    scene.add_body(Rod(L), 1.0, (0.0, h))
+    return Simulation(scene, Law("kane_levinson", e=e, mu=mu), policy=policy), h
+
+
+def test_flat_rod_simultaneous_symmetric():
+    sim, h = flat_rod("simultaneous", e=0.5, mu=0.3)
+    res = sim.run(3.0)
+    assert res.policy == "simultaneous"
+    t1 = math.sqrt(2 * h / 9.81)
+    v = math.sqrt(2 * 9.81 * h)
+    ev = res.events
+    first = ev[:2]
+    assert np.all(first["kind"] == "impact") and np.all(first["cluster"] == 2)
+    np.testing.assert_allclose(first["t"], t1, rtol=1e-12)
+    np.testing.assert_allclose(first["P"][:, 0], 0.5 * (1 + 0.5) * v, rtol=1e-10)
+    np.testing.assert_allclose(first["P"][:, 1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(first["v_f"][:, 0], 0.5 * v, rtol=1e-10)
+    s = res.sample([t1 + 1e-9])
+    assert abs(s["omega"][0, 0]) < 1e-10 and abs(s["vy"][0, 0] - 0.5 * v) < 1e-8
+    # it keeps landing flat and comes to rest at the accumulation point, lying flat
+    # (a round-off tangential speed may slide it for a few nanoseconds first)
+    sw = ev[ev["kind"] != "impact"]
+    assert sw["kind"][0] == "contact" and sw["mode"][-1] == 3
+    assert set(sw["kind"][1:]) <= {"rest"}
+    assert np.all(np.abs(sw["t"] - t1 * (1 + 0.5) / (1 - 0.5)) < 1e-6)
+    assert abs(sw["v_i"][0, 1]) < 1e-9
+    s = res.sample([2.0, 3.0])
+    np.testing.assert_allclose(s["y"][:, 0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(s["angle"][:, 0], 0.0, atol=1e-9)
+
+
+def test_flat_rod_sequential_stated_outcome():
+    e, L, m = 0.5, 1.0, 1.0
+    sim, h = flat_rod("sequential", e=e, L=L)
+    res = sim.run(0.35)
+    assert res.policy == "sequential"
+    t1 = math.sqrt(2 * h / 9.81)
+    v = math.sqrt(2 * 9.81 * h)
+    # the stated rule, replayed by hand: resolve the most approaching end (ties: end 0,
+    # the first vertex at x = -L/2) alone with Newton restitution, until none approaches
+    inertia = m * L * L / 12
+    xs = np.array([-0.5 * L, 0.5 * L])
+    vy, w = -v, 0.0
+    expected = []
+    while True:
+        vn = vy + w * xs
+        k = int(np.argmin(vn))
+        if vn[k] >= 0:
+            break
+        P = -(1 + e) * vn[k] / (1 / m + xs[k] ** 2 / inertia)
+        vy += P / m
+        w += xs[k] * P / inertia
+        expected.append((k, P))
+    ev = res.events[np.isclose(res.events["t"], t1, rtol=1e-12)]
+    assert len(ev) == len(expected) == 3
+    assert np.all(ev["cluster"] == 2)
+    got = [(0 if p[0] < 0 else 1, P[0]) for p, P in zip(ev["point"], ev["P"])]
+    for (k, P), (kk, PP) in zip(expected, got):
+        assert k == kk and abs(P - PP) < 1e-12
+    s = res.sample([t1])
+    assert abs(s["omega"][0, 0] - w) < 1e-12 and abs(s["vy"][0, 0] - vy) < 1e-12
+    assert abs(w) > 0.1                                       # not symmetric: it spins
+    assert np.sum(ev["dE"]) < 0
+
+
+# ---------------------------------------------------------------- disks
+
+def test_disk_disk_head_on_elastic_swaps_velocities():
+    scene = Scene2D(gravity=(0.0, 0.0))
+    scene.add_body(Disk(0.1), 2.0, (0.0, 0.0), velocity=(1.0, 0.0))
+    scene.add_body(Disk(0.1), 2.0, (1.0, 0.0))
+    res = Simulation(scene, Law("routh", e=1.0, mu=0.0)).run(2.0)
+    ev = res.events
+    assert len(ev) == 1 and ev["kind"][0] == "impact"
+    assert abs(ev["t"][0] - 0.8) < 1e-14
+    assert ev["a"][0] == 0 and ev["b"][0] == 1
+    np.testing.assert_allclose(ev["normal"][0], (-1.0, 0.0))
+    s = res.sample([1.0, 2.0])
+    np.testing.assert_allclose(s["vx"], [[0.0, 1.0], [0.0, 1.0]], atol=1e-14)
+    np.testing.assert_allclose(s["x"], [[0.8, 1.2], [0.8, 2.2]], atol=1e-14)
+
+
+def test_disk_disks_under_gravity_collide_exactly():
+    # equal gravity cancels in the relative motion: the contact time is a closed form
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_body(Disk(0.1), 1.0, (0.0, 5.0), velocity=(2.0, 1.0))
+    scene.add_body(Disk(0.15), 3.0, (1.0, 5.0), velocity=(-0.5, 1.0))
+    res = Simulation(scene, Law("kane_levinson", e=0.9, mu=0.2)).run(0.5)
+    ev = res.events
+    assert len(ev) == 1
+    assert abs(ev["t"][0] - 0.75 / 2.5) < 1e-14
+    assert abs(ev["v_f"][0, 0] + 0.9 * ev["v_i"][0, 0]) < 1e-12
+
+
+def test_spinning_disk_slides_then_rolls_exactly():
+    g, r, m, mu, w0 = 9.81, 0.2, 2.0, 0.3, 12.0
+    scene = Scene2D(gravity=(0.0, -g))
+    scene.add_floor()
+    scene.add_body(Disk(r), m, (0.0, r), angular_velocity=w0)
+    res = Simulation(scene, Law("smith", e=0.5, mu=mu)).run(2.0)
+    ev = res.events
+    assert list(ev["kind"]) == ["contact", "roll"]
+    assert ev["t"][0] == 0.0 and ev["mode"][0] == 1                  # slides from the start
+    # solid disk (I = m r^2 / 2): slip speed w0 r decays at mu g (1 + m r^2 / I) = 3 mu g
+    t_roll = w0 * r / (3 * mu * g)
+    assert abs(ev["t"][1] - t_roll) < 1e-13
+    s = res.sample(np.array([0.5 * t_roll, t_roll, 1.5, 2.0]))
+    np.testing.assert_allclose(s["vx"][0, 0], -mu * g * 0.5 * t_roll, rtol=1e-12)
+    np.testing.assert_allclose(s["omega"][0, 0], w0 - 2 * mu * g * 0.5 * t_roll / r,
+                               rtol=1e-12)
+    np.testing.assert_allclose(s["vx"][1:, 0], -w0 * r / 3, rtol=1e-12)
+    np.testing.assert_allclose(s["omega"][1:, 0], w0 / 3, rtol=1e-12)
+    np.testing.assert_allclose(s["vx"][:, 0] + s["omega"][:, 0] * r,
+                               [w0 * r / 2, 0, 0, 0], atol=1e-12)        # v = -omega r
+    np.testing.assert_allclose(s["y"][:, 0], r, atol=1e-15)
+
+
+def test_box_slides_to_rest_on_floor():
+    g, mu, v0 = 9.81, 0.4, 2.0
+    scene = Scene2D(gravity=(0.0, -g))
+    scene.add_floor(1.0)
+    scene.add_body(Box(0.4, 0.2), 1.0, (0.0, 1.1), velocity=(v0, 0.0))
+    res = Simulation(scene, Law("routh", e=0.3, mu=mu)).run(2.0)
+    ev = res.events
+    assert list(ev["kind"]) == ["contact", "rest"]
+    t_stop = v0 / (mu * g)
+    assert abs(ev["t"][1] - t_stop) < 1e-13
+    s = res.sample([t_stop, 2.0])
+    np.testing.assert_allclose(s["x"][:, 0], v0 * v0 / (2 * mu * g), rtol=1e-12)
+    np.testing.assert_allclose(s["vx"][:, 0], 0.0, atol=1e-15)
+
+
+# ---------------------------------------------------------------- invariance
+
+def invariance_scene(mirror=False, shift=(0.0, 0.0)):
+    sx = -1.0 if mirror else 1.0
+    dx, dy = shift
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_plane((0.0 + dx, 0.0 + dy), (0.0, 1.0))
+    scene.add_plane((sx * -1.0 + dx, dy), (sx * 1.0, 0.0))
+    scene.add_plane((sx * 1.5 + dx, dy), (sx * -1.0, 0.3))
+    scene.add_body(Disk(0.1), 1.0, (sx * 0.2 + dx, 0.5 + dy), velocity=(sx * 3.0, 1.0),
+                   angular_velocity=sx * 5.0)
+    scene.add_body(Rod(0.6), 0.5, (sx * -0.3 + dx, 1.2 + dy), angle=sx * 0.4,
+                   velocity=(sx * -1.0, 0.0), angular_velocity=sx * -2.0)
+    triangle = Polygon([(0, 0), (sx * 0.3, 0), (sx * 0.1, 0.2)])      # mirrored shape too
+    scene.add_body(triangle, 0.7, (sx * 0.6 + dx, 0.9 + dy),
+                   angle=sx * 0.3, angular_velocity=sx * 1.0)
+    # Routh: a unique answer for every contact (Kane & Levinson's slide branch can have two
+    # valid slip directions when W_NT != 0, and its choice need not be mirror-symmetric)
+    return Simulation(scene, Law("routh", e=0.6, mu=0.4), ignore_unsupported_pairs=True)
+
+
+def test_translation_and_mirror_give_the_same_events():
+    ref = invariance_scene().run(0.8).events
+    assert len(ref) > 10 and len(set(ref["a"])) == 3
+    shift = (3.7, -2.1)
+    moved = invariance_scene(shift=shift).run(0.8).events
+    mirr = invariance_scene(mirror=True).run(0.8).events
+    for other in (moved, mirr):
+        assert len(other) == len(ref)
+        assert list(other["kind"]) == list(ref["kind"])
+        np.testing.assert_array_equal(other["a"], ref["a"])
+        np.testing.assert_array_equal(other["b"], ref["b"])
+        np.testing.assert_array_equal(other["mode"], ref["mode"])
+        np.testing.assert_allclose(other["t"], ref["t"], rtol=1e-9, atol=0)
+    np.testing.assert_allclose(moved["point"], ref["point"] + shift, atol=1e-8)
+    np.testing.assert_allclose(moved["normal"], ref["normal"], atol=1e-12)
+    np.testing.assert_allclose(moved["v_i"], ref["v_i"], atol=1e-8)
+    np.testing.assert_allclose(moved["P"], ref["P"], atol=1e-8)
+    flip = np.array([-1.0, 1.0])
+    np.testing.assert_allclose(mirr["point"], ref["point"] * flip, atol=1e-9)
+    np.testing.assert_allclose(mirr["normal"], ref["normal"] * flip, atol=1e-12)
+    tflip = np.array([1.0, -1.0])          # the tangent t = (n_y, -n_x) changes sign
+    np.testing.assert_allclose(mirr["v_i"], ref["v_i"] * tflip, atol=1e-9)
+    np.testing.assert_allclose(mirr["v_f"], ref["v_f"] * tflip, atol=1e-9)
+    np.testing.assert_allclose(mirr["P"], ref["P"] * tflip, atol=1e-9)
+
+
+# ---------------------------------------------------------------- errors
+
+def test_bad_scenes_raise_clear_errors():
+    law = Law("kane_levinson", e=0.5, mu=0.3)
+    scene = Scene2D()
+    with pytest.raises(ValueError, match="mass"):
+        scene.add_body(Disk(0.1), -1.0, (0.0, 1.0))
+    with pytest.raises(ValueError, match="radius"):
+        Disk(-0.1)
+    with pytest.raises(ValueError, match="convex"):
+        Polygon([(0, 0), (2, 0), (1, 0.3), (2, 2), (0, 2)])
+    with pytest.raises(ValueError, match="finite"):
+        scene.add_body(Disk(0.1), 1.0, (float("nan"), 1.0))
+    with pytest.raises(ValueError, match="finite"):
+        scene.add_body(Disk(0.1), 1.0, (0.0, 1.0), velocity=(0.0, float("inf")))
+    scene.add_floor()
+    scene.add_body(Box(1.0, 1.0), 1.0, (0.0, 0.4))
+    with pytest.raises(ValueError, match="starts inside plane 0"):
+        Simulation(scene, law)
+    scene = Scene2D()
+    scene.add_body(Box(1.0, 1.0), 1.0, (0.0, 0.4))
+    scene.add_body(Disk(0.1), 1.0, (3.0, 0.4))
+    with pytest.raises(ValueError, match="only handles body-body contacts between disks"):
+        Simulation(scene, law)
+    Simulation(scene, law, ignore_unsupported_pairs=True)
+    with pytest.raises(TypeError, match="unknown keyword"):
+        Simulation(scene, law, ignore_unsupported_pairs=True, rest_lenght=1e-9)
+    with pytest.raises(ValueError, match="policy"):
+        Simulation(scene, law, ignore_unsupported_pairs=True, policy="magic")
+
+
+def test_pivot_chatter_is_reported_not_hidden():
+    # a plastic impact (e = 0) on one end of a tilted rod leaves it pivoting on that end:
+    # a persistent one-point contact the event-driven stepper does not model
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_floor()
+    scene.add_body(Rod(1.0), 1.0, (0.0, 0.5), angle=0.5)
+    with pytest.raises(SimulationError, match="single contact point of body 0") as info:
+        Simulation(scene, Law("kane_levinson", e=0.0, mu=1.0)).run(1.0)
+    partial = info.value.result
+    assert partial.n_impacts >= 1 and partial.events["kind"][0] == "impact"
+
+
+def test_pair_laws_and_perforation():
+    scene = Scene2D(gravity=(0.0, 0.0))
+    barrier = scene.add_plane((1.0, 0.0), (-1.0, 0.0))
+    wall = scene.add_plane((3.0, 0.0), (-1.0, 0.0))
+    scene.add_body(Disk(0.1), 1.0, (0.0, 0.0), velocity=(4.0, 0.0))
+    sim = Simulation(scene, Law("kane_levinson", e=1.0, mu=0.0),
+                     pair_laws={(0, barrier): Law("brach", e=-0.5, mu=0.0)})
+    res = sim.run(2.0)
+    ev = res.events
+    assert list(ev["b"]) == [-1, -2]
+    assert abs(ev["t"][0] - 0.9 / 4.0) < 1e-14
+    np.testing.assert_allclose(ev["v_f"][0], (-2.0, 0.0), atol=1e-14)   # through, slower
+    assert abs(ev["t"][1] - (0.9 / 4.0 + 2.0 / 2.0)) < 1e-14            # wall: elastic
+    assert res.sample([2.0])["vx"][0, 0] == pytest.approx(-2.0)
