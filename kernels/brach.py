@@ -15,7 +15,8 @@ Equations (DESIGN §4), with ``a = -(1 + e) v_N >= 0``:
    Brach's ``mu r0 / |r0|``; for ``P*_N <= 0`` the ratio is unbounded and the direction
    of ``P*_T`` is its continuous extension through ``P*_N = 0`` (taking the sign of ``r0``
    there would flip the friction against the tangential target). With this choice
-   and ``e_t = 0`` the law equals Kane & Levinson in 2D whenever both have a solution.
+   and ``e_t = 0`` the law equals Kane & Levinson in 2D (both always have a solution for
+   SPD ``W``).
    If ``P*_T = 0`` (only possible for ``P*_N <= 0`` when ``e = -1``), ``r = 0``.
 
 ``MODE_NO_SOLUTION`` (``P_out`` zeroed) when ``W_NN + W_NT . r <= 0`` (the clamped ratio
@@ -31,7 +32,8 @@ Negative ``e`` is perforation: ``v_fN = -e v_N`` keeps the sign of ``v_N``; ``e 
 
 Scalar twins ``brach_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N, P_T)`` and
 ``brach_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et) -> (mode, P_N, P_T1,
-P_T2)`` (upper triangle of ``W``) are what batch loops should call (no array views, no reference counting).
+P_T2)`` (upper triangle of ``W``) are what batch loops should call: no array views, so
+no reference counting in the loop.
 """
 import math
 
@@ -69,7 +71,14 @@ def brach_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et):
     if pn >= 0.0 and abs(pt) <= mu * pn:
         mode = MODE_STICK
     else:
-        r = mu if pt > 0.0 else (-mu if pt < 0.0 else 0.0)
+        if pt > 0.0:
+            r = mu
+        elif pt < 0.0:
+            r = -mu
+        elif pt == 0.0:
+            r = 0.0
+        else:                              # NaN input
+            return MODE_NO_SOLUTION, 0.0, 0.0
         den = wnn + wnt * r
         if not (den > 0.0):
             return MODE_NO_SOLUTION, 0.0, 0.0
@@ -120,6 +129,8 @@ def brach_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
         if st > 0.0:
             r1 = mu * (p1 / st)
             r2 = mu * (p2 / st)
+        elif st != 0.0:                    # NaN input
+            return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
         den = wnn + w1 * r1 + w2 * r2
         if not (den > 0.0):
             return MODE_NO_SOLUTION, 0.0, 0.0, 0.0

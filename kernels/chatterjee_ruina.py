@@ -28,7 +28,8 @@ non-finite result. ``mu == 0`` takes the frictionless path ``P = ((1 + e) P_I,N,
 
 Scalar twins ``chatterjee_ruina_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et) -> (mode, P_N,
 P_T)`` and ``chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et)
--> (mode, P_N, P_T1, P_T2)`` (upper triangle of ``W``) are what batch loops should call.
+-> (mode, P_N, P_T1, P_T2)`` (upper triangle of ``W``) are what batch loops should call:
+no array views, so no reference counting in the loop.
 """
 import math
 

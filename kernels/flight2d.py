@@ -10,7 +10,6 @@ accelerations, so its motion is exactly quadratic in ``s = t - t_ref``:
 
 Units: m, rad, s. Every function is ``@njit(cache=True, _nrt=False)`` and allocation-free.
 """
-import math
 
 from numba import njit
 
@@ -96,12 +95,3 @@ def body_energy(st_row, m, inertia, gx, gy):
     return (0.5 * m * (st_row[3] * st_row[3] + st_row[4] * st_row[4])
             + 0.5 * inertia * st_row[5] * st_row[5]
             - m * (gx * st_row[0] + gy * st_row[1]))
-
-
-@njit(cache=True, _nrt=False)
-def finite_row(st, i):
-    ok = True
-    for k in range(9):
-        if not math.isfinite(st[i, k]):
-            ok = False
-    return ok

@@ -58,7 +58,8 @@ CP_P1 = 14      # 14:17 body-frame feature centre of contact 1 (m)
 CP_P2 = 17      # 17:20 of contact 2
 CP_S1 = 20      # status of contact 1: 0 sliding, 1 sticking
 CP_S2 = 21
-CP_U1 = 22      # 22:25 slip direction used while |c_1| is below SLIP_DIR_FRAC slip_eps
+CP_U1 = 22      # 22:25 slip direction used while |c_1| is below SLIP_DIR_FRAC slip_eps, for
+                #   a slip that started from sticking (zero: none, always c_1/|c_1|)
 CP_U2 = 25
 CP_EPS = 28     # slip_eps (m/s)
 CP_PLANE = 29   # plane index (float)
@@ -120,6 +121,8 @@ PI_FORCES = 2       # the force system failed (Painleve or singular)
 MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
 SLIP_DIR_FRAC = 1.0   # below SLIP_DIR_FRAC * slip_eps the stored slip direction is used
 GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimensionless)
+FORCE_ARM = 1e-9      # a normal force or stick margin starting at or below 0 (a tangency)
+                      #   fires below its start minus FORCE_ARM m |g| (dimensionless)
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
 
 # event kinds
@@ -223,9 +226,10 @@ def _slipdir(fw, cp, k):
     co = FW_C1 + 3 * k
     cx, cy, cz = fw[co], fw[co + 1], fw[co + 2]
     c = math.sqrt(cx * cx + cy * cy + cz * cz)
-    if c > SLIP_DIR_FRAC * cp[CP_EPS]:
-        return cx / c, cy / c, cz / c
     uo = CP_U1 + 3 * k
+    stored = cp[uo] != 0.0 or cp[uo + 1] != 0.0 or cp[uo + 2] != 0.0
+    if c > SLIP_DIR_FRAC * cp[CP_EPS] or (c > 0.0 and not stored):
+        return cx / c, cy / c, cz / c
     return cp[uo], cp[uo + 1], cp[uo + 2]
 
 
@@ -667,10 +671,10 @@ def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
         vals[2 + k] = math.inf
         vals[4 + k] = math.inf
     for k in range(K):
-        vals[k] = fw[FW_LAM + k]
+        vals[k] = fw[FW_LAM + k] - vfl[k]
         st = int(cp[CP_S1 + k])
         if st == 1:
-            vals[2 + k] = fw[FW_MARG + k]
+            vals[2 + k] = fw[FW_MARG + k] - vfl[2 + k]
         else:
             co = FW_C1 + 3 * k
             vals[4 + k] = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2) - cp[CP_EPS]
@@ -705,6 +709,12 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
     for e in range(nv):
         vfl[e] = 0.0
     rc = _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals0, vfl)
+    farm = FORCE_ARM * cp[CP_M] * math.sqrt(cp[CP_G] ** 2 + cp[CP_G + 1] ** 2
+                                            + cp[CP_G + 2] ** 2)
+    for e in range(4):
+        if vals0[e] < math.inf and vals0[e] <= 0.0:
+            vfl[e] = vals0[e] - farm
+            vals0[e] -= vfl[e]
     arm = GAP_ARM * cp[CP_L]
     for e in range(6, nv):
         if vals0[e] < math.inf:

@@ -68,6 +68,9 @@ TOL_ROOT = 1e-14
 """Newton stops when its step is below TOL_ROOT * max(|b|, |a|) (b in 2D is the scalar final
 slip; in 3D the vector): the directions g(b) then hold to ~1e-14, and the quadratic
 convergence puts the returned root at round-off level."""
+TOL_QUAD = 1e-8
+"""3D Newton also stops right after a full step shorter than TOL_QUAD * max(|b|, |a|): by
+quadratic convergence the error left is ~TOL_QUAD^2 (times an O(1) curvature factor)."""
 TOL_P = 1e-14
 """3D scan path: relative tolerance on the normal impulse p in the outer root refinement."""
 TOL_HALLEY = 1e-6
@@ -103,20 +106,20 @@ SECULAR_TOL = 1e-15
 # ================================================================================================
 # 2D
 # ================================================================================================
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _set_valued_2d(c, Wnn, wnt, Wtt, mu):
     """a = 0: Coulomb inclusion along the final slip (limit a -> 0). Returns mode, P_N, P_T."""
-    if wnt >= mu * Wtt:                      # normal impulse drives slip forward: g = +1
+    if wnt > mu * Wtt:                       # normal impulse drives slip forward: g = +1
         PN = c / (Wnn - mu * wnt)            # > 0: Wnn - mu*wnt <= 0 would contradict det > 0
         return MODE_SLIP, PN, -mu * PN
-    if wnt <= -mu * Wtt:                     # drives it backward: g = -1
+    if wnt < -mu * Wtt:                      # drives it backward: g = -1
         PN = c / (Wnn + mu * wnt)
         return MODE_SLIP, PN, mu * PN
     det = Wnn * Wtt - wnt * wnt              # stick: v_fT = 0, |P_T| < mu P_N
     return MODE_STICK, c * Wtt / det, -c * wnt / det
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
     """Smith 2D core (v_N < 0, mu > 0, W SPD; any velocity scale: the solve is homogeneous).
 
@@ -219,7 +222,7 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
     return MODE_SLIP, PN, -sg * mu * PN * g, -sg * a * t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def smith_2d_scalar(vN, vt, Wnn, Wnt, Wtt, e, mu):
     """Smith 2D on scalars: returns ``(mode, P_N, P_T)``; same contract as ``smith_2d``.
 
@@ -241,7 +244,7 @@ def smith_2d_scalar(vN, vt, Wnn, Wnt, Wtt, e, mu):
     return mode, PN, PT
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def smith_2d(v, W, params, P_out):
     """Smith's law, 2D contact: ``v = (v_N, v_T)`` (m/s), ``W`` 2x2 SPD (1/kg).
 
@@ -258,7 +261,7 @@ def smith_2d(v, W, params, P_out):
 # ================================================================================================
 # 3D (tangent frame rotated so that a = (alpha, 0))
 # ================================================================================================
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g3(b1, b2, al, al2):
     """g(b) for a = (al, 0), and its Jacobian B = dg/db (2x2, row-major)."""
     r2 = b1 * b1 + b2 * b2
@@ -281,7 +284,7 @@ def _g3(b1, b2, al, al2):
     return g1, g2, B11, B12, B21, B22
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _full_3d(b1, b2, al, al2, c, Wnn, w1, w2, t11, t12, t22, mu):
     """Full residual F(b) = a + c H(g(b)) - b, its Jacobian, and D. D <= 0: not physical."""
     g1, g2, B11, B12, B21, B22 = _g3(b1, b2, al, al2)
@@ -306,7 +309,7 @@ def _full_3d(b1, b2, al, al2, c, Wnn, w1, w2, t11, t12, t22, mu):
     return F1, F2, J11, J12, J21, J22, D
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _inner_3d(b1, b2, al, al2, p, w1, w2, t11, t12, t22, mu):
     """Tangential sub-problem at normal impulse p: F = a + p (w - mu T g(b)) - b, Jacobian."""
     g1, g2, B11, B12, B21, B22 = _g3(b1, b2, al, al2)
@@ -320,16 +323,18 @@ def _inner_3d(b1, b2, al, al2, p, w1, w2, t11, t12, t22, mu):
     return F1, F2, J11, J12, J21, J22, g1, g2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lin2(J11, J12, J21, J22, r1, r2):
     """Solve the general 2x2 system J x = r (Cramer). det == 0 gives non-finite x."""
     det = J11 * J22 - J12 * J21
     return (J22 * r1 - J12 * r2) / det, (J11 * r2 - J21 * r1) / det
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
-    """Damped Newton on the full residual from (b1, b2). Returns (ok, b1, b2)."""
+    """Damped Newton on the full residual from (b1, b2) (merit |F|^2, Armijo backtracking,
+    D > 0 kept). Stops when the Newton step is below TOL_ROOT * max(|b|, |a|) (the step is
+    then applied), or after a full step below TOL_QUAD * max(|b|, |a|). Returns (ok, b1, b2)."""
     al2 = al * al
     F1, F2, J11, J12, J21, J22, D = _full_3d(b1, b2, al, al2, c, Wnn, w1, w2, t11, t12, t22, mu)
     if not (D > 0.0):
@@ -339,8 +344,12 @@ def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
         if f == 0.0:
             return True, b1, b2
         d1, d2 = _lin2(J11, J12, J21, J22, -F1, -F2)
-        if not (abs(d1) < math.inf and abs(d2) < math.inf):
+        nd = math.sqrt(d1 * d1 + d2 * d2)
+        if not (nd < math.inf):
             return False, b1, b2
+        scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
+        if nd <= TOL_ROOT * scale:
+            return True, b1 + d1, b2 + d2
         t = 1.0
         accepted = False
         for ls in range(MAX_LINESEARCH):
@@ -350,24 +359,24 @@ def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
                                                       t11, t12, t22, mu)
             if Dn > 0.0:
                 fn = G1 * G1 + G2 * G2
-                if fn <= (1.0 - ARMIJO * t) * f or (t == 1.0 and fn <= f):
+                if fn <= (1.0 - ARMIJO * t) * f:
                     accepted = True
                     break
             t *= 0.5
         if not accepted:
-            # no decrease possible: at round-off level, accept if the step was tiny
-            scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
-            return math.sqrt(d1 * d1 + d2 * d2) <= 1e3 * TOL_ROOT * scale, b1, b2
+            return False, b1, b2
         b1, b2 = n1, n2
         F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
-        if t * math.sqrt(d1 * d1 + d2 * d2) <= TOL_ROOT * max(math.sqrt(b1 * b1 + b2 * b2), al):
+        if t == 1.0 and nd <= TOL_QUAD * scale:
             return True, b1, b2
     return False, b1, b2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
-    """Unique solution of the tangential sub-problem at p (damped Newton from (b1, b2)).
+    """Unique solution of the tangential sub-problem at p (damped Newton from (b1, b2);
+    same stopping rules as ``_newton_full_3d``; the returned g and J belong to the returned
+    b, which is then at most one tiny step from the root).
 
     Returns (ok, b1, b2, g1, g2, J11, J12, J21, J22) with J the sub-problem Jacobian."""
     al2 = al * al
@@ -377,6 +386,12 @@ def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
         if f == 0.0:
             return True, b1, b2, g1, g2, J11, J12, J21, J22
         d1, d2 = _lin2(J11, J12, J21, J22, -F1, -F2)
+        nd = math.sqrt(d1 * d1 + d2 * d2)
+        if not (nd < math.inf):
+            return False, b1, b2, g1, g2, J11, J12, J21, J22
+        scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
+        if nd <= TOL_ROOT * scale:
+            return True, b1, b2, g1, g2, J11, J12, J21, J22
         t = 1.0
         accepted = False
         for ls in range(MAX_LINESEARCH):
@@ -385,22 +400,20 @@ def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
             G1, G2, K11, K12, K21, K22, h1, h2 = _inner_3d(n1, n2, al, al2, p, w1, w2,
                                                            t11, t12, t22, mu)
             fn = G1 * G1 + G2 * G2
-            if fn <= (1.0 - ARMIJO * t) * f or (t == 1.0 and fn <= f):
+            if fn <= (1.0 - ARMIJO * t) * f:
                 accepted = True
                 break
             t *= 0.5
         if not accepted:
-            scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
-            ok = math.sqrt(d1 * d1 + d2 * d2) <= 1e3 * TOL_ROOT * scale
-            return ok, b1, b2, g1, g2, J11, J12, J21, J22
+            return False, b1, b2, g1, g2, J11, J12, J21, J22
         b1, b2, g1, g2 = n1, n2, h1, h2
         F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
-        if t * math.sqrt(d1 * d1 + d2 * d2) <= TOL_ROOT * max(math.sqrt(b1 * b1 + b2 * b2), al):
+        if t == 1.0 and nd <= TOL_QUAD * scale:
             return True, b1, b2, g1, g2, J11, J12, J21, J22
     return False, b1, b2, g1, g2, J11, J12, J21, J22
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     """a = 0 in 3D: stick if |T^-1 w| <= mu, else slip along the unique u with
     (s I + mu T) u = w, s > 0, |u| = 1. Returns (mode, P_N, P_T1, P_T2)."""
@@ -412,7 +425,7 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     # f(0) < 0 <= f(|w|). Safeguarded Newton; f' = |y|^-3 y.(sI + mu T)^-1 y.
     lo = 0.0
     hi = math.sqrt(w1 * w1 + w2 * w2)
-    s = 0.0
+    s = 0.5 * hi                             # s = 0 may be (numerically) singular
     ok = False
     for it in range(MAXIT_2D):
         u1, u2 = solve2(s + mu * t11, mu * t12, s + mu * t22, w1, w2)
@@ -450,7 +463,7 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     return MODE_SLIP, PN, -mu * PN * u1, -mu * PN * u2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu):
     """True if the 3D Smith equation provably has at most one physical root.
 
@@ -495,7 +508,7 @@ def _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     """Smith 3D on scalars (upper triangle of W): returns ``(mode, P_N, P_T1, P_T2)``.
 
@@ -533,6 +546,14 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     t11 = cs * cs * T11 + 2.0 * cs * sn * T12 + sn * sn * T22
     t22 = sn * sn * T11 - 2.0 * cs * sn * T12 + cs * cs * T22
     t12 = (cs * cs - sn * sn) * T12 + cs * sn * (T22 - T11)
+    if w2 == 0.0 and t12 == 0.0:
+        # planar motion (W_T2N = W_T1T2 = 0, a along t1): the tangential sub-problem at every
+        # normal impulse p has a unique, hence mirror-symmetric, i.e. in-plane solution, so
+        # every 3D root is a root of the 2D law, which has exactly one: solve it in 2D.
+        m2d, PN2, PT2, b2d = _solve_2d(vn, aln, Wnn, w1, t11, e, mu)
+        if m2d < 0:
+            return m2d, 0.0, 0.0, 0.0
+        return m2d, PN2 * s, cs * PT2 * s, sn * PT2 * s
     cert = _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu)
     ok = False
     b1 = 0.0
@@ -572,7 +593,7 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     return mode, PN, P1, P2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def smith_3d(v, W, params, P_out):
     """Smith's law, 3D contact: ``v = (v_N, v_T1, v_T2)`` (m/s), ``W`` 3x3 SPD (1/kg).
 
@@ -588,7 +609,7 @@ def smith_3d(v, W, params, P_out):
     return mode
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _scan_3d_frame(vn, al, c, Wnn, w1, w2, t11, t12, t22, mu):
     """Scan path in the rotated frame (builds no array: the energy bound uses cofactors)."""
     # K = v^T W^-1 v and M_NN = (W^-1)_NN via cofactors of the rotated W
@@ -605,7 +626,7 @@ def _scan_3d_frame(vn, al, c, Wnn, w1, w2, t11, t12, t22, mu):
     return _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
     """Smallest-P_N root via R(p) = p D(g(b(p))) - c: geometric scan + safeguarded Newton.
 
@@ -712,7 +733,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
     return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def smith(v, W, params, P_out):
     """Smith's law; 2D or 3D chosen by ``v.shape[0]`` (see ``smith_2d`` / ``smith_3d``)."""
     if v.shape[0] == 2:

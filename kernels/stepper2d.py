@@ -39,7 +39,6 @@ from ``seg_t`` with state row ``seg_s`` (exact piecewise-quadratic trajectories)
 """
 import math
 
-import numpy as np
 from numba import float64, int64, njit
 
 # Explicit signatures for helpers called with literal constants, so that Numba compiles
@@ -51,7 +50,7 @@ _I2 = int64[:, ::1]
 _f = float64
 _i = int64
 
-from .common import N_PARAMS, P_E, P_MU
+from .common import P_E, P_MU
 from .dispatch import resolve_2d
 from .flight2d import fly_into, fly_row
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED,
@@ -148,7 +147,8 @@ def segment_margin(nb):
 # ------------------------------------------------------------------ small helpers
 
 
-@njit((_A1, _I2, _A2, _I1, _f, _i, _i, _i, _i, _i, _f, _f, _f, _f, _f, _f, _f, _f, _f, _f, _f), cache=True, _nrt=False)
+@njit((_A1, _I2, _A2, _I1, _f, _i, _i, _i, _i, _i, _f, _f, _f, _f, _f, _f, _f, _f, _f, _f,
+       _f), cache=True, _nrt=False)
 def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, viN, viT,
          vfN, vfT, PN, PT, dE):
     k = cnt[0]
@@ -851,7 +851,8 @@ def _jblock(c, d, bflt, c_i, c_f):
     return w00, w01, w10, w11
 
 
-@njit((_I1, _i, _f, _A2, _A2, _A2, _I2, _A2, _A2, _A1, _A1, _A1, _A1, _I1, _A1, _I2, _A2, _I1, _A1), cache=True, _nrt=False)
+@njit((_I1, _i, _f, _A2, _A2, _A2, _I2, _A2, _A2, _A1, _A1, _A1, _A1, _I1, _A1, _I2, _A2, _I1,
+       _A1), cache=True, _nrt=False)
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, toli, ev_t,
            ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
@@ -944,11 +945,11 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, tol
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, tolf,
+def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
                 toli, ev_t, ev_i, ev_f, cnt, err):
     """Sequential policy: repeatedly resolve, with its pair law, the contact that approaches
-    fastest (ties: lowest contact index), until none approaches faster than seq_vtol."""
-    vtol = tolf[TF_SEQ_VTOL]
+    fastest (ties: lowest contact index), until none approaches faster than vtol. A single
+    contact goes through here too, with vtol = 0 (resolved once if it approaches)."""
     for step in range(toli[TI_SEQ_MAXSTEPS]):
         best = -1
         vbest = -vtol
@@ -1013,6 +1014,242 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr
 
 
 @njit(cache=True, _nrt=False)
+def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz, bp_t,
+            pr_t, c_i, c_f, bmark, err):
+    """Gather the contacts touching in [t, t + simul_time] (and closing corners within
+    simul_gap), bring their bodies to t and build their contact frames. Returns the number
+    of contacts or an error code."""
+    nb = st.shape[0]
+    npl = planes.shape[0]
+    npr = pairs.shape[0]
+    # ---- impacts: gather every contact touching within [t, t + simul_time]
+    tw = t + tolf[TF_SIMUL_TIME]
+    nc = 0
+    for i in range(nb):
+        for p in range(npl):
+            if bp_t[i, p] > tw:
+                continue
+            bmark[i] = 1
+            kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
+            v0 = bint[i, 1]
+            nv = bint[i, 2]
+            for k in range(nv):
+                if nv > 1:
+                    s, code = plane_feature_toi(
+                        kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, 2],
+                        bflt[i, 3], bflt[i, 4], planes[p, 0], planes[p, 1], planes[p, 2],
+                        tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                        tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+                    if not (tref[i] + s <= tw):
+                        g, gd = feature_gap(kind, st[i], verts[v0 + k, 0],
+                                            verts[v0 + k, 1], bflt[i, 2], bflt[i, 3],
+                                            bflt[i, 4], planes[p, 0], planes[p, 1],
+                                            planes[p, 2], t - tref[i])
+                        if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
+                            continue
+                if nc >= MAXC:
+                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], MAXC, 0.0, 0.0)
+                    return ERR_TOO_MANY
+                c_i[nc, CI_TYPE] = 0
+                c_i[nc, CI_A] = i
+                c_i[nc, CI_B] = p
+                c_i[nc, CI_FEAT] = v0 + k
+                c_i[nc, CI_LAW] = bp_law[i, p]
+                c_i[nc, CI_OFF] = 0
+                nc += 1
+    for q in range(npr):
+        if pr_t[q] > tw:
+            continue
+        if nc >= MAXC:
+            _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, MAXC, 0.0, 0.0)
+            return ERR_TOO_MANY
+        bmark[pairs[q, 0]] = 1
+        bmark[pairs[q, 1]] = 1
+        c_i[nc, CI_TYPE] = 1
+        c_i[nc, CI_A] = pairs[q, 0]
+        c_i[nc, CI_B] = pairs[q, 1]
+        c_i[nc, CI_FEAT] = -1
+        c_i[nc, CI_LAW] = pairs[q, 2]
+        c_i[nc, CI_OFF] = 0
+        nc += 1
+    # bring the bodies involved to t; a pending accumulation point is cancelled
+    for i in range(nb):
+        if bmark[i] != 0:
+            fly_row(st, i, t - tref[i])
+            tref[i] = t
+            tz[i] = INF
+    # contact frames
+    for c in range(nc):
+        a = c_i[c, CI_A]
+        if c_i[c, CI_TYPE] == 0:
+            p = c_i[c, CI_B]
+            nx = planes[p, 0]
+            ny = planes[p, 1]
+            px, py, rx, ry = _plane_contact(st, a, bint, bflt, verts, c_i[c, CI_FEAT],
+                                            nx, ny)
+            c_f[c, CF_RBX] = 0.0
+            c_f[c, CF_RBY] = 0.0
+        else:
+            b = c_i[c, CI_B]
+            dx = st[a, 0] - st[b, 0]
+            dy = st[a, 1] - st[b, 1]
+            dist = math.sqrt(dx * dx + dy * dy)
+            nx = dx / dist
+            ny = dy / dist
+            rb = bflt[b, 2]
+            px = st[b, 0] + rb * nx
+            py = st[b, 1] + rb * ny
+            rx = -bflt[a, 2] * nx
+            ry = -bflt[a, 2] * ny
+            c_f[c, CF_RBX] = rb * nx
+            c_f[c, CF_RBY] = rb * ny
+        c_f[c, CF_NX] = nx
+        c_f[c, CF_NY] = ny
+        c_f[c, CF_PX] = px
+        c_f[c, CF_PY] = py
+        c_f[c, CF_RAX] = rx
+        c_f[c, CF_RAY] = ry
+        c_f[c, CF_PN] = 0.0
+        c_f[c, CF_PT] = 0.0
+        c_f[c, CF_VCMN] = nx * st[a, 3] + ny * st[a, 4]
+    return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2, W2, P2,
+             tolf, toli, ev_t, ev_i, ev_f, cnt, err):
+    """Group the gathered contacts into clusters sharing a body and resolve each one."""
+    policy = toli[TI_POLICY]
+    # clusters: contacts sharing a body
+    for c in range(nc):
+        comp[c] = c
+    changed = True
+    while changed:
+        changed = False
+        for c in range(nc):
+            for d in range(c + 1, nc):
+                if comp[c] == comp[d]:
+                    continue
+                share = c_i[c, CI_A] == c_i[d, CI_A]
+                if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
+                    share = True
+                if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
+                        c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
+                    share = True
+                if share:
+                    lo = min(comp[c], comp[d])
+                    comp[c] = lo
+                    comp[d] = lo
+                    changed = True
+    for root in range(nc):
+        K = 0
+        for c in range(nc):
+            if comp[c] == root:
+                K += 1
+        if K == 0:
+            continue
+        # members of this cluster, in contact order, stored in the tail of comp
+        k = 0
+        for c in range(nc):
+            if comp[c] == root:
+                comp[MAXC + k] = c
+                k += 1
+        members = comp[MAXC:MAXC + K]
+        if K > 1 and policy == POL_SIMULTANEOUS:
+            rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf,
+                        toli, ev_t, ev_i, ev_f, cnt, err)
+            if rc < 0:
+                return rc
+        else:
+            vtol = tolf[TF_SEQ_VTOL] if K > 1 else 0.0
+            rc = _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f,
+                             v2, W2, P2, toli, ev_t, ev_i, ev_f, cnt, err)
+            if rc < 0:
+                return rc
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pairs,
+                   pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f,
+                   seg_t, seg_b, seg_s, cnt, err):
+    """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
+    contacts, schedule accumulation points, detect single-point chatter, log segments."""
+    nb = st.shape[0]
+    npr = pairs.shape[0]
+    # perforating impacts disable their pair for good
+    for c in range(nc):
+        if c_i[c, CI_OFF] == 0:
+            continue
+        if c_i[c, CI_TYPE] == 0:
+            bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
+        else:
+            for q in range(npr):
+                if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
+                        or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
+                    pr_off[q] = 1
+    # persistent contacts, accumulation (Zeno) points, chatter
+    for i in range(nb):
+        if bmark[i] == 0:
+            continue
+        if pm[i, 0] != PM_FLIGHT:
+            rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                             pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+            if rc < 0:
+                return rc
+            continue
+        settled = False
+        for c in range(nc):
+            if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
+                continue
+            p = c_i[c, CI_B]
+            if bp_off[i, p] != 0:
+                continue
+            nx = planes[p, 0]
+            ny = planes[p, 1]
+            gn = nx * grav[0] + ny * grav[1]
+            if not gn < 0.0:
+                continue
+            stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts,
+                                                        planes, grav)
+            if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)):
+                continue
+            after = nx * st[i, 3] + ny * st[i, 4]
+            before = c_f[c, CF_VCMN]
+            dt = 0.0
+            if after > 0.0:
+                dt = 2.0 * after / (-gn)
+                if before < 0.0:
+                    ek = -after / before
+                    if ek < 1.0:
+                        dt = dt / (1.0 - ek)
+            tz[i] = t + dt
+            zp[i] = p
+            settled = True
+            break
+        if not settled:
+            for c in range(nc):
+                if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
+                    continue
+                if c_i[c, CI_OFF] != 0:
+                    continue
+                vN, vT = _contact_velocity(st, c_i, c_f, c)
+                acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
+                if vN >= 0.0 and acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+                    _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
+                             c_f[c, CF_PY], vN, acc, 0.0)
+                    return ERR_CHATTER
+    for i in range(nb):
+        if bmark[i] == 0:
+            continue
+        if not _finite(st, i):
+            _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE
+        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+    return 0
+
+
+@njit(cache=True, _nrt=False)
 def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
              st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt, ev_t, ev_i,
              ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2,
@@ -1028,7 +1265,6 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
     margin_s = 6 * nb + 4 * MAXC + 16
     cap_e = ev_t.shape[0]
     cap_s = seg_t.shape[0]
-    policy = toli[TI_POLICY]
     while True:
         t_now = glob[0]
         if cnt[3] == 0:
@@ -1113,222 +1349,79 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
                 return rc
             continue
 
-        # ---- impacts: gather every contact touching within [t, t + simul_time]
-        tw = t + tolf[TF_SIMUL_TIME]
-        nc = 0
-        for i in range(nb):
-            for p in range(npl):
-                if bp_t[i, p] > tw:
-                    continue
-                bmark[i] = 1
-                kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
-                v0 = bint[i, 1]
-                nv = bint[i, 2]
-                for k in range(nv):
-                    if nv > 1:
-                        s, code = plane_feature_toi(
-                            kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, 2],
-                            bflt[i, 3], bflt[i, 4], planes[p, 0], planes[p, 1], planes[p, 2],
-                            tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                            tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
-                        if not (tref[i] + s <= tw):
-                            g, gd = feature_gap(kind, st[i], verts[v0 + k, 0],
-                                                verts[v0 + k, 1], bflt[i, 2], bflt[i, 3],
-                                                bflt[i, 4], planes[p, 0], planes[p, 1],
-                                                planes[p, 2], t - tref[i])
-                            if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
-                                continue
-                    if nc >= MAXC:
-                        _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], MAXC, 0.0, 0.0)
-                        return ERR_TOO_MANY
-                    c_i[nc, CI_TYPE] = 0
-                    c_i[nc, CI_A] = i
-                    c_i[nc, CI_B] = p
-                    c_i[nc, CI_FEAT] = v0 + k
-                    c_i[nc, CI_LAW] = bp_law[i, p]
-                    c_i[nc, CI_OFF] = 0
-                    nc += 1
-        for q in range(npr):
-            if pr_t[q] > tw:
-                continue
-            if nc >= MAXC:
-                _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, MAXC, 0.0, 0.0)
-                return ERR_TOO_MANY
-            bmark[pairs[q, 0]] = 1
-            bmark[pairs[q, 1]] = 1
-            c_i[nc, CI_TYPE] = 1
-            c_i[nc, CI_A] = pairs[q, 0]
-            c_i[nc, CI_B] = pairs[q, 1]
-            c_i[nc, CI_FEAT] = -1
-            c_i[nc, CI_LAW] = pairs[q, 2]
-            c_i[nc, CI_OFF] = 0
-            nc += 1
-        # bring the bodies involved to t; a pending accumulation point is cancelled
-        for i in range(nb):
-            if bmark[i] != 0:
-                fly_row(st, i, t - tref[i])
-                tref[i] = t
-                tz[i] = INF
-        # contact frames
-        for c in range(nc):
-            a = c_i[c, CI_A]
-            if c_i[c, CI_TYPE] == 0:
-                p = c_i[c, CI_B]
-                nx = planes[p, 0]
-                ny = planes[p, 1]
-                px, py, rx, ry = _plane_contact(st, a, bint, bflt, verts, c_i[c, CI_FEAT],
-                                                nx, ny)
-                c_f[c, CF_RBX] = 0.0
-                c_f[c, CF_RBY] = 0.0
-            else:
-                b = c_i[c, CI_B]
-                dx = st[a, 0] - st[b, 0]
-                dy = st[a, 1] - st[b, 1]
-                dist = math.sqrt(dx * dx + dy * dy)
-                nx = dx / dist
-                ny = dy / dist
-                rb = bflt[b, 2]
-                px = st[b, 0] + rb * nx
-                py = st[b, 1] + rb * ny
-                rx = -bflt[a, 2] * nx
-                ry = -bflt[a, 2] * ny
-                c_f[c, CF_RBX] = rb * nx
-                c_f[c, CF_RBY] = rb * ny
-            c_f[c, CF_NX] = nx
-            c_f[c, CF_NY] = ny
-            c_f[c, CF_PX] = px
-            c_f[c, CF_PY] = py
-            c_f[c, CF_RAX] = rx
-            c_f[c, CF_RAY] = ry
-            c_f[c, CF_PN] = 0.0
-            c_f[c, CF_PT] = 0.0
-            c_f[c, CF_VCMN] = nx * st[a, 3] + ny * st[a, 4]
-        # clusters: contacts sharing a body
-        for c in range(nc):
-            comp[c] = c
-        changed = True
-        while changed:
-            changed = False
-            for c in range(nc):
-                for d in range(c + 1, nc):
-                    if comp[c] == comp[d]:
-                        continue
-                    share = c_i[c, CI_A] == c_i[d, CI_A]
-                    if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
-                        share = True
-                    if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
-                            c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
-                        share = True
-                    if share:
-                        lo = min(comp[c], comp[d])
-                        comp[c] = lo
-                        comp[d] = lo
-                        changed = True
-        for root in range(nc):
-            K = 0
-            for c in range(nc):
-                if comp[c] == root:
-                    K += 1
-            if K == 0:
-                continue
-            # members of this cluster, in contact order, stored in the tail of comp
-            k = 0
-            for c in range(nc):
-                if comp[c] == root:
-                    comp[MAXC + k] = c
-                    k += 1
-            members = comp[MAXC:MAXC + K]
-            if K == 1:
-                c = members[0]
-                viN, viT = _contact_velocity(st, c_i, c_f, c)
-                if viN >= 0.0:
-                    continue
-                rc, vfN = _single(c, t, 1, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
-                                  ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-                if vfN < 0.0:
-                    c_i[c, CI_OFF] = 1
-            elif policy == POL_SIMULTANEOUS:
-                rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf,
-                            toli, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-            else:
-                rc = _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2,
-                                 P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-        # perforating impacts disable their pair for good
-        for c in range(nc):
-            if c_i[c, CI_OFF] == 0:
-                continue
-            if c_i[c, CI_TYPE] == 0:
-                bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
-            else:
-                for q in range(npr):
-                    if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
-                            or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
-                        pr_off[q] = 1
-        # persistent contacts, accumulation (Zeno) points, chatter
-        for i in range(nb):
-            if bmark[i] == 0:
-                continue
-            if pm[i, 0] != PM_FLIGHT:
-                rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                                 pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-                continue
-            settled = False
-            for c in range(nc):
-                if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
-                    continue
-                p = c_i[c, CI_B]
-                if bp_off[i, p] != 0:
-                    continue
-                nx = planes[p, 0]
-                ny = planes[p, 1]
-                gn = nx * grav[0] + ny * grav[1]
-                if not gn < 0.0:
-                    continue
-                stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts,
-                                                            planes, grav)
-                if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)):
-                    continue
-                after = nx * st[i, 3] + ny * st[i, 4]
-                before = c_f[c, CF_VCMN]
-                dt = 0.0
-                if after > 0.0:
-                    dt = 2.0 * after / (-gn)
-                    if before < 0.0:
-                        ek = -after / before
-                        if ek < 1.0:
-                            dt = dt / (1.0 - ek)
-                tz[i] = t + dt
-                zp[i] = p
-                settled = True
-                break
-            if not settled:
-                for c in range(nc):
-                    if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
-                        continue
-                    if c_i[c, CI_OFF] != 0:
-                        continue
-                    vN, vT = _contact_velocity(st, c_i, c_f, c)
-                    acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
-                    if vN >= 0.0 and acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                        _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
-                                 c_f[c, CF_PY], vN, acc, 0.0)
-                        return ERR_CHATTER
-        for i in range(nb):
-            if bmark[i] == 0:
-                continue
-            if not _finite(st, i):
-                _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
-                return ERR_NONFINITE
-            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+        nc = _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz,
+                     bp_t, pr_t, c_i, c_f, bmark, err)
+        if nc < 0:
+            return nc
+        rc = _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2,
+                      W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+        if rc < 0:
+            return rc
+        rc = _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
+                            pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark,
+                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+        if rc < 0:
+            return rc
         rc = _recompute_marked(t, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
                                bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err)
         if rc < 0:
             return rc
+
+
+# ------------------------------------------------------------------ stale-cache guard
+# Numba's on-disk cache of a function is invalidated only when the function's own source
+# file changes, yet the loop above has the law kernels (dispatch.py and the laws), toi2d.py
+# and flight2d.py compiled into it. Keep a hash of every kernel module next to the cache
+# and flush this module's cached functions when any of them changed.
+
+
+def _dependency_stamp():
+    """Hash of the kernel modules compiled into this one: dispatch, toi2d, flight2d and
+    everything they import from this package (the 2D and 3D law kernels, common)."""
+    import hashlib
+    import os
+    import re
+    here = os.path.dirname(os.path.abspath(__file__))
+    todo = ["dispatch", "toi2d", "flight2d", "common"]
+    seen = set()
+    h = hashlib.sha256()
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        with open(os.path.join(here, name + ".py"), "rb") as f:
+            src = f.read()
+        h.update(name.encode() + b"\0" + src)
+        text = src.decode("utf-8", "replace")
+        todo += re.findall(r"^\s*from \.(\w+) import", text, re.M)
+        for group in re.findall(r"^\s*from \. import ([\w, ]+)", text, re.M):
+            todo += [x.strip() for x in group.split(",") if x.strip()]
+    return h.hexdigest()
+
+
+def _flush_if_stale():
+    import os
+    from numba.core.registry import CPUDispatcher
+    try:
+        path = os.path.join(run_loop._cache.cache_path, "stepper2d.deps")
+    except AttributeError:          # caching disabled
+        return
+    try:
+        stamp = _dependency_stamp()
+        try:
+            with open(path) as f:
+                old = f.read()
+        except OSError:
+            old = None
+        if old != stamp:
+            for obj in list(globals().values()):
+                if isinstance(obj, CPUDispatcher) and obj.py_func.__module__ == __name__:
+                    obj._cache.flush()
+            with open(path, "w") as f:
+                f.write(stamp)
+    except OSError:                 # read-only install: nothing cached to go stale
+        pass
+
+
+_flush_if_stale()

@@ -71,7 +71,7 @@ from .common import P_E, P_MU
 from .dispatch import resolve_3d
 from .flight3d import N_WS, RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
     qrot, qrot_inv
-from .pivot3d import (CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N,
+from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N,
                       CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL,
                       FW_C1, FW_F1, FW_LAM, FW_MARG, FW_R1, FW_S1, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP,
                       PI_OK, PI_TOO_MANY_STEPS, PV_OK, pivot_eval, pivot_forces,
@@ -159,9 +159,10 @@ ERR_CONTACT_STEPS = -16
 PARALLEL_RTOL = 1e-12
 #: joint solve: a sweep has converged when no velocity changes by more than
 #: simul_tol + SIMUL_RTOL * max |v_i| (m/s): the relative part absorbs round-off cycling
-SIMUL_RTOL = 1e-11
+SIMUL_RTOL = 1e-9
 #: integrated contact: a slip direction u is consistent when the slip's acceleration along
-#: it, u . a_T, exceeds -SLIP_ACC_TOL |g| (dimensionless)
+#: it, u . a_T, exceeds SLIP_ACC_TOL |g| (dimensionless): the slip then grows. When no
+#: direction is (the stick force only touched its cone), the contact keeps sticking.
 SLIP_ACC_TOL = 1e-9
 #: integrated contact: angular scan steps over the tangent plane when looking for the
 #: consistent direction in which a contact starts to slip
@@ -692,11 +693,10 @@ def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
 @njit(cache=True)
 def _pv_slide(st, i, pv, k, fw):
     """Contact k starts sliding: in the consistent direction u (the slip's acceleration
-    a_T is along +u: ``u x a_T = 0``, ``u . a_T >= -SLIP_ACC_TOL |g|``, with a positive
+    a_T is along +u: ``u x a_T = 0``, ``u . a_T > SLIP_ACC_TOL |g|``, with a positive
     normal force), the one closest to the direction opposite to the tangential part of
-    its current (sticking) force; when no direction is consistent, that opposite
-    direction. Leaves fw as computed with the chosen direction; returns True when the
-    direction is consistent."""
+    its current (sticking) force. When no direction is consistent, the contact is set
+    back to sticking and False is returned (fw is then stale)."""
     nx, ny, nz = pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2]
     fo = FW_F1 + 3 * k
     lam = fw[FW_LAM + k]
@@ -734,15 +734,18 @@ def _pv_slide(st, i, pv, k, fw):
                     hi = mid
             r = 0.5 * (lo + hi)
             Fr, Dr, Lr = _slip_F(st, i, pv, k, fw, r, t1x, t1y, t1z, t2x, t2y, t2z)
-            if Dr >= -gsc and Lr > 0.0:
+            if Dr > gsc and Lr > 0.0:
                 d = abs(math.atan2(math.sin(r - phi0), math.cos(r - phi0)))
                 if d < best:
                     best = d
                     bphi = r
         pa = pb
         Fa = Fb
+    if best == math.inf:
+        pv[i, CP_S1 + k] = 1.0
+        return False
     _slip_F(st, i, pv, k, fw, bphi, t1x, t1y, t1z, t2x, t2y, t2z)
-    return best < math.inf
+    return True
 
 
 @njit(cache=True)
@@ -785,6 +788,8 @@ def _pv_validate(i, t, st, pv, fw, err):
     would be negative are dropped (most negative first), sticking contacts outside their
     friction cone slide (opposite to their friction force). Returns 0, 1 (no contact
     left) or ERR_PAINLEVE."""
+    farm = FORCE_ARM * pv[i, CP_M] * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
+                                                + pv[i, CP_G + 2] ** 2)
     for attempt in range(8):
         K = int(pv[i, CP_K])
         if K == 0:
@@ -795,7 +800,7 @@ def _pv_validate(i, t, st, pv, fw, err):
                      pv[i, CP_MU], K)
             return ERR_PAINLEVE
         kneg = -1
-        lmin = 0.0
+        lmin = -farm
         for k in range(K):
             if fw[FW_LAM + k] < lmin:
                 lmin = fw[FW_LAM + k]
@@ -806,13 +811,20 @@ def _pv_validate(i, t, st, pv, fw, err):
         changed = False
         two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
         for k in range(K):
-            if pv[i, CP_S1 + k] == 1.0 and fw[FW_MARG + k] < 0.0:
+            if pv[i, CP_S1 + k] == 1.0 and fw[FW_MARG + k] < -farm:
                 changed = True
         if changed:
+            moved = False
             for k in range(K):
-                if pv[i, CP_S1 + k] == 1.0 and (two or fw[FW_MARG + k] < 0.0):
+                if pv[i, CP_S1 + k] == 1.0 and (two or fw[FW_MARG + k] < -farm):
                     pivot_forces(st[i], pv[i], fw)
-                    _pv_slide(st, i, pv, k, fw)
+                    if _pv_slide(st, i, pv, k, fw):
+                        moved = True
+            if not moved:
+                # sticking is outside the cone and no slip direction is consistent
+                _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1],
+                         st[i, 2], 3.0, pv[i, CP_MU], K)
+                return ERR_PAINLEVE
             continue
         return 0
     _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2], 3.0,
@@ -898,10 +910,7 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
         vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
         c = math.sqrt(v1 * v1 + v2 * v2)
         if c > eps:
-            pv[i, CP_S1 + k] = 0.0
-            uo = CP_U1 + 3 * k
-            for j in range(3):
-                pv[i, uo + j] = (v1 * c_f[cw, CF_T1 + j] + v2 * c_f[cw, CF_T2 + j]) / c
+            pv[i, CP_S1 + k] = 0.0      # slides along its own slip (no stored direction)
         else:
             pv[i, CP_S1 + k] = 1.0
             if c > 0.0:
@@ -979,7 +988,8 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv
         for k in range(K):
             if k == idx or two:
                 pivot_forces(st[i], pv[i], fw)
-                _pv_slide(st, i, pv, k, fw)
+                if not _pv_slide(st, i, pv, k, fw):
+                    continue    # the cone was only touched: it keeps sticking
                 _pv_frame(c_f, cw, st, i, pv, k)
                 v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
                 _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - p, 1, 0, c_f, cw, v0, v1, v2,

@@ -181,8 +181,18 @@ def _check_contact(v, W):
     d = v.shape[0]
     if W.shape != (d, d):
         raise ValueError(f"W must have shape ({d}, {d}) to match v; got {W.shape}")
-    _check_W_values(v[None], W[None])
-    return v, 0.5 * (W + W.T)
+    if not (np.isfinite(v).all() and np.isfinite(W).all()):
+        _check_W_values(v[None], W[None])  # raises, saying which
+    WT = W.T
+    if np.abs(W - WT).max() > SYMMETRY_RTOL * np.abs(W).max():
+        _check_W_values(v[None], W[None])
+    W = 0.5 * (W + WT)
+    try:
+        np.linalg.cholesky(W)
+    except np.linalg.LinAlgError:
+        _check_W_values(v[None], W[None])
+        raise ValueError("W must be positive definite") from None
+    return v, W
 
 
 def _check_W_values(v, W):
@@ -245,6 +255,7 @@ class Law:
         self.params_dict = MappingProxyType(values)
         self.may_create_energy = spec.may_create_energy(values)
         self._spec = spec
+        self._kernels = {}  # dimension -> compiled kernel, looked up on first use
 
     def __repr__(self):
         args = ", ".join(f"{k}={v!r}" for k, v in self.params_dict.items())
@@ -258,7 +269,7 @@ class Law:
         return hash((self.name, tuple(sorted(self.params_dict.items()))))
 
     def _kernel(self, suffix):
-        module = import_module(f"rbimpact.kernels.{self._spec.module}")
+        module = import_module(f"rbimpact.kernels.{self._spec.module}")  # cached by Python
         return getattr(module, self._spec.module + suffix)
 
     @property
@@ -278,15 +289,18 @@ class Law:
         """Resolve one impact; returns an ``Impact``. Raises ``NoSolutionError`` when the
         law has no solution for this contact, ``ValueError`` for bad input."""
         v, W = _check_contact(v, W)
-        P = np.zeros_like(v)
-        kernel = self.kernel_2d if v.shape[0] == 2 else self.kernel_3d
+        P = np.zeros(v.shape[0])
+        kernel = self._kernels.get(v.shape[0])
+        if kernel is None:
+            kernel = self._kernels[v.shape[0]] = self._kernel(f"_{v.shape[0]}d")
         code = int(kernel(v, W, self.params, P))
         if code < 0:
             raise NoSolutionError(self._failure(code, v, W), code)
         v_f = v + W @ P
         dE = float(0.5 * P @ (v + v_f))
         mode, phases = MODE_NAMES[code]
-        return Impact(P, v_f, mode, phases, dE, bool(_energy_gain(P, v, v_f, dE)), code)
+        scale = 0.5 * float(np.abs(P) @ (np.abs(v) + np.abs(v_f)))
+        return Impact(P, v_f, mode, phases, dE, dE > ENERGY_GAIN_RTOL * scale, code)
 
     def _failure(self, code, v, W):
         what = ("has no solution" if code == MODE_NO_SOLUTION

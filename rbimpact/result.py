@@ -152,8 +152,8 @@ class Result:
         out = {k: np.empty(shape) for k in ("x", "y", "angle", "vx", "vy", "omega")}
         seg_t, seg_s, start = self._segments()
         for i in range(self.n_bodies):
-            sample_segments(seg_t, seg_s, start[i], start[i + 1], t, out["x"], out["y"], out["angle"],
-                            out["vx"], out["vy"], out["omega"], i)
+            sample_segments(seg_t, seg_s, start[i], start[i + 1], t, out["x"], out["y"],
+                            out["angle"], out["vx"], out["vy"], out["omega"], i)
         return out
 
     def energy(self, times, per_body=False):

@@ -75,7 +75,8 @@ class Scene2D:
     """Rigid bodies and static half-planes under uniform ``gravity`` (m/s^2)."""
 
     def __init__(self, gravity=(0.0, -9.81)):
-        self.gravity = tuple(_vec2("Scene2D: gravity", gravity))
+        g = _vec2("Scene2D: gravity", gravity)
+        self.gravity = (float(g[0]), float(g[1]))
         self.bodies = []
         self.planes = []
 
@@ -107,7 +108,8 @@ class Scene2D:
             inertia = _real("add_body: moment", moment, "kg m^2")
             if not inertia > 0.0:
                 raise ValueError(f"add_body: moment must be > 0 (kg m^2), got {moment!r}")
-        body = Body(len(self.bodies), shape, m, float(inertia), tuple(pos), ang, tuple(vel), w)
+        body = Body(len(self.bodies), shape, m, float(inertia), (float(pos[0]), float(pos[1])), ang,
+                    (float(vel[0]), float(vel[1])), w)
         self.bodies.append(body)
         return body.index
 
@@ -120,7 +122,7 @@ class Scene2D:
         if not norm > 0.0:
             raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")
         n = n / norm
-        plane = Plane(len(self.planes), tuple(pt), (float(n[0]), float(n[1])))
+        plane = Plane(len(self.planes), (float(pt[0]), float(pt[1])), (float(n[0]), float(n[1])))
         self.planes.append(plane)
         return plane
 

@@ -166,7 +166,8 @@ class Simulation:
     ``ignore_unsupported_pairs`` (bool: let non-disk bodies pass through each other instead
     of rejecting the scene), and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
-    toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m; simul_tol 1e-14 (relative);
+    toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
+    simul_tol 1e-14 (relative);
     simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000.
     """
 
@@ -450,8 +451,12 @@ class Simulation:
         body = self._where(a) if a >= 0 else "the scene"
         if rc == k.ERR_NO_SOLUTION:
             mode = int(err[5])
-            law = self._laws[int(self._bp_law[a, -1 - b])] if b < 0 else None
-            name = getattr(law or self.law, "name", "the law")
+            if b < 0:
+                law = self._laws[int(self._bp_law[a, -1 - b])]
+            else:
+                rows = [q for q in self._pairs if {int(q[0]), int(q[1])} == {a, b}]
+                law = self._laws[int(rows[0][2])] if rows else self.law
+            name = getattr(law, "name", repr(law))
             exc = NoSolutionError(
                 f"impact of {body} on {self._where(b)} {at}, {pt}, has no solution in law "
                 f"{name} (mode {mode}); pre-impact v = ({err[6]:.9g}, {err[7]:.9g}) m/s",
@@ -471,9 +476,9 @@ class Simulation:
             exc = SimulationError(
                 f"impacts accumulate at a single contact point of {body} on {self._where(b)} "
                 f"{at}, {pt}: normal speed after the impact {err[5]:.3g} m/s while the gap "
-                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot or roll "
-                f"on that point in persistent contact, which has no closed form and is not "
-                f"supported by the event-driven stepper")
+                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot or "
+                f"roll on that point in persistent contact, which has no closed form and is "
+                f"not supported by the event-driven stepper")
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[6])} resolutions {at}")

@@ -626,6 +626,47 @@ def kernel_det(W):
     return a * (d * f - e * e) + b * (c * e - b * f) + c * (b * e - c * d)
 
 
+def stick_slope(W):
+    """The stick slope ``kappa = 1/(W^-1)_NN`` (1/kg) two ways: as Routh's kernels form
+    it (2D ``W_NN - W_NT^2/W_TT``; 3D ``W_NN - w.z`` with ``z = C^-1 w`` by Cramer's rule)
+    and as the last pivot of a Cholesky factorization ordered (T, N) (backward stable)."""
+    d = len(W)
+    if d == 2:
+        naive = W[0, 0] - W[0, 1] * W[0, 1] / W[1, 1]
+    else:
+        c00, c01, c11, w1, w2 = W[1, 1], W[1, 2], W[2, 2], W[0, 1], W[0, 2]
+        det = c00 * c11 - c01 * c01
+        z1 = (c11 * w1 - c01 * w2) / det
+        z2 = (c00 * w2 - c01 * w1) / det
+        naive = W[0, 0] - (w1 * z1 + w2 * z2)
+    order = list(range(1, d)) + [0]
+    try:
+        stable = np.linalg.cholesky(W[np.ix_(order, order)])[-1, -1] ** 2
+    except np.linalg.LinAlgError:
+        stable = math.nan
+    return float(naive), float(stable)
+
+
+def diagnose_no_solution(name, W):
+    """Why a kernel may have refused an SPD ``W`` (None if no round-off cause is seen):
+    its positive-definiteness determinant or Routh's stick slope came out <= 0 by
+    cancellation while a Cholesky factorization succeeds."""
+    try:
+        np.linalg.cholesky(W)
+    except np.linalg.LinAlgError:
+        return None
+    d = len(W)
+    if d == 3 and name != "routh" and not kernel_det(W) > 0:
+        return (f"SPD W (cond {_cond(W):.1e}, Cholesky succeeds) rejected: the kernel's "
+                f"cofactor determinant is {kernel_det(W):.3g} <= 0 by cancellation")
+    if name == "routh":
+        naive, stable = stick_slope(W)
+        if not naive > 0 and stable > 0:
+            return (f"stick slope W_NN - W_TN.W_TT^-1 W_TN = {naive:.3g} <= 0 by "
+                    f"cancellation (Cholesky pivot {stable:.3g} > 0): a false jam")
+    return None
+
+
 def _cond(W):
     lam = np.linalg.eigvalsh(W)
     return float(lam[-1] / lam[0]) if lam[0] > 0 else math.inf
@@ -648,16 +689,9 @@ def check_impact(label, v, W, params, iterations=True, timing=True, n_timing=N_T
     except NoSolutionError as exc:
         code = exc.mode_code
         ev.mode = code
-        spd = True
-        try:
-            np.linalg.cholesky(W)
-        except np.linalg.LinAlgError:
-            spd = False
-        if spd and not kernel_det(W) > 0:
-            ev.status = "FAIL"
-            ev.note = (f"NoSolutionError mode {code}: SPD W (Cholesky succeeds, cond "
-                       f"{_cond(W):.1e}) rejected, kernel determinant {kernel_det(W):.3g} "
-                       f"<= 0 by cancellation")
+        why = diagnose_no_solution(name, W)
+        if why:
+            ev.status, ev.note = "FAIL", f"NoSolutionError mode {code}: {why}"
         elif code in DOCUMENTED_ERRORS.get((name, d), ()):
             ev.status, ev.note = "DOC-ERR", f"NoSolutionError mode {code}"
         else:
@@ -819,3 +853,631 @@ def run_law_matrix(quick=False, labels=None, iterations=True, progress=None):
             if progress:
                 progress(rows[-1])
     return rows
+
+
+# ============================================================================================
+# stepper matrix
+# ============================================================================================
+PEN_ATOL = 1e-9
+"""Penetration tolerance (m): the stepper's own ``gap_tol`` default; a body below a plane
+(or two disks/spheres overlapping) by more than ``PEN_ATOL + PEN_RTOL * L`` at a sampled
+time is a missed impact. ``L`` (m) is the largest coordinate reached in the run."""
+PEN_RTOL = 1e-13
+"""Relative part of the penetration tolerance (round-off of positions of size L)."""
+STEP_ENERGY_RTOL = 1e-9
+"""Energy creation tolerance of a scene whose laws never create energy, relative to
+E_ref = max |E(t)|: ``max_t (E(t) - min_{s<=t} E(s)) <= STEP_ENERGY_RTOL E_ref``, and
+every impact's ``dE <= STEP_ENERGY_RTOL E_ref`` (round-off of up to 1e6 impacts ~2e-10)."""
+TIME_RTOL = 1e-8
+"""Reference checks of impact times (Zeno accumulation time, 1e6 elastic impacts),
+relative to the reference time."""
+N_SAMPLES = 200_000
+"""Uniform samples per scene (quick: N_SAMPLES_QUICK), plus every event time, the midpoint
+of every inter-event interval, and a bounded local minimisation of the gap around the
+REFINE_MINIMA smallest sampled gaps of every body-plane pair."""
+N_SAMPLES_QUICK = 20_000
+REFINE_MINIMA = 12
+MAX_EXTRA_SAMPLES = 2_000_000
+"""Cap on event-based extra samples (events and midpoints) per scene."""
+
+#: substrings of SimulationError messages: documented unsupported situations (DOC-ERR);
+#: every other error (missed event, non-finite state, a search or solve that does not
+#: converge, a stall) FAILs.
+STEPPER_DOCUMENTED = ("accumulate at a single contact point", "would tip over",
+                      "rolls and rocks", "needs 0 <= e <= 1", "contacts at one instant",
+                      "would curve", "is not supported", "Painleve")
+
+
+@dataclass
+class SceneCase:
+    """A stepper cell: ``build()`` returns ``(simulation, t_end, max_events)``;
+    ``check(result)`` returns ``(ok, note)`` for scene-specific references."""
+
+    name: str
+    case: str
+    dim: int
+    build: object
+    never_gain: bool = True
+    check: object = None
+    quick: bool = True
+    expect_status: str = "done"
+
+
+def _sim2(scene, law, **kw):
+    from .simulation import Simulation
+    return Simulation(scene, law, **kw)
+
+
+def _sim3(scene, law, **kw):
+    from .simulation3d import Simulation3D
+    return Simulation3D(scene, law, **kw)
+
+
+def _zeno_case(label, dim):
+    e, g, h, R = 0.99, 9.80665, 1.0, 0.05
+
+    def build():
+        law = make_law(label, dict(e=e, mu=0.3))
+        t_inf = math.sqrt(2 * h / g) * (1 + e) / (1 - e)
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Disk
+            sc = Scene2D(gravity=(0.0, -g))
+            sc.add_floor(0.0)
+            sc.add_body(Disk(R), 1.0, (0.0, h + R))
+            return _sim2(sc, law), t_inf + 1.0, 100_000
+        from .scene3d import Scene3D
+        from .shapes3d import Sphere
+        sc = Scene3D(gravity=(0.0, 0.0, -g))
+        sc.add_floor(0.0)
+        sc.add_body(Sphere(R), 1.0, (0.0, 0.0, h + R))
+        return _sim3(sc, law), t_inf + 1.0, 100_000
+
+    def check(res):
+        t1 = math.sqrt(2 * h / g)
+        t_inf = t1 * (1 + e) / (1 - e)
+        ev = res.events
+        imp = ev[ev["kind"] == "impact"]
+        k = np.arange(len(imp))
+        ref = t1 + np.concatenate([[0.0], np.cumsum(2 * e ** np.arange(1, len(imp))
+                                                    * math.sqrt(2 * g * h) / g)])
+        err_t = float(np.max(np.abs(imp["t"] - ref) / ref)) if len(imp) else math.inf
+        cont = ev[ev["kind"] == "contact"]
+        err_inf = abs(float(cont["t"][0]) - t_inf) / t_inf if len(cont) else math.inf
+        ok = err_t <= TIME_RTOL and err_inf <= TIME_RTOL and len(imp) > 1000
+        return ok, (f"{len(imp)} impacts before t_inf; impact-time error {err_t:.1e}, "
+                    f"t_inf error {err_inf:.1e} (tol {TIME_RTOL:.0e})")
+    return SceneCase(f"{label}", "zeno_e=0.99", dim, build, check=check,
+                     never_gain=label in NEVER_GAIN)
+
+
+def _fast_box_case(label, dim):
+    def build():
+        law = make_law(label, dict(e=0.5, mu=0.5))
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Box
+            sc = Scene2D(gravity=(0.0, -9.81))
+            sc.add_floor(0.0)
+            sc.add_body(Box(0.2, 0.1), 1.0, (0.0, 1.0), angle=0.3, velocity=(3.0, -1e4),
+                        angular_velocity=50.0)
+            return _sim2(sc, law), 0.01, 100_000
+        from .scene3d import Scene3D
+        from .shapes3d import Box3D
+        sc = Scene3D(gravity=(0.0, 0.0, -9.81))
+        sc.add_floor(0.0)
+        q = np.array([math.cos(0.15), math.sin(0.15) * 0.6, math.sin(0.15) * 0.8, 0.0])
+        sc.add_body(Box3D((0.2, 0.1, 0.05)), 1.0, (0.0, 0.0, 1.0), orientation=q,
+                    velocity=(3.0, -2.0, -1e4), angular_velocity=(10.0, -20.0, 50.0))
+        return _sim3(sc, law), 0.01, 100_000
+    return SceneCase(label, "box_at_1e4m/s", dim, build, never_gain=label in NEVER_GAIN)
+
+
+def _fast_ball_case(label, dim):
+    def build():
+        law = make_law(label, dict(e=1.0, mu=0.3))
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Disk
+            sc = Scene2D(gravity=(0.0, 0.0))
+            sc.add_floor(0.0)
+            sc.add_plane((0.0, 1.0), (0.0, -1.0))
+            sc.add_body(Disk(0.05), 1.0, (0.0, 0.5), velocity=(1.0, -1e4),
+                        angular_velocity=100.0)
+            return _sim2(sc, law), 0.5, 100_000
+        from .scene3d import Scene3D
+        from .shapes3d import Sphere
+        sc = Scene3D(gravity=(0.0, 0.0, 0.0))
+        sc.add_floor(0.0)
+        sc.add_plane((0.0, 0.0, 1.0), (0.0, 0.0, -1.0))
+        sc.add_body(Sphere(0.05), 1.0, (0.0, 0.0, 0.5), velocity=(1.0, 0.5, -1e4),
+                    angular_velocity=(30.0, 100.0, 0.0))
+        return _sim3(sc, law), 0.5, 100_000
+
+    def check(res):
+        n = res.n_impacts
+        return n >= 4000, f"{n} impacts at 1e4 m/s between two planes 0.9 m apart"
+    return SceneCase(label, "ball_at_1e4m/s", dim, build, check=check,
+                     never_gain=label in NEVER_GAIN)
+
+
+def _flat_box_case(label, dim, policy):
+    def build():
+        law = make_law(label, dict(e=0.5, mu=0.3))
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Box
+            sc = Scene2D(gravity=(0.0, -9.81))
+            sc.add_floor(0.0)
+            sc.add_body(Box(0.2, 0.1), 1.0, (0.0, 0.55))
+            return _sim2(sc, law, policy=policy), 2.0, 100_000
+        from .scene3d import Scene3D
+        from .shapes3d import Box3D
+        sc = Scene3D(gravity=(0.0, 0.0, -9.81))
+        sc.add_floor(0.0)
+        sc.add_body(Box3D((0.2, 0.1, 0.05)), 1.0, (0.0, 0.0, 0.525))
+        return _sim3(sc, law, policy=policy), 2.0, 100_000
+
+    def check(res):
+        ev = res.events
+        first = ev[ev["kind"] == "impact"][:1]
+        k = int(first["cluster"][0]) if len(first) else 0
+        last = ev["kind"][-1] if len(ev) else "-"
+        s = res.sample([res.t_end])
+        if dim == 2:
+            tilt = abs(math.remainder(float(s["angle"][0, 0]), math.pi / 2))
+            face = round(float(s["angle"][0, 0]) / (math.pi / 2)) % 4
+        else:
+            q = s["orientation"][0, 0]
+            ez = _quat_rotate(q, np.array([0.0, 0.0, 1.0]))
+            tilt = math.acos(min(1.0, abs(float(ez[2]))))
+            face = 0 if abs(float(ez[2])) > 0.5 else 1
+        tilt = max(tilt, 0.0)
+        if face % 2:
+            return False, (f"policy {res.policy}; the box ends standing on another face "
+                           f"(angle {float(s['angle'][0, 0]) if dim == 2 else 'tilted'}), "
+                           f"last event {last}")
+        ok = tilt <= 1e-9 and res.policy == policy
+        return ok, (f"policy {res.policy}; first cluster of {k} contacts; last event "
+                    f"{last}; final tilt {tilt:.1e} rad (tol 1e-9)")
+    return SceneCase(label, f"box_lands_flat_{policy}", dim, build, check=check,
+                     never_gain=label in NEVER_GAIN)
+
+
+def _spinning_rod_case(label, dim):
+    """A rod (capsule in 3D) of length 1 m spinning at 1e4 rad/s about a horizontal axis,
+    released upright so that its lower end first grazes the floor half a turn later: the
+    start gap is the free-fall drop of half a turn times (1 - 1e-6). The gap dips every
+    half turn (curvature 5e7 m/s^2): near misses at micrometres and a first impact with
+    |v_N| ~ 1e-2 m/s against 5e3 m/s of slip."""
+    w = 1e4
+    g = 9.81
+    gap = 0.5 * g * (math.pi / w) ** 2 * (1.0 - 1e-6)
+
+    def build():
+        law = make_law(label, dict(e=0.5, mu=0.3))
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Rod
+            sc = Scene2D(gravity=(0.0, -g))
+            sc.add_floor(0.0)
+            sc.add_body(Rod(1.0), 1.0, (0.0, 0.5 + gap), angle=math.pi / 2,
+                        angular_velocity=w)
+            return _sim2(sc, law), 0.05, 200_000
+        from .scene3d import Scene3D
+        from .shapes3d import Capsule
+        sc = Scene3D(gravity=(0.0, 0.0, -g))
+        sc.add_floor(0.0)
+        sc.add_body(Capsule(1.0, 0.01), 1.0, (0.0, 0.0, 0.51 + gap),
+                    angular_velocity=(w, 0.0, 0.0))
+        return _sim3(sc, law), 0.05, 200_000
+
+    def check(res):
+        ev = res.events
+        imp = ev[ev["kind"] == "impact"]
+        if not len(imp):
+            return False, "no impact: the grazing contact was missed"
+        v0 = abs(float(imp["v_i"][0][0]))
+        t0 = float(imp["t"][0])
+        ok = v0 <= 0.05 and abs(t0 - math.pi / w) <= 1e-3 * math.pi / w
+        return ok, (f"{len(imp)} impacts; first at t = {t0:.6g} s (half a turn "
+                    f"{math.pi / w:.6g} s) with v_N = {-v0:.2g} m/s, v_T = "
+                    f"{float(imp['v_i'][0][1]):.4g} m/s")
+    return SceneCase(label, "rod_spins_1e4rad/s", dim, build, check=check,
+                     never_gain=label in NEVER_GAIN)
+
+
+def _million_case(label, dim, n):
+    g, h, R = 9.80665, 1.0, 0.05
+
+    def build():
+        law = make_law(label, dict(e=1.0, mu=0.0))
+        period = 2 * math.sqrt(2 * h / g)
+        t_end = math.sqrt(2 * h / g) + (n - 0.5) * period
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Disk
+            sc = Scene2D(gravity=(0.0, -g))
+            sc.add_floor(0.0)
+            sc.add_body(Disk(R), 1.0, (0.0, h + R))
+            return _sim2(sc, law), t_end, n + 10
+        from .scene3d import Scene3D
+        from .shapes3d import Sphere
+        sc = Scene3D(gravity=(0.0, 0.0, -g))
+        sc.add_floor(0.0)
+        sc.add_body(Sphere(R), 1.0, (0.0, 0.0, h + R))
+        return _sim3(sc, law), t_end, n + 10
+
+    def check(res):
+        imp = res.events["t"][res.events["kind"] == "impact"] if dim == 3 else \
+            res._ev_t[res._ev_i[:, 0] == 0]
+        t1 = math.sqrt(2 * h / g)
+        ref = t1 + np.arange(len(imp)) * 2 * math.sqrt(2 * h / g)
+        err = float(np.max(np.abs(imp - ref) / ref)) if len(imp) else math.inf
+        ok = len(imp) == n and err <= TIME_RTOL
+        return ok, f"{len(imp)} impacts (want {n}); impact-time drift {err:.1e} (tol {TIME_RTOL:.0e})"
+    return SceneCase(label, f"elastic_{n:.0e}_impacts", dim, build, check=check,
+                     never_gain=True)
+
+
+def _galperin_case(label, dim):
+    """Galperin's billiard: a disk of mass 1e6 pushes a unit disk against a wall; with
+    e = 1, mu = 0 the number of collisions is 3141 (the digits of pi)."""
+    def build():
+        law = make_law(label, dict(e=1.0, mu=0.0))
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Disk
+            sc = Scene2D(gravity=(0.0, 0.0))
+            sc.add_plane((0.0, 0.0), (1.0, 0.0))
+            sc.add_body(Disk(0.1), 1.0, (1.0, 0.0))
+            sc.add_body(Disk(0.1), 1e6, (3.0, 0.0), velocity=(-1.0, 0.0))
+            return _sim2(sc, law), 10.0, 100_000
+        from .scene3d import Scene3D
+        from .shapes3d import Sphere
+        sc = Scene3D(gravity=(0.0, 0.0, 0.0))
+        sc.add_plane((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+        sc.add_body(Sphere(0.1), 1.0, (1.0, 0.0, 0.0))
+        sc.add_body(Sphere(0.1), 1e6, (3.0, 0.0, 0.0), velocity=(-1.0, 0.0, 0.0))
+        return _sim3(sc, law), 10.0, 100_000
+
+    def check(res):
+        n = res.n_impacts
+        return n == 3141, f"{n} collisions (Galperin: 3141 for mass ratio 1e6)"
+    return SceneCase(label, "billiard_mass_ratio=1e6", dim, build, check=check,
+                     never_gain=True)
+
+
+def _heavy_break_case(label, dim):
+    """A cue disk of mass 1e6 kg breaks a triangle of three 1 kg disks between cushions,
+    frictional (e = 0.95, mu = 0.2), top view without gravity."""
+    def build():
+        law = make_law(label, dict(e=0.95, mu=0.2))
+        r = 0.03
+        if dim == 2:
+            from .scene import Scene2D
+            from .shapes import Disk
+            sc = Scene2D(gravity=(0.0, 0.0))
+            for p, nrm in (((0, 0), (1, 0)), ((2, 0), (-1, 0)), ((0, 0), (0, 1)),
+                           ((0, 1), (0, -1))):
+                sc.add_plane(p, nrm)
+            sc.add_body(Disk(r), 1e6, (0.3, 0.5), velocity=(2.0, 0.02))
+            for x, y in ((1.2, 0.5), (1.3, 0.44), (1.3, 0.56)):
+                sc.add_body(Disk(r), 1.0, (x, y))
+            return _sim2(sc, law), 3.0, 200_000
+        from .scene3d import Scene3D
+        from .shapes3d import Sphere
+        sc = Scene3D(gravity=(0.0, 0.0, 0.0))
+        for p, nrm in (((0, 0, 0), (1, 0, 0)), ((2, 0, 0), (-1, 0, 0)),
+                       ((0, 0, 0), (0, 1, 0)), ((0, 1, 0), (0, -1, 0))):
+            sc.add_plane(p, nrm)
+        sc.add_body(Sphere(r), 1e6, (0.3, 0.5, 0.0), velocity=(2.0, 0.02, 0.0))
+        for x, y in ((1.2, 0.5), (1.3, 0.44), (1.3, 0.56)):
+            sc.add_body(Sphere(r), 1.0, (x, y, 0.0))
+        return _sim3(sc, law), 3.0, 200_000
+
+    def check(res):
+        return res.n_impacts > 10, f"{res.n_impacts} impacts"
+    return SceneCase(label, "break_mass_ratio=1e6", dim, build, check=check,
+                     never_gain=label in NEVER_GAIN)
+
+
+def stepper_cases(quick=False):
+    """The stepper cells (``SceneCase`` list), 2D and 3D."""
+    cases = []
+    for dim in (2, 3):
+        for label in ("routh-energetic", "kane_levinson", "smith", "chatterjee_ruina"):
+            cases.append(_zeno_case(label, dim))
+        for label in ("routh-energetic", "kane_levinson"):
+            cases.append(_fast_box_case(label, dim))
+            cases.append(_fast_ball_case(label, dim))
+            cases.append(_spinning_rod_case(label, dim))
+            cases.append(_heavy_break_case(label, dim))
+        for pol in ("simultaneous", "sequential"):
+            cases.append(_flat_box_case("routh-energetic", dim, pol))
+        n = 10_000 if quick else (1_000_000 if dim == 2 else 100_000)
+        cases.append(_million_case("routh-energetic", dim, n))
+        cases.append(_galperin_case("routh-energetic", dim))
+    if quick:
+        keep = {("routh-energetic", "zeno_e=0.99"), ("routh-energetic", "box_at_1e4m/s"),
+                ("routh-energetic", "rod_spins_1e4rad/s"),
+                ("routh-energetic", "box_lands_flat_simultaneous"),
+                ("routh-energetic", "box_lands_flat_sequential"),
+                ("routh-energetic", "billiard_mass_ratio=1e6")}
+        cases = [c for c in cases if (c.name, c.case) in keep or c.case.startswith("elastic")]
+    return cases
+
+
+# ---- sampling: gaps and energy -----------------------------------------------------------
+def _quat_rotate(q, v):
+    """Rotate body-frame vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4)."""
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def _gaps_2d(sim, s):
+    """Gaps (m) of every body against every plane (lowest point of the shape) and of every
+    disk pair, at the sampled states ``s`` (``Result.sample``): dict key -> array."""
+    from .shapes import Disk, Ellipse, Polygon, Rod
+    out = {}
+    bodies = sim.scene.bodies
+    for b in bodies:
+        i = b.index
+        x, y, th = s["x"][:, i], s["y"][:, i], s["angle"][:, i]
+        c, sn = np.cos(th), np.sin(th)
+        for p in sim.scene.planes:
+            n0, n1 = p.normal
+            d = p.offset
+            sh = b.shape
+            if isinstance(sh, Disk) or (isinstance(sh, Ellipse) and sh.a == sh.b):
+                r = sh.radius if isinstance(sh, Disk) else sh.a
+                g = n0 * x + n1 * y - r - d
+            elif isinstance(sh, Ellipse):
+                nb0 = c * n0 + sn * n1
+                nb1 = -sn * n0 + c * n1
+                g = n0 * x + n1 * y - np.sqrt(sh.a ** 2 * nb0 ** 2 + sh.b ** 2 * nb1 ** 2) - d
+            else:
+                V = np.asarray(sh.vertices)
+                rad = sh.radius if isinstance(sh, Rod) else 0.0
+                wx = c[:, None] * V[None, :, 0] - sn[:, None] * V[None, :, 1]
+                wy = sn[:, None] * V[None, :, 0] + c[:, None] * V[None, :, 1]
+                g = np.min(n0 * (x[:, None] + wx) + n1 * (y[:, None] + wy), axis=1) - rad - d
+            out[(i, "plane", p.index)] = g
+    disks = [b for b in bodies if isinstance(b.shape, Disk)]
+    for a in range(len(disks)):
+        for bb in range(a + 1, len(disks)):
+            i, j = disks[a].index, disks[bb].index
+            dist = np.hypot(s["x"][:, i] - s["x"][:, j], s["y"][:, i] - s["y"][:, j])
+            out[(i, "body", j)] = dist - disks[a].shape.radius - disks[bb].shape.radius
+    return out
+
+
+def _gaps_3d(sim, s):
+    from .shapes3d import Box3D, Capsule, Sphere
+    out = {}
+    bodies = sim.scene.bodies
+    pos, q = s["position"], s["orientation"]
+    for b in bodies:
+        i = b.index
+        sh = b.shape
+        if isinstance(sh, Sphere):
+            pts, rad = pos[:, i, None, :], sh.radius
+        else:
+            if isinstance(sh, Box3D):
+                V, rad = sh.vertices, 0.0
+            else:
+                V, rad = np.array([[0, 0, -0.5 * sh.length], [0, 0, 0.5 * sh.length]]), \
+                    sh.radius
+            qq = np.repeat(q[:, i, None, :], len(V), axis=1)
+            pts = pos[:, i, None, :] + _quat_rotate(qq, np.broadcast_to(V, qq.shape[:2] + (3,)))
+        for p in sim.scene.planes:
+            n = np.asarray(p.normal)
+            out[(i, "plane", p.index)] = np.min(pts @ n, axis=1) - rad - p.offset
+    sph = [b for b in bodies if isinstance(b.shape, Sphere)]
+    for a in range(len(sph)):
+        for bb in range(a + 1, len(sph)):
+            i, j = sph[a].index, sph[bb].index
+            dist = np.linalg.norm(pos[:, i] - pos[:, j], axis=1)
+            out[(i, "body", j)] = dist - sph[a].shape.radius - sph[bb].shape.radius
+    return out
+
+
+def _energy_from_sample(res, s, dim):
+    if dim == 2:
+        g = res.gravity
+        return np.sum(0.5 * res.masses * (s["vx"] ** 2 + s["vy"] ** 2)
+                      + 0.5 * res.moments * s["omega"] ** 2
+                      - res.masses * (g[0] * s["x"] + g[1] * s["y"]), axis=1)
+    q = s["orientation"]
+    qc = q * np.array([1.0, -1.0, -1.0, -1.0])
+    wb = _quat_rotate(qc, s["angular_velocity"])
+    rot = 0.5 * np.sum(res.inertias[None] * wb * wb, axis=-1)
+    e = (0.5 * res.masses * np.sum(s["velocity"] ** 2, axis=-1) + rot
+         - res.masses * (s["position"] @ res.gravity))
+    return e.sum(axis=1)
+
+
+def _scale_length(s, dim):
+    if dim == 2:
+        return float(max(np.abs(s["x"]).max(), np.abs(s["y"]).max(), 1.0))
+    return float(max(np.abs(s["position"]).max(), 1.0))
+
+
+def _sample_times(res, n):
+    t0, t1 = res.t_start, res.t_end
+    ev = np.asarray(res._ev_t if hasattr(res, "_ev_t") else res.events["t"])
+    extra = ev[: MAX_EXTRA_SAMPLES // 2]
+    mids = 0.5 * (extra[1:] + extra[:-1])
+    t = np.concatenate([np.linspace(t0, t1, n), extra, mids])
+    return np.unique(np.clip(t, t0, t1))
+
+
+def _refine(res, sim, dim, key, t, g):
+    """Bounded minimisation of one gap around its REFINE_MINIMA smallest sampled local
+    minima (the sampled minimum of a smooth dip can miss its true bottom)."""
+    from scipy.optimize import minimize_scalar
+    n = len(t)
+    if n < 3:
+        return float(g.min())
+    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
+    loc = loc[np.argsort(g[loc])][:REFINE_MINIMA]
+    best = float(g.min())
+
+    def gap(tt):
+        s = res.sample([tt])
+        gg = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
+        return float(gg[key][0])
+    for k in loc:
+        lo, hi = t[k - 1], t[k + 1]
+        if hi <= lo:
+            continue
+        r = minimize_scalar(gap, bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-15 * max(1.0, abs(hi))})
+        best = min(best, float(r.fun))
+    return best
+
+
+def run_scene(sc, quick=False):
+    """Run one stepper cell; returns a ``Row``."""
+    t0 = time.perf_counter()
+    note = []
+    try:
+        sim, t_end, max_events = sc.build()
+    except Exception as exc:
+        return Row("stepper", sc.name, sc.case, sc.dim, "NOT-RUN", math.nan, math.nan,
+                   math.nan, "-", time.perf_counter() - t0, 1,
+                   f"scene not built: {type(exc).__name__}: {exc}"[:300])
+    status = "OK"
+    try:
+        import warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = sim.run(t_end, max_events=max_events)
+    except NoSolutionError as exc:
+        res = getattr(exc, "result", None)
+        status = "DOC-ERR"
+        note.append(f"NoSolutionError: {exc}"[:200])
+    except SimulationError as exc:
+        res = getattr(exc, "result", None)
+        msg = str(exc)
+        status = "DOC-ERR" if any(m in msg for m in STEPPER_DOCUMENTED) else "FAIL"
+        note.append(f"SimulationError: {msg}"[:240])
+    except Exception as exc:
+        return Row("stepper", sc.name, sc.case, sc.dim, "FAIL", math.nan, math.nan,
+                   math.nan, "-", time.perf_counter() - t0, 1,
+                   f"{type(exc).__name__}: {exc}"[:300])
+    wall = time.perf_counter() - t0
+    if res is None or res.t_end <= res.t_start:
+        return Row("stepper", sc.name, sc.case, sc.dim, status, math.nan, math.nan,
+                   math.nan, "-", wall, 1, "; ".join(note))
+    if status == "OK" and res.status != sc.expect_status:
+        status = "FAIL"
+        note.append(f"status {res.status!r} (expected {sc.expect_status!r})")
+    n = N_SAMPLES_QUICK if quick else N_SAMPLES
+    t = _sample_times(res, n)
+    s = res.sample(t)
+    gaps = (_gaps_2d if sc.dim == 2 else _gaps_3d)(sim, s)
+    L = _scale_length(s, sc.dim)
+    pen_tol = PEN_ATOL + PEN_RTOL * L
+    worst = 0.0
+    for key, g in gaps.items():
+        gmin = _refine(res, sim, sc.dim, key, t, g)
+        worst = max(worst, -gmin)
+    if worst > pen_tol:
+        status = "FAIL"
+        note.append(f"penetration {worst:.3g} m > {pen_tol:.1g} m (missed impact)")
+    E = _energy_from_sample(res, s, sc.dim)
+    Eref = float(np.max(np.abs(E))) or 1.0
+    gain = float(np.max(E - np.minimum.accumulate(E))) / Eref
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    ev_gain = 0.0
+    if len(imp):   # a joint solve's per-contact dE may be > 0: sum each instant's cluster
+        tt, inv = np.unique(imp["t"], return_inverse=True)
+        ev_gain = max(float(np.bincount(inv, weights=imp["dE"]).max()), 0.0) / Eref
+    dE_rel = max(gain, ev_gain)
+    if sc.never_gain and dE_rel > STEP_ENERGY_RTOL:
+        if status != "DOC-ERR":
+            status = "FAIL"
+        note.append(f"energy created: {dE_rel:.2g} E_ref > {STEP_ENERGY_RTOL:.0e}")
+    if sc.check is not None and status == "OK":
+        ok, text = sc.check(res)
+        note.append(text)
+        if not ok:
+            status = "FAIL"
+    return Row("stepper", sc.name, sc.case, sc.dim, status, dE_rel, worst, pen_tol,
+               str(res.n_impacts), wall, len(t), "; ".join(note)[:400])
+
+
+def run_stepper_matrix(quick=False, progress=None):
+    rows = []
+    for sc in stepper_cases(quick):
+        rows.append(run_scene(sc, quick))
+        if progress:
+            progress(rows[-1])
+    return rows
+
+
+# ============================================================================================
+# report
+# ============================================================================================
+NOTE_WIDTH = 110
+"""Characters of the note shown per table row (the CSV keeps the full note and the
+reproducer)."""
+
+
+def format_table(rows):
+    """The terminal table: one line per row, then nothing else (see ``summary``)."""
+    head = ["kind", "law/scene", "case", "dim", "status", "dE_rel", "residual", "tol",
+            "iters", "time", "n", "note"]
+    body = []
+    for r in rows:
+        f = r.fields()
+        body.append([str(x) for x in f[:11]] + [r.note[:NOTE_WIDTH]])
+    widths = [max(len(head[k]), *(len(b[k]) for b in body)) if body else len(head[k])
+              for k in range(11)]
+
+    def line(cells):
+        return "  ".join(c.ljust(widths[k]) if k < 11 else c for k, c in enumerate(cells))
+    out = [line(head), line(["-" * w for w in widths] + ["-" * 4])]
+    out += [line(b) for b in body]
+    return "\n".join(out)
+
+
+def summary(rows, elapsed=None):
+    """One line: counts per status and the verdict."""
+    counts = {k: sum(r.status == k for r in rows) for k in ("OK", "DOC-ERR", "FAIL",
+                                                             "NOT-RUN")}
+    verdict = "ok" if counts["FAIL"] == 0 else "FAILED"
+    t = f" in {elapsed:.1f} s" if elapsed is not None else ""
+    return (f"stability: {len(rows)} cells{t}: {counts['OK']} OK, {counts['DOC-ERR']} "
+            f"documented errors, {counts['FAIL']} FAIL, {counts['NOT-RUN']} not run -> "
+            f"{verdict}")
+
+
+def write_csv(rows, path):
+    """Write the rows (all fields, full notes and reproducers) to ``path``."""
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(FIELDS)
+        for r in rows:
+            w.writerow(r.fields())
+
+
+def stability_report(quick=False, out=None, progress=None):
+    """Run the stability matrices; returns ``(text, rows, ok)``.
+
+    ``quick``: the subset for tests and CI (well under a minute with compiled kernels);
+    ``out``: a CSV path for the rows; ``progress``: optional callable receiving each
+    ``Row`` as it completes. ``text`` is the table plus the summary line, ``ok`` is False
+    when any cell FAILs."""
+    t0 = time.perf_counter()
+    rows = run_law_matrix(quick=quick, progress=progress)
+    rows += run_stepper_matrix(quick=quick, progress=progress)
+    text = format_table(rows) + "\n" + summary(rows, time.perf_counter() - t0)
+    if out:
+        write_csv(rows, out)
+    ok = not any(r.status == "FAIL" for r in rows)
+    return text, rows, ok

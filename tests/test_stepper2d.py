@@ -1,6 +1,5 @@
 """The exact event-driven 2D stepper (issue 3, DESIGN §5-6): real physics, closed forms."""
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -336,7 +335,7 @@ def test_pivot_chatter_is_reported_not_hidden():
 def test_pair_laws_and_perforation():
     scene = Scene2D(gravity=(0.0, 0.0))
     barrier = scene.add_plane((1.0, 0.0), (-1.0, 0.0))
-    wall = scene.add_plane((3.0, 0.0), (-1.0, 0.0))
+    scene.add_plane((3.0, 0.0), (-1.0, 0.0))
     scene.add_body(Disk(0.1), 1.0, (0.0, 0.0), velocity=(4.0, 0.0))
     sim = Simulation(scene, Law("kane_levinson", e=1.0, mu=0.0),
                      pair_laws={(0, barrier): Law("brach", e=-0.5, mu=0.0)})
@@ -347,3 +346,40 @@ def test_pair_laws_and_perforation():
     np.testing.assert_allclose(ev["v_f"][0], (-2.0, 0.0), atol=1e-14)   # through, slower
     assert abs(ev["t"][1] - (0.9 / 4.0 + 2.0 / 2.0)) < 1e-14            # wall: elastic
     assert res.sample([2.0])["vx"][0, 0] == pytest.approx(-2.0)
+
+
+def test_no_solution_is_raised_with_body_time_and_point():
+    from rbimpact.errors import NoSolutionError
+
+    class Jammed:                   # a law object whose kernel id has no law: mode -1
+        name = "jammed"
+        law_id = 99
+        params = np.zeros(5)
+
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_floor()
+    scene.add_body(Disk(0.1), 1.0, (0.3, 0.6))
+    where = r"body 0 \(Disk\) on plane 0.*t = 0\.319275428.*point \(0\.3, "
+    with pytest.raises(NoSolutionError, match=where) as info:
+        Simulation(scene, Jammed()).run(1.0)
+    assert info.value.mode_code == -1 and info.value.result.n_impacts == 0
+
+
+def test_exports_and_plot(tmp_path):
+    import csv
+    import json
+    import sys
+    res = drop_ball(e=0.5).run(1.5)
+    res.to_csv(tmp_path / "ev.csv")
+    rows = list(csv.DictReader(open(tmp_path / "ev.csv")))
+    assert len(rows) == len(res.events) and rows[0]["kind"] == "impact"
+    assert float(rows[0]["t"]) == res.events["t"][0]
+    res.to_json(tmp_path / "ev.json")
+    doc = json.load(open(tmp_path / "ev.json"))
+    assert doc["status"] == "done" and doc["policy"] == "simultaneous"
+    assert doc["events"][-1]["kind"] == "contact"
+    assert doc["tolerances"]["rest_length"] == 1e-10
+    if "matplotlib" not in sys.modules:
+        pytest.importorskip("matplotlib")
+    res.plot(tmp_path / "fig.png")
+    assert (tmp_path / "fig.png").stat().st_size > 1000
