@@ -121,8 +121,8 @@ PI_FORCES = 2       # the force system failed (Painleve or singular)
 MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
 SLIP_DIR_FRAC = 1.0   # below SLIP_DIR_FRAC * slip_eps the stored slip direction is used
 GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimensionless)
-FORCE_ARM = 1e-9      # a normal force or stick margin starting at or below 0 (a tangency)
-                      #   fires below its start minus FORCE_ARM m |g| (dimensionless)
+FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM m |g| (a
+                      #   tangency) fires below min(0, start) - FORCE_ARM m |g| (-)
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
 
 # event kinds
@@ -712,8 +712,8 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
     farm = FORCE_ARM * cp[CP_M] * math.sqrt(cp[CP_G] ** 2 + cp[CP_G + 1] ** 2
                                             + cp[CP_G + 2] ** 2)
     for e in range(4):
-        if vals0[e] < math.inf and vals0[e] <= 0.0:
-            vfl[e] = vals0[e] - farm
+        if vals0[e] < farm:
+            vfl[e] = min(0.0, vals0[e]) - farm
             vals0[e] -= vfl[e]
     arm = GAP_ARM * cp[CP_L]
     for e in range(6, nv):

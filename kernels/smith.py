@@ -82,8 +82,9 @@ the bracket, so 100 is never reached for finite input). Also the 3D secular-equa
 MAXIT_NEWTON_3D = 40
 """3D direct damped Newton (certified-unique case) limit; typically 2-5 iterations. On failure
 the scan path takes over."""
-MAXIT_INNER = 60
-"""3D tangential sub-problem (fixed normal impulse) damped Newton limit; 1-3 warm-started."""
+MAXIT_INNER = 200
+"""3D tangential sub-problem (fixed normal impulse): safeguarded Newton limit on its scalar
+reduction (typically 2-4 warm-started; geometric bisection spans 1e+-300 within 200)."""
 MAXIT_OUTER = 100
 """3D outer safeguarded Newton/bisection on R(p) limit."""
 MAX_LINESEARCH = 40
@@ -374,43 +375,84 @@ def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
 
 @njit(cache=True, error_model="numpy")
 def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
-    """Unique solution of the tangential sub-problem at p (damped Newton from (b1, b2);
-    same stopping rules as ``_newton_full_3d``; the returned g and J belong to the returned
-    b, which is then at most one tiny step from the root).
+    """Unique solution of the tangential sub-problem at normal impulse p,
 
-    Returns (ok, b1, b2, g1, g2, J11, J12, J21, J22) with J the sub-problem Jacobian."""
-    al2 = al * al
-    F1, F2, J11, J12, J21, J22, g1, g2 = _inner_3d(b1, b2, al, al2, p, w1, w2, t11, t12, t22, mu)
-    f = F1 * F1 + F2 * F2
+        b + mu p T g(b) = a + p w,    a = (al, 0),
+
+    reduced to one scalar: with sigma = |b| / al, g = (al a + |b| b)/(al^2 + |b|^2) is affine
+    in b, so b = al beta(sigma), beta = (I + k1 T)^-1 (e1 + (p/al) w - k2 T e1),
+    k1 = (mu p / al) sigma / (1 + sigma^2), k2 = (mu p / al) / (1 + sigma^2); the root of
+    psi(sigma) = |beta| / sigma - 1 (positive before it, negative after, unique) is found by
+    safeguarded Newton from the warm start |(b1, b2)| / al. Scale-free in al, so a tiny
+    initial slip is no harder than a large one.
+
+    Returns (ok, b1, b2, g1, g2, J11, J12, J21, J22), J the sub-problem Jacobian at b."""
+    q = p / al
+    Pt = mu * q
+    r1 = 1.0 + q * w1
+    r2 = q * w2
+    hi = (1.0 + q * math.sqrt(w1 * w1 + w2 * w2) + Pt * math.sqrt(t11 * t11 + t12 * t12)) \
+        * 1.01 + 1.0                         # |beta| <= |rhs| (|(I + k1 T)^-1| <= 1)
+    lo = 0.0
+    sig = math.sqrt(b1 * b1 + b2 * b2) / al
+    if not (sig > 0.0 and sig < hi):
+        sig = 1.0 if hi > 2.0 else 0.5 * hi
+    ok = False
+    be1 = 0.0
+    be2 = 0.0
     for it in range(MAXIT_INNER):
-        if f == 0.0:
-            return True, b1, b2, g1, g2, J11, J12, J21, J22
-        d1, d2 = _lin2(J11, J12, J21, J22, -F1, -F2)
-        nd = math.sqrt(d1 * d1 + d2 * d2)
-        if not (nd < math.inf):
-            return False, b1, b2, g1, g2, J11, J12, J21, J22
-        scale = max(math.sqrt(b1 * b1 + b2 * b2), al)
-        if nd <= TOL_ROOT * scale:
-            return True, b1, b2, g1, g2, J11, J12, J21, J22
-        t = 1.0
-        accepted = False
-        for ls in range(MAX_LINESEARCH):
-            n1 = b1 + t * d1
-            n2 = b2 + t * d2
-            G1, G2, K11, K12, K21, K22, h1, h2 = _inner_3d(n1, n2, al, al2, p, w1, w2,
-                                                           t11, t12, t22, mu)
-            fn = G1 * G1 + G2 * G2
-            if fn <= (1.0 - ARMIJO * t) * f:
-                accepted = True
+        den = 1.0 + sig * sig
+        k1 = Pt * sig / den
+        k2 = Pt / den
+        m11 = 1.0 + k1 * t11
+        m12 = k1 * t12
+        m22 = 1.0 + k1 * t22
+        h1 = r1 - k2 * t11
+        h2 = r2 - k2 * t12
+        idet = 1.0 / (m11 * m22 - m12 * m12)
+        be1 = (m22 * h1 - m12 * h2) * idet
+        be2 = (m11 * h2 - m12 * h1) * idet
+        nb = math.sqrt(be1 * be1 + be2 * be2)
+        psi = nb / sig - 1.0
+        if psi == 0.0:
+            ok = True
+            break
+        if psi > 0.0:
+            lo = sig
+        else:
+            hi = sig
+        # d beta / d sigma = (I + k1 T)^-1 (-k2' T e1 - k1' T beta)
+        iden2 = 1.0 / (den * den)
+        dk1 = Pt * (1.0 - sig * sig) * iden2
+        dk2 = -2.0 * Pt * sig * iden2
+        v1 = -dk2 * t11 - dk1 * (t11 * be1 + t12 * be2)
+        v2 = -dk2 * t12 - dk1 * (t12 * be1 + t22 * be2)
+        d1 = (m22 * v1 - m12 * v2) * idet
+        d2 = (m11 * v2 - m12 * v1) * idet
+        dpsi = (be1 * d1 + be2 * d2) / (nb * sig) - nb / (sig * sig)
+        step = -psi / dpsi
+        if abs(step) <= TOL_ROOT * sig:
+            ok = True
+            break
+        sn = sig + step
+        if not (sn > lo and sn < hi):        # bisection, geometric across scales
+            if lo > 0.0 and hi < 4.0 * lo:
+                sn = 0.5 * (lo + hi)
+            elif lo > 0.0:
+                sn = math.sqrt(lo * hi)
+            else:
+                sn = 1e-3 * hi
+            if hi - lo <= TOL_ROOT * hi:
+                ok = True
                 break
-            t *= 0.5
-        if not accepted:
-            return False, b1, b2, g1, g2, J11, J12, J21, J22
-        b1, b2, g1, g2 = n1, n2, h1, h2
-        F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
-        if t == 1.0 and nd <= TOL_QUAD * scale:
-            return True, b1, b2, g1, g2, J11, J12, J21, J22
-    return False, b1, b2, g1, g2, J11, J12, J21, J22
+        sig = sn
+    b1 = al * be1
+    b2 = al * be2
+    F1, F2, J11, J12, J21, J22, g1, g2 = _inner_3d(b1, b2, al, al * al, p, w1, w2,
+                                                   t11, t12, t22, mu)
+    if not (abs(g1) <= 1.0 and abs(g2) <= 1.0 and abs(J11 * J22) < math.inf):
+        ok = False
+    return ok, b1, b2, g1, g2, J11, J12, J21, J22
 
 
 @njit(cache=True, error_model="numpy")

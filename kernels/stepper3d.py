@@ -80,6 +80,10 @@ from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 
 INF = math.inf
+# Numba caches a compiled function by the hash of its own file only: bump this revision
+# whenever a kernel module called from here (pivot3d, flight3d, toi3d, the laws) changes,
+# so that cached callers are recompiled.
+KERNEL_REVISION = 2
 
 # shape kinds
 SH_SPHERE = 0

@@ -25,8 +25,8 @@ What the stepper does
 * **Simultaneous contacts**: all contacts whose impact times lie within ``simul_time`` (s)
   of the earliest one, and the other corners of a body in such an impact whose gap is
   already below ``simul_gap`` (m) and closing, are gathered and grouped into clusters
-  sharing a body. A cluster of
-  one contact is resolved by its pair law under both policies. For larger clusters:
+  sharing a body. A cluster of one contact is resolved by its pair law (if it approaches)
+  under both policies. For larger clusters:
 
   - ``policy="simultaneous"`` (default): one joint solve over the cluster: Newton
     restitution with Coulomb friction, each contact ``k`` taking ``e_k = params[P_E]`` and
@@ -37,9 +37,10 @@ What the stepper does
     value driving ``v_fT`` to 0 (sticking when inside the cone). Solved by projected
     Gauss-Seidel from ``P = 0``, contacts in index order, until no impulse update changes a
     velocity by more than ``simul_tol`` times the largest pre-impact contact speed of the
-    cluster in a sweep, at most ``simul_max_iter``
-    sweeps (else ``SimulationError``). Events carry mode 0 (no impulse), 1 (inside the
-    cone) or 2 (on the cone) and ``cluster = K``. A symmetric landing stays symmetric.
+    cluster in a sweep, at most ``simul_max_iter`` sweeps (else ``SimulationError``).
+    Events carry mode 0 (no impulse), 1 (inside the cone) or 2 (on the cone) and
+    ``cluster = K``. A symmetric landing stays symmetric. Note: this joint Newton solve
+    is not the pair law, and for e > 0 it is not guaranteed to dissipate energy.
   - ``policy="sequential"``: repeatedly take the contact of the cluster whose current
     normal velocity is the most negative (ties: the lowest contact index, i.e. body,
     then plane, then vertex order) and resolve it alone with its pair law, at the current
@@ -89,8 +90,11 @@ What the stepper does
   before ``t_end`` stops early (after the instant in progress), warns, and returns a
   ``Result`` with ``status == "max_events"``.
 
-The event loop is compiled (``rbimpact.kernels.stepper2d``, Numba, cached on disk); event
-and trajectory buffers are preallocated and grown by doubling between compiled chunks.
+The event loop is compiled (``rbimpact.kernels.stepper2d``, Numba, cached on disk, with a
+guard that flushes that cache when a law kernel it has compiled in changes); event and
+trajectory buffers are preallocated and grown by doubling between compiled chunks. A scene
+runs only what it uses: no pair search without disk pairs, no rotation bound for
+non-rotating bodies (exact quadratics), the law kernel's own mu = 0 fast path.
 """
 import math
 import warnings

@@ -325,6 +325,22 @@ def test_3d_reproduces_2d_for_planar_motion(c, w33):
     assert np.abs(P3[:2] - P2).max() <= 1e-10 * np.abs(P2).max()
 
 
+@settings(max_examples=100, deadline=None)
+@given(contacts(2), st.floats(0.01, 10), st.floats(0.1, 6.0))
+def test_3d_reproduces_2d_for_planar_motion_in_a_rotated_basis(c, w33, theta):
+    # same planar contact seen in a rotated tangent basis: exercises the general 3D solver
+    v, W, e, mu = c
+    W3 = np.zeros((3, 3))
+    W3[:2, :2] = W
+    W3[2, 2] = w33
+    R = np.eye(3)
+    R[1:, 1:] = [[math.cos(theta), -math.sin(theta)], [math.sin(theta), math.cos(theta)]]
+    m2, P2, vf2 = run(v, W, e, mu)
+    m3, P3, vf3 = run(R @ np.r_[v, 0.0], R @ W3 @ R.T, e, mu)
+    assert m2 == m3
+    assert np.abs(R.T @ P3 - np.r_[P2, 0.0]).max() <= 1e-8 * np.abs(P2).max()
+
+
 # ---- set-valued a = 0, tiny slip, modes -------------------------------------------------------
 @pytest.mark.parametrize("Wnt, mu, expect", [(-1.5, 0.8, MODE_STICK), (-1.5, 0.3, MODE_SLIP),
                                              (1.5, 0.3, MODE_SLIP), (0.0, 0.3, MODE_STICK)])
