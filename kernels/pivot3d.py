@@ -58,8 +58,7 @@ CP_P1 = 14      # 14:17 body-frame feature centre of contact 1 (m)
 CP_P2 = 17      # 17:20 of contact 2
 CP_S1 = 20      # status of contact 1: 0 sliding, 1 sticking
 CP_S2 = 21
-CP_U1 = 22      # 22:25 slip direction used while |c_1| is below SLIP_DIR_FRAC slip_eps, for
-                #   a slip that started from sticking (zero: none, always c_1/|c_1|)
+CP_U1 = 22      # 22:25 start direction of a slip that started from sticking (zero: none)
 CP_U2 = 25
 CP_EPS = 28     # slip_eps (m/s)
 CP_PLANE = 29   # plane index (float)
@@ -119,7 +118,8 @@ PI_TOO_MANY_STEPS = 1
 PI_FORCES = 2       # the force system failed (Painleve or singular)
 
 MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
-SLIP_DIR_FRAC = 1.0   # below SLIP_DIR_FRAC * slip_eps the stored slip direction is used
+SLIP_BLEND = 10.0     # a slip started from sticking blends from its start direction to its
+                      #   own direction while |c| < SLIP_BLEND slip_eps (see _slipdir)
 GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimensionless)
 FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM m |g| (a
                       #   tangency) fires below min(0, start) - FORCE_ARM m |g| (-)
@@ -221,16 +221,23 @@ def _G(fw, ra, rb, m):
 
 @njit(cache=True)
 def _slipdir(fw, cp, k):
-    """Unit slip direction of sliding contact k: c_k/|c_k|, or the stored direction when
-    the slip is (nearly) zero."""
+    """Unit friction direction of sliding contact k: c_k/|c_k|; for a slip that started
+    from sticking along the stored direction u_k, the direction of
+    ``c_k + slip_eps u_k max(0, 1 - |c_k| / (SLIP_BLEND slip_eps))``, continuous in c_k,
+    equal to u_k at c_k = 0 and to c_k/|c_k| once |c_k| >= SLIP_BLEND slip_eps."""
     co = FW_C1 + 3 * k
     cx, cy, cz = fw[co], fw[co + 1], fw[co + 2]
     c = math.sqrt(cx * cx + cy * cy + cz * cz)
     uo = CP_U1 + 3 * k
-    stored = cp[uo] != 0.0 or cp[uo + 1] != 0.0 or cp[uo + 2] != 0.0
-    if c > SLIP_DIR_FRAC * cp[CP_EPS] or (c > 0.0 and not stored):
-        return cx / c, cy / c, cz / c
-    return cp[uo], cp[uo + 1], cp[uo + 2]
+    eps = cp[CP_EPS]
+    wgt = eps * max(0.0, 1.0 - c / (SLIP_BLEND * eps))
+    wx = cx + wgt * cp[uo]
+    wy = cy + wgt * cp[uo + 1]
+    wz = cz + wgt * cp[uo + 2]
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if w == 0.0:
+        return 0.0, 0.0, 0.0
+    return wx / w, wy / w, wz / w
 
 
 # ------------------------------------------------------------------ forces

@@ -199,12 +199,13 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
         else:
             hi = t
         step = -2.0 * q * dq / (2.0 * dq * dq - q * d2q)      # Halley
-        if abs(step) <= TOL_HALLEY * t:      # cubic convergence: next error << 1e-16
-            t += step
+        tn = t + step
+        inside = tn > lo and tn < hi
+        if inside and abs(step) <= TOL_HALLEY * t:   # cubic convergence: error << 1e-16
+            t = tn
             converged = True
             break
-        tn = t + step
-        if not (tn > lo and tn < hi):
+        if not inside:
             tn = 0.5 * (lo + hi)
             if hi - lo <= TOL_ROOT * hi:
                 t = tn
@@ -219,7 +220,10 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
     else:
         u2 = 1.0 / (t * t)
         g = (u2 - 1.0) / (u2 + 1.0)
-    PN = c / (Wnn - mu * wnt * g)
+    D = Wnn - mu * wnt * g
+    if not (D > 0.0):                        # cannot happen: t stays in the physical bracket
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+    PN = c / D
     return MODE_SLIP, PN, -sg * mu * PN * g, -sg * a * t
 
 
@@ -431,11 +435,12 @@ def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
         d2 = (m11 * v2 - m12 * v1) * idet
         dpsi = (be1 * d1 + be2 * d2) / (nb * sig) - nb / (sig * sig)
         step = -psi / dpsi
-        if abs(step) <= TOL_ROOT * sig:
+        sn = sig + step
+        inside = sn > lo and sn < hi
+        if inside and abs(step) <= TOL_ROOT * sig:
             ok = True
             break
-        sn = sig + step
-        if not (sn > lo and sn < hi):        # bisection, geometric across scales
+        if not inside:                       # bisection, geometric across scales
             if lo > 0.0 and hi < 4.0 * lo:
                 sn = 0.5 * (lo + hi)
             elif lo > 0.0:
@@ -458,19 +463,25 @@ def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
 @njit(cache=True, error_model="numpy")
 def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     """a = 0 in 3D: stick if |T^-1 w| <= mu, else slip along the unique u with
-    (s I + mu T) u = w, s > 0, |u| = 1. Returns (mode, P_N, P_T1, P_T2)."""
+    (s I + mu T) u = w, s > 0, |u| = 1. Returns (mode, P_N, k1, k2, f) with
+    P_T = -f P_N (k1, k2): stick (T^-1 w, 1), slip (u, mu)."""
     y1, y2 = solve2(t11, t12, t22, w1, w2)   # T^-1 w
-    if y1 * y1 + y2 * y2 <= mu * mu:
+    if math.hypot(y1, y2) <= mu:              # (hypot: no underflow for tiny mu)
         PN = c / (Wnn - (w1 * y1 + w2 * y2))  # c M_NN (Schur complement > 0)
-        return MODE_STICK, PN, -PN * y1, -PN * y2
-    # secular equation f(s) = 1/|y(s)| - 1 = 0, y(s) = (s I + mu T)^-1 w; f increasing,
-    # f(0) < 0 <= f(|w|). Safeguarded Newton; f' = |y|^-3 y.(sI + mu T)^-1 y.
+        return MODE_STICK, PN, y1, y2, 1.0
+    # secular equation in the scaled unknowns (w/|w|, s/|w|, m = mu/|w| <= 1/lambda_min(T)):
+    # f(s) = 1/|y(s)| - 1 = 0, y(s) = (s I + m T)^-1 w/|w|; f increasing, f(0) < 0 <= f(1).
+    # Safeguarded Newton; f' = |y|^-3 y.(s I + m T)^-1 y.
+    nw = math.hypot(w1, w2)
+    e1 = w1 / nw
+    e2 = w2 / nw
+    m = mu / nw
     lo = 0.0
-    hi = math.sqrt(w1 * w1 + w2 * w2)
-    s = 0.5 * hi                             # s = 0 may be (numerically) singular
+    hi = 1.0
+    s = 0.5
     ok = False
     for it in range(MAXIT_2D):
-        u1, u2 = solve2(s + mu * t11, mu * t12, s + mu * t22, w1, w2)
+        u1, u2 = solve2(s + m * t11, m * t12, s + m * t22, e1, e2)
         ny = math.sqrt(u1 * u1 + u2 * u2)
         f = 1.0 / ny - 1.0
         if f == 0.0:
@@ -480,15 +491,16 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
             lo = s
         else:
             hi = s
-        z1, z2 = solve2(s + mu * t11, mu * t12, s + mu * t22, u1, u2)
+        z1, z2 = solve2(s + m * t11, m * t12, s + m * t22, u1, u2)
         df = (u1 * z1 + u2 * z2) / (ny * ny * ny)
         step = -f / df
-        if abs(step) <= SECULAR_TOL * s:
-            s += step
+        sn = s + step
+        inside = sn > lo and sn < hi
+        if inside and abs(step) <= SECULAR_TOL * s:
+            s = sn
             ok = True
             break
-        sn = s + step
-        if not (sn > lo and sn < hi):
+        if not inside:
             sn = 0.5 * (lo + hi)
             if hi - lo <= SECULAR_TOL * hi:
                 s = sn
@@ -496,13 +508,13 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
                 break
         s = sn
     if not ok:
-        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-    u1, u2 = solve2(s + mu * t11, mu * t12, s + mu * t22, w1, w2)
-    ny = math.sqrt(u1 * u1 + u2 * u2)
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0, 0.0
+    u1, u2 = solve2(s + m * t11, m * t12, s + m * t22, e1, e2)
+    ny = math.hypot(u1, u2)
     u1 /= ny
     u2 /= ny
     PN = c / (Wnn - mu * (w1 * u1 + w2 * u2))  # D > 0 proved: Wnn > w.T^-1 w > mu w.u
-    return MODE_SLIP, PN, -mu * PN * u1, -mu * PN * u2
+    return MODE_SLIP, PN, u1, u2, mu
 
 
 @njit(cache=True, error_model="numpy")
@@ -576,10 +588,13 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     cn = -(1.0 + e) * vn
     aln = al / s
     if aln <= A_ZERO_REL:
-        mode, PN, P1, P2 = _set_valued_3d(cn, Wnn, W01, W02, T11, T12, T22, mu)
-        if mode < 0:
-            return mode, 0.0, 0.0, 0.0
-        return mode, PN * s, P1 * s, P2 * s
+        mode, PN, k1, k2, f = _set_valued_3d(cn, Wnn, W01, W02, T11, T12, T22, mu)
+        PN *= s                              # rescale first: no subnormal intermediates
+        P1 = -f * (PN * k1)
+        P2 = -f * (PN * k2)
+        if mode < 0 or not (PN < math.inf and abs(P1) < math.inf and abs(P2) < math.inf):
+            return min(mode, MODE_NOT_CONVERGED), 0.0, 0.0, 0.0
+        return mode, PN, P1, P2
     # rotate the tangent frame: R a = (al, 0), R = [[cs, sn], [-sn, cs]]
     cs = a1 / al
     sn = a2 / al
@@ -592,10 +607,10 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         # planar motion (W_T2N = W_T1T2 = 0, a along t1): the tangential sub-problem at every
         # normal impulse p has a unique, hence mirror-symmetric, i.e. in-plane solution, so
         # every 3D root is a root of the 2D law, which has exactly one: solve it in 2D.
-        m2d, PN2, PT2, b2d = _solve_2d(vn, aln, Wnn, w1, t11, e, mu)
+        m2d, PN2, PT2, b2d = _solve_2d(vN, al, Wnn, w1, t11, e, mu)   # homogeneous: raw v
         if m2d < 0:
             return m2d, 0.0, 0.0, 0.0
-        return m2d, PN2 * s, cs * PT2 * s, sn * PT2 * s
+        return m2d, PN2, cs * PT2, sn * PT2
     cert = _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu)
     ok = False
     b1 = 0.0
@@ -624,12 +639,11 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     D = Wnn - mu * (w1 * g1 + w2 * g2)
     if not (D > 0.0):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-    PN = cn / D
-    P1r = -mu * PN * g1
-    P2r = -mu * PN * g2
-    PN *= s
-    P1 = (cs * P1r - sn * P2r) * s
-    P2 = (sn * P1r + cs * P2r) * s
+    PN = cn / D * s                          # rescale first: no subnormal intermediates
+    k1 = cs * g1 - sn * g2                   # g back in the caller's tangent basis
+    k2 = sn * g1 + cs * g2
+    P1 = -mu * (PN * k1)
+    P2 = -mu * (PN * k2)
     if not (abs(PN) < math.inf and abs(P1) < math.inf and abs(P2) < math.inf):
         return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
     return mode, PN, P1, P2
@@ -738,15 +752,15 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
         dg2 = gg[4] * db1 + gg[5] * db2
         dR = D - p * mu * (w1 * dg1 + w2 * dg2)
         step = -R / dR
-        if abs(step) <= TOL_P * p:
+        pn = p + step
+        if pn > pl and pn < ph and abs(step) <= TOL_P * p:
             # converged: one more inner solve at the corrected p (warm, ~1 iteration)
-            p += step
+            p = pn
             ok, b1, b2, g1, g2, J11, J12, J21, J22 = _solve_inner_3d(b1, b2, al, p, w1, w2,
                                                                      t11, t12, t22, mu)
             if not ok:
                 return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
             return MODE_SLIP, p, b1, b2
-        pn = p + step
         if not (pn > pl and pn < ph):
             pn = 0.5 * (pl + ph)
             if ph - pl <= TOL_P * ph:

@@ -83,7 +83,7 @@ INF = math.inf
 # Numba caches a compiled function by the hash of its own file only: bump this revision
 # whenever a kernel module called from here (pivot3d, flight3d, toi3d, the laws) changes,
 # so that cached callers are recompiled.
-KERNEL_REVISION = 2
+KERNEL_REVISION = 4
 
 # shape kinds
 SH_SPHERE = 0
@@ -787,13 +787,24 @@ def _W_body_tt(st, i, bflt, c_f, cw, Ii):
 
 
 @njit(cache=True)
-def _pv_validate(i, t, st, pv, fw, err):
+def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     """Make the integrated contacts of body i consistent: contacts whose normal force
     would be negative are dropped (most negative first), sticking contacts outside their
     friction cone slide (opposite to their friction force). Returns 0, 1 (no contact
     left) or ERR_PAINLEVE."""
     farm = FORCE_ARM * pv[i, CP_M] * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
                                                 + pv[i, CP_G + 2] ** 2)
+    # a sliding contact (without a stored start direction) whose slip is at most slip_eps
+    # -- e.g. after an impulse at the other contact -- sticks
+    for k in range(int(pv[i, CP_K])):
+        uo = CP_U1 + 3 * k
+        if pv[i, CP_S1 + k] == 0.0 and pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 \
+                and pv[i, uo + 2] == 0.0:
+            _pv_frame(c_f, cw, st, i, pv, k)
+            vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+            if v1 * v1 + v2 * v2 <= pv[i, CP_EPS] ** 2:
+                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+                pv[i, CP_S1 + k] = 1.0
     for attempt in range(8):
         K = int(pv[i, CP_K])
         if K == 0:
@@ -919,7 +930,7 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
             pv[i, CP_S1 + k] = 1.0
             if c > 0.0:
                 _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
-    rc = _pv_validate(i, t, st, pv, fw, err)
+    rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if rc != 0:
         return rc
     pm[i, 0] = PM_PIVOT
@@ -1007,7 +1018,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv
         u0, u1, u2 = _contact_velocity_row(st, i, c_f, cw)
         _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK, i, -1 - p, 2, 0, c_f, cw, v0, v1, v2, u0, u1,
              u2, 0.0, 0.0, 0.0, 0.0)
-    rc = _pv_validate(i, t, st, pv, fw, err)
+    rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if rc < 0:
         return rc, False
     if rc == 1:

@@ -199,6 +199,71 @@ def bench_compile():
     return rows
 
 
+def bench_stepper(repeat=5):
+    """Warm event rates of the 2D stepper: elastic bouncing_ball (1e5 impacts), falling_rod,
+    and the figures that show a scene pays only for what it uses."""
+    import warnings
+    from . import scenarios
+
+    rows = []
+    cases = [
+        ("bouncing_ball elastic, 1e5 impacts", dict(elastic=True), 1e9, 100_000),
+        ("bouncing_ball e=0.8 to rest", {}, None, None),
+        ("falling_rod (routh)", {}, None, None),
+        ("falling_rod (kane_levinson)", dict(law="kane_levinson"), None, None),
+        ("spinning_ball (two balls, rough)", {}, None, None),
+    ]
+    for label, params, t_end, max_events in cases:
+        name = label.split()[0]
+        sc = scenarios.get(name, **params)
+        sim = sc.simulation()
+        kw = {"max_events": max_events or sc.max_events}
+
+        def run():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return sim.run(t_end or sc.t_end, **kw)
+
+        t0 = time.perf_counter()
+        res = run()
+        first = time.perf_counter() - t0
+        t = _median_time(run, repeat)
+        rows.append({"item": label, "impacts": int(res.n_impacts), "events": len(res.events),
+                     "run_s": t, "impacts_per_s": res.n_impacts / t, "first_call_s": first})
+    return rows
+
+
+def bench_pymunk(repeat=3, dt=1e-4):
+    """rbimpact against pymunk on bouncing_ball (first 5 impacts): pymunk at ``dt`` and at
+    its best step on the ladder, rbimpact exact; time and error ratios from one run."""
+    from .crosscheck import crosscheck_report
+    _, rows = crosscheck_report("bouncing_ball", dts=(1e-3, dt, 1e-5), repeat=repeat)
+    return rows
+
+
+def _print_stepper(rows):
+    print("2D stepper, warm (median of repeats; first call includes loading compiled code)")
+    print(f"{'scene':<36}{'impacts':>9}{'events':>8}{'run ms':>10}{'M impacts/s':>13}"
+          f"{'first call s':>14}")
+    for r in rows:
+        print(f"{r['item']:<36}{r['impacts']:>9}{r['events']:>8}{1e3 * r['run_s']:>10.2f}"
+              f"{r['impacts_per_s'] / 1e6:>13.3f}{r['first_call_s']:>14.2f}")
+
+
+def _print_pymunk(rows):
+    print("rbimpact against pymunk, bouncing_ball (first 5 impacts; error: max distance of the")
+    print("centre of mass from the exact trajectory, m; run time median of repeats)")
+    exact = next(r for r in rows if r["engine"] == "rbimpact")
+    print(f"{'engine':<10}{'setting':<14}{'run time s':>12}{'error m':>11}{'time ratio':>12}"
+          f"{'error ratio':>13}")
+    for r in rows:
+        ratio_t = r["run_time_s"] / exact["run_time_s"]
+        ratio_e = r["error_m"] / max(exact["error_m"], 1e-300)
+        print(f"{r['engine']:<10}{r['setting']:<14}{r['run_time_s']:>12.3g}{r['error_m']:>11.2e}"
+              f"{ratio_t:>12.0f}{ratio_e:>13.1e}")
+    print("(ratios: pymunk / rbimpact; rbimpact's error is round-off against the exact solution)")
+
+
 def _print_overhead(rows):
     print("Per-call cost of one 2D impact (median): Law.resolve from Python against")
     print("Law.kernel called from a user's njit loop")
@@ -242,8 +307,11 @@ def main(what="laws", repeat=7, json_path=None):
         _print_laws(out["laws"])
     for key, run, show in (("overhead", bench_overhead, _print_overhead),
                            ("routh3d", bench_routh3d, _print_routh3d),
+                           ("stepper", bench_stepper, _print_stepper),
+                           ("pymunk", bench_pymunk, _print_pymunk),
                            ("compile", bench_compile, _print_compile)):
-        if what in (key, "all") or (what == "laws" and key == "overhead"):
+        if what in (key, "all") or (what == "laws" and key == "overhead") or (
+                what == "crosscheck" and key == "pymunk"):
             if out:
                 print()
             out[key] = run() if key == "compile" else run(repeat=repeat)

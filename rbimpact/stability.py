@@ -256,6 +256,8 @@ def law_cases(quick=False, n_random=None):
             Case("thin_rod_I=1e-8", dim, _grid(v0, Wrod), quick=True),
             Case("grazing_vN=-1e-14", dim, _grid(vv(-1e-14, 1.0), W0), quick=True),
             Case("vT=1e-300", dim, _grid(vv(-1.0, 1e-300), W0)),
+            Case("vT=1e-20", dim, _grid(vv(-1.0, 1e-20), W0, ((0.5, 0.3), (0.5, 10.0),
+                                                             (1.0, 1e3))), quick=True),
             Case("vT=subnormal", dim, _grid(vv(-1.0, sub), W0), quick=True),
             Case("vT=0", dim, _grid(vv(-1.0, 0.0), W0), quick=True),
             Case("speed=1e8", dim, _grid(1e8 * v0, W0)),
@@ -1080,9 +1082,9 @@ def _spinning_rod_case(label, dim):
         v0 = abs(float(imp["v_i"][0][0]))
         t0 = float(imp["t"][0])
         ok = v0 <= 0.05 and abs(t0 - math.pi / w) <= 1e-3 * math.pi / w
+        vt = float(np.linalg.norm(imp["v_i"][0][1:]))
         return ok, (f"{len(imp)} impacts; first at t = {t0:.6g} s (half a turn "
-                    f"{math.pi / w:.6g} s) with v_N = {-v0:.2g} m/s, v_T = "
-                    f"{float(imp['v_i'][0][1]):.4g} m/s")
+                    f"{math.pi / w:.6g} s) with v_N = {-v0:.2g} m/s, |v_T| = {vt:.4g} m/s")
     return SceneCase(label, "rod_spins_1e4rad/s", dim, build, check=check,
                      never_gain=label in NEVER_GAIN)
 

@@ -280,11 +280,19 @@ def check_physics(v, W, e, mu):
     assert mode in (MODE_SLIP, MODE_STICK)
     assert np.all(np.isfinite(P)) and P[0] > 0
     assert abs(vf[0] + e * v[0]) <= 1e-12 * (abs(v[0]) + np.abs(W).max() * np.abs(P).sum())
-    assert np.linalg.norm(P[1:]) <= mu * P[0] * (1 + 1e-12) + 1e-300
+    assert math.hypot(*P[1:]) <= mu * P[0] * (1 + 1e-12)   # (hypot: no subnormal loss)
     dE = 0.5 * P @ (v + vf)
     scale = np.abs(P) @ np.abs(v) + np.abs(P) @ np.abs(W) @ np.abs(P)
     assert dE <= 1e-12 * scale
     return mode, P, vf
+
+
+def tolerance(v, W, e, mu, P):
+    """Relative agreement to expect between two exact-in-theory evaluations: 1e-9, plus an
+    allowance for the conditioning of P_N = c / D (D = W_NN - mu W_NT.g loses
+    (W_NN + mu |W_NT|) / D digits by cancellation near the pole of grazing contacts)."""
+    kappa = (W[0, 0] + mu * np.linalg.norm(W[0, 1:])) * P[0] / (-(1 + e) * v[0])
+    return 1e-9 + 1e-13 * kappa
 
 
 @settings(max_examples=150, deadline=None)
@@ -308,7 +316,7 @@ def test_3d_tangent_rotation_invariance(c, theta):
     m1, P1, vf1 = run(v, W, e, mu)
     m2, P2, vf2 = run(R @ v, R @ W @ R.T, e, mu)
     assert m1 == m2
-    assert np.linalg.norm(P2 - R @ P1) <= 1e-8 * np.linalg.norm(P1)
+    assert np.linalg.norm(P2 - R @ P1) <= tolerance(v, W, e, mu, P1) * np.linalg.norm(P1)
 
 
 @settings(max_examples=100, deadline=None)
@@ -338,7 +346,8 @@ def test_3d_reproduces_2d_for_planar_motion_in_a_rotated_basis(c, w33, theta):
     m2, P2, vf2 = run(v, W, e, mu)
     m3, P3, vf3 = run(R @ np.r_[v, 0.0], R @ W3 @ R.T, e, mu)
     assert m2 == m3
-    assert np.abs(R.T @ P3 - np.r_[P2, 0.0]).max() <= 1e-8 * np.abs(P2).max()
+    tol = tolerance(v, W, e, mu, P2)
+    assert np.abs(R.T @ P3 - np.r_[P2, 0.0]).max() <= tol * np.abs(P2).max()
 
 
 # ---- set-valued a = 0, tiny slip, modes -------------------------------------------------------
