@@ -666,9 +666,30 @@ def pivot_eval(pw, cp, fw, s, out):
 
 
 @njit(cache=True)
+def _slip_growth(y, cp, fw, k):
+    """u . a_c (m/s^2): acceleration of contact k's slip along its friction direction u."""
+    nx, ny, nz = cp[CP_N], cp[CP_N + 1], cp[CP_N + 2]
+    ro = FW_R1 + 3 * k
+    so = FW_S1 + 3 * k
+    rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]
+    sx, sy, sz = fw[so], fw[so + 1], fw[so + 2]
+    wx, wy, wz = y[10], y[11], y[12]
+    alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
+    ws = wx * sx + wy * sy + wz * sz
+    w2 = wx * wx + wy * wy + wz * wz
+    ax = fw[FW_A] + aly * rz - alz * ry + wx * ws - sx * w2
+    ay = fw[FW_A + 1] + alz * rx - alx * rz + wy * ws - sy * w2
+    az = fw[FW_A + 2] + alx * ry - aly * rx + wz * ws - sz * w2
+    ux, uy, uz = _slipdir(fw, cp, k)
+    return ux * ax + uy * ay + uz * az
+
+
+@njit(cache=True)
 def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
     """Event functions at state y into vals: [0:2] lift (lam_k), [2:4] stick margins,
-    [4:6] slip speed minus slip_eps, [6 + p nf + j] gaps minus their floors ``vfl``
+    [4:6] slip speed minus slip_eps (for a slip started from sticking and still below
+    slip_eps: its growth rate, so that a slip that stops growing sticks again),
+    [6 + p nf + j] gaps minus their floors ``vfl``
     (a feature touching at the start -- gap <= 0 -- is armed too: it fires when its gap
     goes below its starting value by GAP_ARM L). Returns the force code."""
     rc = pivot_forces(y, cp, fw)
@@ -684,7 +705,13 @@ def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
             vals[2 + k] = fw[FW_MARG + k] - vfl[2 + k]
         else:
             co = FW_C1 + 3 * k
-            vals[4 + k] = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2) - cp[CP_EPS]
+            c = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2)
+            vals[4 + k] = c - cp[CP_EPS]
+            uo = CP_U1 + 3 * k
+            if c < cp[CP_EPS] and (cp[uo] != 0.0 or cp[uo + 1] != 0.0 or cp[uo + 2] != 0.0):
+                # a slip started from sticking, still below slip_eps: it must keep growing
+                # (its acceleration along the friction direction stays positive)
+                vals[4 + k] = _slip_growth(y, cp, fw, k)
     rad = cp[CP_RAD]
     p0 = int(cp[CP_PLANE])
     fa = int(cp[CP_F1])

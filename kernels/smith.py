@@ -76,6 +76,9 @@ TOL_P = 1e-14
 TOL_HALLEY = 1e-6
 """2D: the Halley iteration (cubic convergence) stops after a step below TOL_HALLEY * t; the
 error left is then ~1e-18 relative, below round-off."""
+G_POLISH_T = 4.0
+"""2D: for a root t = -b/a <= G_POLISH_T (g >= -0.88) the direction g is polished by one
+Newton step in g itself (full relative accuracy when g ~ 0, i.e. near-stick contacts)."""
 MAXIT_2D = 100
 """2D safeguarded Halley limit (typically 3-4 evaluations; the bisection fallback halves
 the bracket, so 100 is never reached for finite input). Also the 3D secular-equation limit."""
@@ -214,9 +217,21 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
         t = tn
     if not converged:
         return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-    if t <= 1.0:
-        t2 = t * t
-        g = (1.0 - t2) / (1.0 + t2)
+    if t <= G_POLISH_T:
+        # g = (1 - t^2)/(1 + t^2) loses relative accuracy near g = 0 (t ~ 1), where the
+        # root is well conditioned in g itself: one Newton step on
+        # E(g) = (1 + t(g)) D(g) + k N(g), t(g) = sqrt((1 - g)/(1 + g)), N = W_NT - mu W_TT g
+        # (E = 0 is F = 0 times D/a), from g(t) with 1 - t^2 = (1 - t)(1 + t).
+        g = (1.0 - t) * (1.0 + t) / (1.0 + t * t)
+        if g > -1.0 + 1e-3 and g < 1.0:
+            tg = math.sqrt((1.0 - g) / (1.0 + g))
+            Dg = Wnn - mu * wnt * g
+            E = (1.0 + tg) * Dg + k * (wnt - mu * Wtt * g)
+            dE = -Dg / (tg * (1.0 + g) * (1.0 + g)) - (1.0 + tg) * mu * wnt - k * mu * Wtt
+            gn = g - E / dE
+            if abs(gn - g) <= 1e-6 * (abs(g) + 1e-300) or abs(gn - g) <= 1e-12:
+                g = gn
+                t = math.sqrt((1.0 - g) / (1.0 + g))
     else:
         u2 = 1.0 / (t * t)
         g = (u2 - 1.0) / (u2 + 1.0)

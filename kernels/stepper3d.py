@@ -83,7 +83,7 @@ INF = math.inf
 # Numba caches a compiled function by the hash of its own file only: bump this revision
 # whenever a kernel module called from here (pivot3d, flight3d, toi3d, the laws) changes,
 # so that cached callers are recompiled.
-KERNEL_REVISION = 4
+KERNEL_REVISION = 5
 
 # shape kinds
 SH_SPHERE = 0

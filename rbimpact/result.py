@@ -202,7 +202,8 @@ class Result:
 
     def plot(self, path, n=2000):
         """Save a figure to ``path``: trajectories of the centres of mass with impact
-        markers, and total energy against time. Needs matplotlib (the ``plot`` extra)."""
+        markers, height against time, and total energy against time. Needs matplotlib
+        (the ``plot`` extra)."""
         try:
             import matplotlib
             matplotlib.use("Agg", force=False)
@@ -214,7 +215,7 @@ class Result:
         ev_t = self.events["t"]
         t = np.union1d(t, ev_t[(ev_t >= self.t_start) & (ev_t <= self.t_end)])
         s = self.sample(t)
-        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+        fig, (ax1, ax3, ax2) = plt.subplots(1, 3, figsize=(15, 4.5))
         for i in range(self.n_bodies):
             ax1.plot(s["x"][:, i], s["y"][:, i], lw=1, label=f"body {i}")
         imp = self.events[self.events["kind"] == "impact"]
@@ -229,6 +230,15 @@ class Result:
         ax1.set_title("centre-of-mass trajectories")
         ax1.axis("equal")
         ax1.legend(fontsize=8)
+        for i in range(self.n_bodies):
+            ax3.plot(t, s["y"][:, i], lw=1, label=f"body {i}")
+        if len(imp):
+            ax3.plot(imp["t"], self.sample(imp["t"])["y"][np.arange(len(imp)), imp["a"]],
+                     "k.", ms=3, label="impacts")
+        ax3.set_xlabel("t (s)")
+        ax3.set_ylabel("y (m)")
+        ax3.set_title("height of the centres of mass")
+        ax3.legend(fontsize=8)
         ax2.plot(t, self.energy(t), lw=1)
         for te in imp["t"]:
             ax2.axvline(te, color="0.85", lw=0.5, zorder=0)
