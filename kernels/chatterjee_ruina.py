@@ -35,7 +35,6 @@ import math
 
 from numba import njit
 
-from ._scalar3 import det3s, solve3s
 from .common import (
     MODE_NO_SOLUTION,
     MODE_SEPARATING,
@@ -44,7 +43,9 @@ from .common import (
     P_E,
     P_ET,
     P_MU,
+    det3s,
     solve2,
+    solve3s,
 )
 
 

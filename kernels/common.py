@@ -58,11 +58,16 @@ def solve2(a00, a01, a11, b0, b1):
     return (a11 * b0 - a01 * b1) / det, (a00 * b1 - a01 * b0) / det
 
 
-@njit(cache=True, inline="always")
-def solve3(W, b0, b1, b2):
-    """Solve the symmetric 3x3 system W x = b (cofactors of the symmetric matrix W)."""
-    a, b, c = W[0, 0], W[0, 1], W[0, 2]
-    d, e, f = W[1, 1], W[1, 2], W[2, 2]
+@njit(cache=True, error_model="numpy", inline="always")
+def det3s(a, b, c, d, e, f):
+    """Determinant of the symmetric matrix [[a, b, c], [b, d, e], [c, e, f]]."""
+    return a * (d * f - e * e) + b * (c * e - b * f) + c * (b * e - c * d)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def solve3s(a, b, c, d, e, f, b0, b1, b2):
+    """Solve the symmetric system [[a, b, c], [b, d, e], [c, e, f]] x = (b0, b1, b2) by
+    cofactors. Scalars in and out (the 3D law cores take W by its upper triangle)."""
     c00 = d * f - e * e
     c01 = c * e - b * f
     c02 = b * e - c * d

@@ -59,16 +59,17 @@ import math
 
 from numba import njit
 
-from ._scalar3 import det3s, solve3s
 from .common import (
-    MODE_NO_SOLUTION,
     MODE_NOT_CONVERGED,
+    MODE_NO_SOLUTION,
     MODE_SEPARATING,
     MODE_SLIP,
     MODE_STICK,
     P_E,
     P_MU,
+    det3s,
     solve2,
+    solve3s,
 )
 
 N_SCAN = 64          # samples of the slip-direction circle in 3D
