@@ -612,7 +612,7 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     c = -(1.0 + e) * vN
     if not (c > 0.0 and c < math.inf and abs(a1) < math.inf and abs(a2) < math.inf
             and mu >= 0.0 and mu < math.inf and Wnn > 0.0 and Wnn < math.inf):
-        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0, s
+        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
     if mu == 0.0:                            # frictionless fast path
         return MODE_SLIP, c / Wnn, 0.0, 0.0
     iw = 1.0 / Wnn
@@ -627,7 +627,7 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     s22 = T22 - W02 * W02
     if not (s11 > 0.0 and s11 * s22 - s12 * s12 > 0.0 and s22 < math.inf
             and abs(s12) < math.inf):
-        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0, s
+        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
     mode, PN, P1, P2, s = _smith_3d_core(vN, a1, a2, 1.0, W01, W02, T11, T12, T22, e, mu)
     fac = s * iw                             # P = P' s / W_NN (P' for normalized v and W)
     PN *= fac
@@ -728,8 +728,6 @@ def _scan_3d_frame(vn, al, c, Wnn, w1, w2, t11, t12, t22, mu):
     c01 = w2 * t12 - w1 * t22
     c02 = w1 * t12 - t11 * w2
     c11 = Wnn * t22 - w2 * w2
-    c12 = w1 * w2 - Wnn * t12
-    c22 = Wnn * t11 - w1 * w1
     det = Wnn * c00 + w1 * c01 + w2 * c02
     # v = (vn, al, 0)
     K = (c00 * vn * vn + 2.0 * c01 * vn * al + c11 * al * al) / det
