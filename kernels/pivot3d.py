@@ -492,19 +492,18 @@ def pivot_forces(y, cp, fw):
 
 
 @njit(cache=True)
-def _rhs(y, yo, cp, fw, k, ko):
-    """dy/ds at y[yo:yo+13] into k[ko:ko+13]; returns the pivot_forces code."""
-    rc = pivot_forces(y[yo:yo + NY], cp, fw)
+def _rhs(y, cp, fw, k):
+    """dy/ds at y (float64[13]) into k (float64[13]); returns the pivot_forces code."""
+    rc = pivot_forces(y, cp, fw)
     for j in range(3):
-        k[ko + j] = y[yo + 7 + j]
-        k[ko + 7 + j] = fw[FW_A + j]
-        k[ko + 10 + j] = fw[FW_AL + j]
-    d0, d1, d2, d3 = qmul(0.0, y[yo + 10], y[yo + 11], y[yo + 12], y[yo + 3], y[yo + 4],
-                          y[yo + 5], y[yo + 6])
-    k[ko + 3] = 0.5 * d0
-    k[ko + 4] = 0.5 * d1
-    k[ko + 5] = 0.5 * d2
-    k[ko + 6] = 0.5 * d3
+        k[j] = y[7 + j]
+        k[7 + j] = fw[FW_A + j]
+        k[10 + j] = fw[FW_AL + j]
+    d0, d1, d2, d3 = qmul(0.0, y[10], y[11], y[12], y[3], y[4], y[5], y[6])
+    k[3] = 0.5 * d0
+    k[4] = 0.5 * d1
+    k[5] = 0.5 * d2
+    k[6] = 0.5 * d3
     return rc
 
 
@@ -568,7 +567,7 @@ def pivot_step(pw, cp, fw):
     K = PW_K
     Y = PW_Y
     YT = PW_YT
-    if _rhs(pw, Y, cp, fw, pw, K) != PV_OK:
+    if _rhs(pw[Y:Y + NY], cp, fw, pw[K:K + NY]) != PV_OK:
         return PI_FORCES
     while True:
         pw[PW_NSTEP] += 1.0
@@ -576,33 +575,33 @@ def pivot_step(pw, cp, fw):
             return PI_TOO_MANY_STEPS
         for j in range(NY):
             pw[YT + j] = pw[Y + j] + h * A21 * pw[K + j]
-        if _rhs(pw, YT, cp, fw, pw, K + 13) != PV_OK:
+        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY]) != PV_OK:
             return PI_FORCES
         for j in range(NY):
             pw[YT + j] = pw[Y + j] + h * (A31 * pw[K + j] + A32 * pw[K + 13 + j])
-        if _rhs(pw, YT, cp, fw, pw, K + 26) != PV_OK:
+        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY]) != PV_OK:
             return PI_FORCES
         for j in range(NY):
             pw[YT + j] = pw[Y + j] + h * (A41 * pw[K + j] + A42 * pw[K + 13 + j]
                                           + A43 * pw[K + 26 + j])
-        if _rhs(pw, YT, cp, fw, pw, K + 39) != PV_OK:
+        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY]) != PV_OK:
             return PI_FORCES
         for j in range(NY):
             pw[YT + j] = pw[Y + j] + h * (A51 * pw[K + j] + A52 * pw[K + 13 + j]
                                           + A53 * pw[K + 26 + j] + A54 * pw[K + 39 + j])
-        if _rhs(pw, YT, cp, fw, pw, K + 52) != PV_OK:
+        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY]) != PV_OK:
             return PI_FORCES
         for j in range(NY):
             pw[YT + j] = pw[Y + j] + h * (A61 * pw[K + j] + A62 * pw[K + 13 + j]
                                           + A63 * pw[K + 26 + j] + A64 * pw[K + 39 + j]
                                           + A65 * pw[K + 52 + j])
-        if _rhs(pw, YT, cp, fw, pw, K + 65) != PV_OK:
+        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY]) != PV_OK:
             return PI_FORCES
         for j in range(NY):
             pw[PW_Y1 + j] = pw[Y + j] + h * (A71 * pw[K + j] + A73 * pw[K + 26 + j]
                                              + A74 * pw[K + 39 + j] + A75 * pw[K + 52 + j]
                                              + A76 * pw[K + 65 + j])
-        if _rhs(pw, PW_Y1, cp, fw, pw, K + 78) != PV_OK:
+        if _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY]) != PV_OK:
             return PI_FORCES
         err = 0.0
         for j in range(NY):

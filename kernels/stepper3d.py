@@ -51,16 +51,22 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   face, normal velocity and rotation removed: event "contact") and it then rests or
   slides without rotating (closed form; the face must carry the friction moment, else
   ``ERR_TIPPING``; a capsule must slide along its axis, else ``ERR_UNSUPPORTED``).
-* Chatter: impacts that accumulate at a point or an edge of a box or capsule (a contact
-  leaves with normal speed below ``sqrt(2 |g''| rest_length)`` while its gap accelerates
-  into the plane) need a persistent pivoting contact with no closed form. If ``capture``
-  is on, the plane is level and the body's energy above its rest on the nearest face is
-  below the lowest energy barrier out of that face's basin (box: the lowest support
-  height on the boundary of the face's basin; capsule: standing on a cap), then the body
-  can only end at rest on that face, whatever the remaining rocking: it is snapped onto
-  that face as above (normal motion and rotation removed, the tangential velocity of the
-  centre of mass kept: it then rests or slides in closed form; event "capture", ``dE`` the
-  energy removed). Otherwise ``ERR_CHATTER``.
+* Integrated point and edge contact (``PM_PIVOT``, ``kernels/pivot3d.py``): when, after
+  the impacts of an instant, one or two features of a box or capsule touch a plane with a
+  normal speed below ``sqrt(2 |g''| rest_length)`` (or ``zeno_speed``) while their gap
+  accelerates into it, the impacts would accumulate there (a corner or an edge the body
+  tumbles over, a cap it rocks on). Their tiny normal velocities are removed by normal
+  impulses (event "pivot", ``dE`` reported) and the body moves with those features held
+  on the plane, each sticking or sliding under Coulomb friction, integrated with error
+  control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
+  stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
+  held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
+* Three or more features of a box chattering on one plane (a face landing while spinning
+  about the normal, or sliding): the body is snapped onto the face as above; when the
+  energy removed exceeds the accumulation threshold (its spin) the event is "capture"
+  (``capture=True``, the default) -- a spinning box on a face has no closed form here --
+  else the run fails (``capture=False``: ``ERR_CHATTER``). Sphere pairs whose impacts
+  accumulate also end with ``ERR_CHATTER``.
 """
 import math
 
@@ -80,10 +86,12 @@ from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 
 INF = math.inf
-# Numba caches a compiled function by the hash of its own file only: bump this revision
+# Compile time: callees are never passed int or bool literals (Numba compiles a separate
+# copy of a function for every literal value it is called with); small helpers are
+# inlined. Numba caches a compiled function by the hash of its own file only: bump this revision
 # whenever a kernel module called from here (pivot3d, flight3d, toi3d, the laws) changes,
 # so that cached callers are recompiled.
-KERNEL_REVISION = 5
+KERNEL_REVISION = 10
 
 # shape kinds
 SH_SPHERE = 0
@@ -157,13 +165,19 @@ ERR_UNSUPPORTED = -14
 ERR_PAINLEVE = -15
 ERR_CONTACT_STEPS = -16
 
-#: a plane is level (for capture) when the tangential part of gravity is below this
-#: fraction of |g| (dimensionless); a slip is "along the slope" when the sine of the angle
-#: between the slip and the tangential gravity is below it
+#: a slip is "along the slope" when the sine of the angle between the slip and the
+#: tangential gravity is below this (dimensionless)
 PARALLEL_RTOL = 1e-12
+#: a sphere's contact point is at rest (it rolls) when its slip is below ROLL_RTOL times
+#: |v_T| + r |w| (dimensionless: the round-off of the slip, exactly zero in 2D)
+ROLL_RTOL = 1e-12
 #: joint solve: a sweep has converged when no velocity changes by more than
-#: simul_tol + SIMUL_RTOL * max |v_i| (m/s): the relative part absorbs round-off cycling
-SIMUL_RTOL = 1e-9
+#: simul_tol + SIMUL_RTOL * max |v_i| (m/s); the relative part absorbs round-off. When the
+#: sweeps cycle (redundant contacts with friction) and simul_max_iter is reached, the
+#: solve is accepted if the last sweep changed no velocity by more than
+#: simul_tol + SIMUL_ACCEPT_RTOL * max |v_i|, else the run fails (ERR_PGS)
+SIMUL_RTOL = 1e-12
+SIMUL_ACCEPT_RTOL = 1e-9
 #: integrated contact: a slip direction u is consistent when the slip's acceleration along
 #: it, u . a_T, exceeds SLIP_ACC_TOL |g| (dimensionless): the slip then grows. When no
 #: direction is (the stick force only touched its cone), the contact keeps sticking.
@@ -197,7 +211,7 @@ def segment_margin(nb):
 # ------------------------------------------------------------------ small helpers
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, c_f, c, vi0, vi1, vi2,
          vf0, vf1, vf2, P0, P1, P2, dE):
     """Log an event whose point and frame are row c of c_f."""
@@ -241,7 +255,7 @@ def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
     cnt[1] = k + 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _set_err(err, t, a, b, px, py, pz, x1, x2, x3):
     err[0] = t
     err[1] = a
@@ -254,7 +268,7 @@ def _set_err(err, t, a, b, px, py, pz, x1, x2, x3):
     err[8] = x3
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _finite(st, i):
     for j in range(19):
         if not math.isfinite(st[i, j]):
@@ -262,7 +276,7 @@ def _finite(st, i):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _vz2(tolf, gabs):
     """Squared accumulation speed (m^2/s^2) for a normal acceleration magnitude gabs."""
     z = tolf[TF_ZENO_SPEED]
@@ -339,7 +353,7 @@ def _energy(st, bflt, grav, i):
 # ------------------------------------------------------------------ contact geometry
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _frame(c_f, c, nx, ny, nz):
     a0, a1, a2, b0, b1, b2 = tangent_basis(nx, ny, nz)
     c_f[c, CF_N] = nx
@@ -353,7 +367,7 @@ def _frame(c_f, c, nx, ny, nz):
     c_f[c, CF_T2 + 2] = b2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _point_vel(st, i, rx, ry, rz):
     """Velocity (m/s) of the material point at arm r of body i."""
     wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
@@ -378,7 +392,7 @@ def _contact_velocity(st, c_i, c_f, c):
     return vn, v1, v2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _arm_cross(c_f, c, roff, k):
     """r x e_k with r = c_f[c, roff:roff+3] and e_k the k-th contact basis vector."""
     rx = c_f[c, roff]
@@ -456,7 +470,7 @@ def _apply(st, bflt, c_i, c_f, c, P0, P1, P2, Ii):
                     c_f[c, CF_RB + 2], -jx, -jy, -jz, Ii)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _bcode(c_i, c):
     if c_i[c, CI_TYPE] == 0:
         return -1 - c_i[c, CI_B]
@@ -620,7 +634,7 @@ def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pv_arm(st, i, pv, k):
     """Arm (contact point minus centre of mass) of integrated contact k of body i."""
     po = CP_P1 + 3 * k
@@ -754,36 +768,102 @@ def _pv_slide(st, i, pv, k, fw):
 
 @njit(cache=True)
 def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
-    """Remove the slip of integrated contact k by a tangential impulse at that contact."""
+    """Remove the slip (and any normal velocity) of integrated contact k by an impulse at
+    that contact (W P = -v), then zero the normal velocities of all the integrated
+    contacts again (the impulse couples into the other one)."""
     _pv_frame(c_f, cw, st, i, pv, k)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-    # tangential block of W
-    w11, w12, w22 = _W_body_tt(st, i, bflt, c_f, cw, Ii)
-    det = w11 * w22 - w12 * w12
-    p1 = -(w22 * v1 - w12 * v2) / det
-    p2 = -(w11 * v2 - w12 * v1) / det
-    jx = p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
-    jy = p1 * c_f[cw, CF_T1 + 1] + p2 * c_f[cw, CF_T2 + 1]
-    jz = p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
-    _apply_body(st, bflt, i, c_f[cw, CF_RA], c_f[cw, CF_RA + 1], c_f[cw, CF_RA + 2], jx, jy,
-                jz, Ii)
-
-
-@njit(cache=True)
-def _W_body_tt(st, i, bflt, c_f, cw, Ii):
-    """(W_11, W_12, W_22) of the tangential block of body i's Delassus matrix at row cw."""
     _iinv(st, i, bflt, Ii)
     m = bflt[i, 0]
-    a0, a1, a2 = _arm_cross(c_f, cw, CF_RA, 1)
-    b0, b1, b2 = _arm_cross(c_f, cw, CF_RA, 2)
+    w00 = 1.0 / m
+    w11 = 1.0 / m
+    w22 = 1.0 / m
+    w01 = 0.0
+    w02 = 0.0
+    w12 = 0.0
+    a0, a1, a2 = _arm_cross(c_f, cw, CF_RA, 0)
+    b0, b1, b2 = _arm_cross(c_f, cw, CF_RA, 1)
+    d0, d1, d2 = _arm_cross(c_f, cw, CF_RA, 2)
     ia0 = Ii[0, 0] * a0 + Ii[0, 1] * a1 + Ii[0, 2] * a2
     ia1 = Ii[1, 0] * a0 + Ii[1, 1] * a1 + Ii[1, 2] * a2
     ia2 = Ii[2, 0] * a0 + Ii[2, 1] * a1 + Ii[2, 2] * a2
     ib0 = Ii[0, 0] * b0 + Ii[0, 1] * b1 + Ii[0, 2] * b2
     ib1 = Ii[1, 0] * b0 + Ii[1, 1] * b1 + Ii[1, 2] * b2
     ib2 = Ii[2, 0] * b0 + Ii[2, 1] * b1 + Ii[2, 2] * b2
-    return (1.0 / m + a0 * ia0 + a1 * ia1 + a2 * ia2, b0 * ia0 + b1 * ia1 + b2 * ia2,
-            1.0 / m + b0 * ib0 + b1 * ib1 + b2 * ib2)
+    id0 = Ii[0, 0] * d0 + Ii[0, 1] * d1 + Ii[0, 2] * d2
+    id1 = Ii[1, 0] * d0 + Ii[1, 1] * d1 + Ii[1, 2] * d2
+    id2 = Ii[2, 0] * d0 + Ii[2, 1] * d1 + Ii[2, 2] * d2
+    w00 += a0 * ia0 + a1 * ia1 + a2 * ia2
+    w01 += a0 * ib0 + a1 * ib1 + a2 * ib2
+    w02 += a0 * id0 + a1 * id1 + a2 * id2
+    w11 += b0 * ib0 + b1 * ib1 + b2 * ib2
+    w12 += b0 * id0 + b1 * id1 + b2 * id2
+    w22 += d0 * id0 + d1 * id1 + d2 * id2
+    # solve the symmetric 3x3 system by cofactors
+    c00 = w11 * w22 - w12 * w12
+    c01 = w02 * w12 - w01 * w22
+    c02 = w01 * w12 - w02 * w11
+    c11 = w00 * w22 - w02 * w02
+    c12 = w01 * w02 - w00 * w12
+    c22 = w00 * w11 - w01 * w01
+    det = w00 * c00 + w01 * c01 + w02 * c02
+    p0 = -(c00 * v0 + c01 * v1 + c02 * v2) / det
+    p1 = -(c01 * v0 + c11 * v1 + c12 * v2) / det
+    p2 = -(c02 * v0 + c12 * v1 + c22 * v2) / det
+    jx = p0 * c_f[cw, CF_N] + p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
+    jy = p0 * c_f[cw, CF_N + 1] + p1 * c_f[cw, CF_T1 + 1] + p2 * c_f[cw, CF_T2 + 1]
+    jz = p0 * c_f[cw, CF_N + 2] + p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
+    _apply_body(st, bflt, i, c_f[cw, CF_RA], c_f[cw, CF_RA + 1], c_f[cw, CF_RA + 2], jx, jy,
+                jz, Ii)
+    if pv[i, CP_K] == 2.0:
+        _pv_zero_normals(st, i, bflt, pv, Ii)
+
+
+@njit(cache=True)
+def _pv_zero_normals(st, i, bflt, pv, Ii):
+    """Normal impulses at the integrated contacts of body i making their normal velocities
+    zero (W_NN dP = -v_N, K x K). Returns the impulses (dP_1, dP_2) (N s)."""
+    nx = pv[i, CP_N]
+    ny = pv[i, CP_N + 1]
+    nz = pv[i, CP_N + 2]
+    m = bflt[i, 0]
+    K = int(pv[i, CP_K])
+    _iinv(st, i, bflt, Ii)
+    ax, ay, az = _pv_arm(st, i, pv, 0)
+    cx1 = ay * nz - az * ny
+    cy1 = az * nx - ax * nz
+    cz1 = ax * ny - ay * nx
+    u1x, u1y, u1z = _point_vel(st, i, ax, ay, az)
+    v1n = u1x * nx + u1y * ny + u1z * nz
+    i1x = Ii[0, 0] * cx1 + Ii[0, 1] * cy1 + Ii[0, 2] * cz1
+    i1y = Ii[1, 0] * cx1 + Ii[1, 1] * cy1 + Ii[1, 2] * cz1
+    i1z = Ii[2, 0] * cx1 + Ii[2, 1] * cy1 + Ii[2, 2] * cz1
+    w11 = 1.0 / m + cx1 * i1x + cy1 * i1y + cz1 * i1z
+    if K == 1:
+        d1 = -v1n / w11
+        _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
+        return d1, 0.0
+    bx, by, bz = _pv_arm(st, i, pv, 1)
+    cx2 = by * nz - bz * ny
+    cy2 = bz * nx - bx * nz
+    cz2 = bx * ny - by * nx
+    u2x, u2y, u2z = _point_vel(st, i, bx, by, bz)
+    v2n = u2x * nx + u2y * ny + u2z * nz
+    w12 = 1.0 / m + cx2 * i1x + cy2 * i1y + cz2 * i1z
+    i2x = Ii[0, 0] * cx2 + Ii[0, 1] * cy2 + Ii[0, 2] * cz2
+    i2y = Ii[1, 0] * cx2 + Ii[1, 1] * cy2 + Ii[1, 2] * cz2
+    i2z = Ii[2, 0] * cx2 + Ii[2, 1] * cy2 + Ii[2, 2] * cz2
+    w22 = 1.0 / m + cx2 * i2x + cy2 * i2y + cz2 * i2z
+    det = w11 * w22 - w12 * w12
+    if abs(det) > 1e-12 * w11 * w22:
+        d1 = -(w22 * v1n - w12 * v2n) / det
+        d2 = -(w11 * v2n - w12 * v1n) / det
+    else:
+        d1 = -0.5 * (v1n + v2n) / w11
+        d2 = d1
+    _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
+    _apply_body(st, bflt, i, bx, by, bz, d2 * nx, d2 * ny, d2 * nz, Ii)
+    return d1, d2
 
 
 @njit(cache=True)
@@ -883,41 +963,7 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     _pv_frame(c_f, cw, st, i, pv, 0)
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
     # normal velocities to zero: W_NN (K x K) dP = -v_N
-    _iinv(st, i, bflt, Ii)
-    ax, ay, az = _pv_arm(st, i, pv, 0)
-    cx1 = ay * nz - az * ny
-    cy1 = az * nx - ax * nz
-    cz1 = ax * ny - ay * nx
-    u1x, u1y, u1z = _point_vel(st, i, ax, ay, az)
-    v1n = u1x * nx + u1y * ny + u1z * nz
-    i1x = Ii[0, 0] * cx1 + Ii[0, 1] * cy1 + Ii[0, 2] * cz1
-    i1y = Ii[1, 0] * cx1 + Ii[1, 1] * cy1 + Ii[1, 2] * cz1
-    i1z = Ii[2, 0] * cx1 + Ii[2, 1] * cy1 + Ii[2, 2] * cz1
-    w11 = 1.0 / m + cx1 * i1x + cy1 * i1y + cz1 * i1z
-    if K == 1:
-        d1 = -v1n / w11
-        _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
-    else:
-        bx, by, bz = _pv_arm(st, i, pv, 1)
-        cx2 = by * nz - bz * ny
-        cy2 = bz * nx - bx * nz
-        cz2 = bx * ny - by * nx
-        u2x, u2y, u2z = _point_vel(st, i, bx, by, bz)
-        v2n = u2x * nx + u2y * ny + u2z * nz
-        w12 = 1.0 / m + cx2 * i1x + cy2 * i1y + cz2 * i1z
-        i2x = Ii[0, 0] * cx2 + Ii[0, 1] * cy2 + Ii[0, 2] * cz2
-        i2y = Ii[1, 0] * cx2 + Ii[1, 1] * cy2 + Ii[1, 2] * cz2
-        i2z = Ii[2, 0] * cx2 + Ii[2, 1] * cy2 + Ii[2, 2] * cz2
-        w22 = 1.0 / m + cx2 * i2x + cy2 * i2y + cz2 * i2z
-        det = w11 * w22 - w12 * w12
-        if abs(det) > 1e-12 * w11 * w22:
-            d1 = -(w22 * v1n - w12 * v2n) / det
-            d2 = -(w11 * v2n - w12 * v1n) / det
-        else:
-            d1 = -0.5 * (v1n + v2n) / w11
-            d2 = d1
-        _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
-        _apply_body(st, bflt, i, bx, by, bz, d2 * nx, d2 * ny, d2 * nz, Ii)
+    _pv_zero_normals(st, i, bflt, pv, Ii)
     # stick or slip
     eps = tolf[TF_SLIP_EPS]
     for k in range(K):
@@ -1116,32 +1162,6 @@ def _rest_face(i, p, st, bint, bflt, planes):
 
 
 @njit(cache=True)
-def _barrier(i, face, bint, bflt, gabs):
-    """Lowest energy (J) above the rest on ``face`` at which body i can leave the face's
-    basin: box, the lowest support height on the boundary of the region where that face
-    is the most aligned with the plane, min over the four neighbours G of
-    min((h_F + h_G)/sqrt 2, (h_F + h_G + h_other)/sqrt 3), minus h_F; capsule: standing on
-    a cap, L/2. Times m |g_n|."""
-    m = bflt[i, 0]
-    if bint[i, 0] == SH_CAPSULE:
-        return m * gabs * bflt[i, 7]
-    if bint[i, 0] != SH_BOX:
-        return 0.0
-    k = face // 2
-    hF = bflt[i, 5 + k]
-    best = INF
-    tot = bflt[i, 5] + bflt[i, 6] + bflt[i, 7]
-    for g in range(3):
-        if g == k:
-            continue
-        hG = bflt[i, 5 + g]
-        h = min((hF + hG) / math.sqrt(2.0), tot / math.sqrt(3.0))
-        if h < best:
-            best = h
-    return m * gabs * (best - hF)
-
-
-@njit(cache=True)
 def _excess(i, p, st, bint, bflt, planes, grav, hrest):
     """(E_ex, E_above) of body i over its rest on plane p (J): E_ex the energy of the
     normal motion, of the rotation (not for a sphere) and of the height above the rest;
@@ -1239,7 +1259,9 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
         fx = 0.0
         fy = 0.0
         fz = 0.0
-        if c == 0.0:
+        vsc = math.sqrt(vtx * vtx + vty * vty + vtz * vtz) + r * math.sqrt(
+            st[i, 10] ** 2 + st[i, 11] ** 2 + st[i, 12] ** 2)
+        if c <= ROLL_RTOL * vsc:
             # rolling needs F = -m g_t / (m kinv)
             fx = -gtx / kinv
             fy = -gty / kinv
@@ -1383,7 +1405,7 @@ def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw):
          v2, 0.0, 0.0, 0.0, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_velocity_row(st, i, c_f, c):
     """Contact-space velocity of body i's material point at arm c_f[c, CF_RA] (plane)."""
     ux, uy, uz = _point_vel(st, i, c_f[c, CF_RA], c_f[c, CF_RA + 1], c_f[c, CF_RA + 2])
@@ -1397,7 +1419,8 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
             ev_i, ev_f, cnt, c_f, cw, err):
     """Snap body i (state at t) onto its rest on plane p (rotation onto the face, normal
     velocity and, not for a sphere, rotation removed) and enter persistent contact: event
-    "contact", or "capture" when ``capture`` (the same snap, decided by the capture rule).
+    "contact", or "capture" when ``capture`` (the same snap removing more than the
+    accumulation threshold: a box's spin about the normal).
     Returns 0, 1 (the plane does not push: stays in flight) or an error code."""
     face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
     nx = planes[p, 0]
@@ -1659,7 +1682,7 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf,
         if dmax <= tol:
             converged = True
             break
-    if not converged:
+    if not converged and not dmax <= tolf[TF_SIMUL_TOL] + SIMUL_ACCEPT_RTOL * vsc:
         c = members[0]
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
                  c_f[c, CF_P + 2], K, dmax, 0.0)
@@ -1701,7 +1724,7 @@ def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
     fastest (ties: lowest contact index), until none approaches faster than seq_vtol."""
     vtol = tolf[TF_SEQ_VTOL]
     for step in range(toli[TI_SEQ_MAXSTEPS]):
-        best = -1
+        best = np.int64(-1)   # (not a literal: no per-constant specialisation)
         vbest = -vtol
         for a in range(K):
             c = members[a]
@@ -1738,6 +1761,7 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
     nb = st.shape[0]
     t = glob[0]
     cw = MAXC - 1
+    no_capture = tolf[TF_T_END] < -INF     # False, typed at run time (no literal copy)
     for i in range(nb):
         tref[i] = t
         ws[i, WS_MODE] = -1.0
@@ -1762,7 +1786,7 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
             if eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                             False, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
                 if rc < 0:
                     return rc
     for i in range(nb):
@@ -1870,6 +1894,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
     cap_s = seg_t.shape[0]
     policy = toli[TI_POLICY]
     capture_on = toli[TI_CAPTURE] != 0
+    no_capture = tolf[TF_T_END] < -INF     # False, typed at run time (no literal copy)
     cw = MAXC - 1   # scratch row of c_f for persistent-contact events
     while True:
         t_now = glob[0]
@@ -1914,7 +1939,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                     _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
                     return rc
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                             False, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
                 if rc < 0:
                     return rc
             elif ttr[i] <= t and pm[i, 0] == PM_PIVOT:
@@ -1949,7 +1974,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
 
         # ---- impacts: gather every contact touching within [t, t + simul_time]
         tw = t + tolf[TF_SIMUL_TIME]
-        nc = 0
+        nc = np.int64(0)
         for i in range(nb):
             bmark[i] = 0
             if bt[i] <= tw:
@@ -2078,7 +2103,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                         comp[d] = lo
                         changed = True
         for root in range(nc):
-            K = 0
+            K = np.int64(0)
             for c in range(nc):
                 if comp[c] == root:
                     K += 1
@@ -2095,7 +2120,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                 viN, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
                 if viN >= 0.0:
                     continue
-                rc, vfN = _single(c, t, 1, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
+                rc, vfN = _single(c, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
                                   Ii, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
                     return rc

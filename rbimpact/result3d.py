@@ -7,9 +7,12 @@ the fields of the 2D ``Result`` (vectors with three components) plus ``tangent``
 field      meaning
 =========  ==================================================================================
 t          time (s)
-kind       "impact", "contact", "slide", "roll", "rest", "release" as in 2D, and "capture":
-           impacts accumulated at a point or edge of a box or capsule whose energy no
-           longer allows it to leave its nearest face; it is placed at rest on that face
+kind       "impact", "contact", "slide", "roll", "rest", "release" as in 2D; "pivot":
+           impacts accumulated at one or two features (a corner, an edge, a cap), which
+           now stay on the plane (integrated contact; mode = number of held features);
+           "stick"/"slide": a held feature stops/starts slipping; "release": a held
+           feature lifts off; "capture": a box snapped onto a face with its spin about
+           the normal removed (``dE``)
 a, b       body index of A; B's body index, or ``-1 - plane index`` for a plane
 point      contact point (m); for persistent-contact events, the foot of the centre of mass
 normal     unit contact normal n, from B into A
@@ -19,7 +22,8 @@ v_i, v_f   contact-space velocity (v_N, v_T1, v_T2) in m/s of A's contact point 
 P          impulse on A (N s), (P_N, P_T1, P_T2); for "contact"/"capture": ``m`` times the
            change of the centre of mass's velocity
 mode       impact: the law's mode code (joint solve: 0 separating, 1 stick, 2 slip);
-           persistent events: the new mode (1 slide, 2 roll, 3 rest)
+           persistent events: the new mode (1 slide, 2 roll, 3 rest); "pivot": the number
+           of held features
 dE         energy change (J): impacts ``P . (v_i + v_f) / 2``; "contact"/"capture": change of
            kinetic plus potential energy by the snap; else 0
 cluster    number of contacts resolved together at that instant (1: a single contact)

@@ -30,13 +30,15 @@ What the stepper does
   projected block Gauss-Seidel with the friction disk, to ``simul_tol``);
   ``policy="sequential"`` resolves the fastest-approaching contact with its pair law until
   none approaches faster than ``seq_vtol``. Same rules as 2D; ``Result3D.policy`` reports it.
-* **Zeno, persistent contact and capture**: see ``rbimpact.kernels.stepper3d``. A sphere
+* **Zeno, persistent contact, pivoting**: see ``rbimpact.kernels.stepper3d``. A sphere
   slides then rolls; a box or capsule comes to rest on a face or its side (accumulation
   detected from the excess energy, threshold ``m zeno_speed^2 / 2``); impacts that
-  accumulate at a point or an edge of a box or capsule end with a "capture" event when
-  the body provably can only come to rest on its nearest face (``capture=True``, the
-  default; the remaining rocking is not resolved and its energy is reported as ``dE``),
-  else with ``SimulationError``.
+  accumulate at a corner, an edge or a cap turn into an integrated persistent contact
+  (``rbimpact.kernels.pivot3d``: the body pivots, rolls or slides on one or two features,
+  stick and slip, to ``contact_tol``; events "pivot", "stick", "slide", "release"), so a
+  tumbling die rocks over its corners and edges and comes to rest on a face. A box
+  landing on a face while spinning about the normal is snapped onto it with the spin
+  removed (event "capture", ``dE`` the energy removed; ``capture=False`` raises instead).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event, a
   search or an integration that does not converge, unsupported persistent motion, or
   ``stall_events`` events at one instant raise ``SimulationError``/``NoSolutionError`` with
@@ -81,7 +83,7 @@ TOLERANCES_3D = {
     "contact_tol": (1e-10, "-", "error tolerance of integrated point/edge contact (a body "
                     "pivoting on a corner, an edge or a cap): per step, relative to the body's "
                     "size, speed scale and 1 for the quaternion"),
-    "slip_eps": (1e-9, "m/s", "integrated contact: a sliding contact point sticks when its "
+    "slip_eps": (1e-6, "m/s", "integrated contact: a sliding contact point sticks when its "
                  "slip speed falls to slip_eps (the rest is removed by an impulse <= m "
                  "slip_eps)"),
 }
@@ -136,7 +138,8 @@ class Simulation3D:
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
-    seq_max_steps 1000; stall_events 10000; rot_tol 1e-12; rot_max_steps 1e7.
+    seq_max_steps 1000; stall_events 10000; rot_tol 1e-12; rot_max_steps 1e7;
+    contact_tol 1e-10; slip_eps 1e-6 m/s.
     """
 
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",

@@ -3,7 +3,6 @@ many orders of magnitude, and one reproducer per weakness found (xfail strict: t
 passing, and must be unmarked, when the owning kernel is fixed). Tolerances are the named
 constants of ``rbimpact.stability``."""
 import math
-import os
 
 import numpy as np
 import pytest
