@@ -841,16 +841,15 @@ def run_law_cell(label, case, iterations=True):
     dE = [e.dE_rel for e, *_ in evs if not math.isnan(e.dE_rel)]
     res = [(e.residual / e.tol, e) for e, *_ in evs if not math.isnan(e.residual)]
     worst = max(res, key=lambda x: x[0])[1] if res else None
-    its = [e.iterations for e, *_ in evs]
+    its = [e.iterations for e, *_ in evs if e.iterations is not None]
     key = (_law(label)[0], case.dim)
-    if all(i == 0 for i in its):
-        it = "0"
-    elif any(i is None for i in its) and not any(isinstance(i, int) and i > 0 for i in its):
+    if not its:
         it = "N/A"
+    elif max(its) == 0:
+        it = "0"
     else:
-        it = str(max(i for i in its if i is not None))
         unit = _COUNTERS.get(key, (None, None, None, ""))[3]
-        it = f"{it} {unit}".strip()
+        it = f"{max(its)} {unit}".strip()
     times = [e.time for e, *_ in evs if not math.isnan(e.time)]
     bad = [e for e, *_ in evs if e.status != "OK"]
     if bad:

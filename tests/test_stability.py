@@ -23,7 +23,6 @@ KNOWN_FAILING = {
     ("law", "kane_levinson", "thin_rod_I=1e-8", 2),      # Cramer's rule: stick residual
     ("law", "brach", "thin_rod_I=1e-8", 2),              # same (shares K&L's 2D solve)
     ("law", "smith", "mu=1e6", 3),                       # b-tolerance, P_T error ~ mu 1e-14
-    ("law", "smith", "cond(W)=1e12", 3),                 # v_fT = 150 m/s, dE = +0.43 K0
     ("law", "routh-poisson", "thin_rod_I=1e-8", 2),      # stick slope a - b^2/c cancels
     ("law", "routh-energetic", "cond(W)=1e12", 2),
     ("law", "routh-poisson", "cond(W)=1e12", 2),
@@ -155,23 +154,29 @@ XFAIL_STIFF = {
     ("kane_levinson", 3): _COFACTOR,
     ("brach", 3): _COFACTOR,
     ("chatterjee_ruina", 3): _COFACTOR,
-    ("smith", 3): "3D SPD test by a cofactor determinant rejects SPD W of cond 1e12 "
-                  "(NoSolutionError), and large-mu / stiff W lose accuracy (see below)",
     ("routh-energetic", 3): "stick slope W_NN - W_TN.W_TT^-1 W_TN by Cramer's rule cancels: "
                             "energy gain 1.9e-8 E_scale (> 1e-12 + 100 tol) at cond 1e12",
     ("routh-newton", 3): "P_T recovered as W_TT^-1 (v_T - v_T0 - W_TN p): tol-level velocity "
                          "errors amplified by ||W_TT^-1||: self-convergence residual 1.5e-7 "
                          "> 100 tol",
+    ("smith", 2): "root next to the pole of P_N(b) at cond 1e8-1e12: NOT_CONVERGED or a "
+                  "residual above RESID_RTOL (see test_smith_2d_root_next_to_pole)",
+    ("smith", 3): "large mu and cond >= 1e8: Newton stops on the step in b while "
+                  "P_T = -mu P_N g(b) needs g to 1/mu relative accuracy",
 }
+# The stiff-regime cells above fail or pass depending on the examples drawn near the
+# boundary of the weakness (the kernels' results change bit-wise with compilation flags),
+# so they are recorded as known failures without requiring them to fail.
+STIFF_STRICT = False
 
 
-def _cells(xfails):
+def _cells(xfails, strict=True):
     out = []
     for dim in (2, 3):
         for lab in LABELS:
             marks = ()
             if (lab, dim) in xfails:
-                marks = pytest.mark.xfail(strict=True, reason=xfails[(lab, dim)])
+                marks = pytest.mark.xfail(strict=strict, reason=xfails[(lab, dim)])
             out.append(pytest.param(lab, dim, marks=marks, id=f"{lab}-{dim}d"))
     return out
 
@@ -185,7 +190,7 @@ def test_law_properties_moderate(label, dim, data):
     _check(label, data.draw(contacts(dim, (0.0, 3.0), brach=label == "brach")))
 
 
-@pytest.mark.parametrize("label, dim", _cells(XFAIL_STIFF))
+@pytest.mark.parametrize("label, dim", _cells(XFAIL_STIFF, strict=STIFF_STRICT))
 @settings(max_examples=80, **_NOSHRINK)
 @given(data=st.data())
 def test_law_properties_stiff(label, dim, data):
@@ -250,11 +255,16 @@ def test_smith_3d_large_mu_accuracy():
     assert res <= tol
 
 
-@pytest.mark.xfail(strict=True, reason="3D K&L, Brach, C&R, Smith test positive "
-                   "definiteness by a cofactor determinant, which cancels: an SPD W with "
-                   "cond 5.6e9 (Cholesky succeeds) gets det = -7.9e-6 and NoSolutionError")
-@pytest.mark.parametrize("law", ["kane_levinson", "brach", "chatterjee_ruina", "smith"])
+_SPD_REJECTED = pytest.mark.xfail(
+    strict=True, reason="3D K&L, Brach, C&R test positive definiteness by a cofactor "
+    "determinant (_scalar3.det3s), which cancels: an SPD W with cond 5.6e9 (Cholesky "
+    "succeeds) gets det = -7.9e-6 and NoSolutionError")
+
+
+@pytest.mark.parametrize("law", [pytest.param(x, marks=_SPD_REJECTED) for x in
+                                 ("kane_levinson", "brach", "chatterjee_ruina")] + ["smith"])
 def test_3d_spd_rejected(law):
+    """(Smith 3D was fixed during this work: regression test.)"""
     W = [[5373.253418896723, 2793.1580554897914, 12198.128893487266],
          [2793.1580554897914, 1451.956825583143, 6340.907357175057],
          [12198.128893487266, 6340.907357175057, 27691.66801277434]]
@@ -315,14 +325,27 @@ def test_brach_3d_stick_cofactor_solve():
     assert np.linalg.norm(imp.v_f[1:]) <= S.RESID_RTOL * s
 
 
-@pytest.mark.xfail(strict=True, reason="smith 3D at cond(W) = 1e12 (e = 1, mu = 5): v_fT = "
-                   "(150, -10) m/s from |v_T| = 0.56 m/s, dE = +0.43 K0 (a never-gain law)")
 def test_smith_3d_energy_cond_1e12():
+    """Regression (fixed during this work): v_fT = (150, -10) m/s from |v_T| = 0.56 m/s,
+    dE = +0.43 K0, at cond(W) = 1e12."""
     v = np.array([-1.0, -0.5, 0.25])
     W = np.array([[1.948708134532737e-06, -0.0013749881230302153, 9.307323259674075e-05],
                   [-0.0013749881230302153, 0.9954582238545546, -0.06722539302147472],
                   [9.307323259674075e-05, -0.06722539302147472, 0.00454082743831097]])
     assert _gain_ok(v, W, resolve("smith", v, W, e=1.0, mu=5.0))
+
+
+@pytest.mark.xfail(strict=True, reason="smith 3D, set-valued stick (|v_T| below "
+                   "A_ZERO_REL |v_N|): P_N = c / (W_NN - w.W_TT^-1 w) with the Schur "
+                   "complement by Cramer's rule, which cancels at cond(W) = 3.1e10: P_N = "
+                   "-983 N s, dE = +0.0033 E_scale")
+def test_smith_3d_set_valued_schur():
+    v = np.array([-515.1831931990838, 1.4846866820938272e-93, 3.463512756076037e-196])
+    W = np.array([[3668340.860681912, -3624150.5111939665, -6954111.172863282],
+                  [-3624150.5111939665, 3580492.498268053, 6870339.078092478],
+                  [-6954111.172863282, 6870339.078092478, 13182979.459354883]])
+    imp = resolve("smith", v, W, e=1.0, mu=5176.209204024562)
+    assert imp.P[0] > 0 and _gain_ok(v, W, imp)
 
 
 def test_painleve_3d_documented_error():
