@@ -79,3 +79,80 @@ def solve3s(a, b, c, d, e, f, b0, b1, b2):
     x1 = (c01 * b0 + c11 * b1 + c12 * b2) / det
     x2 = (c02 * b0 + c12 * b1 + c22 * b2) / det
     return x0, x1, x2
+
+
+# ---- error-free transformations (compensated determinants) -----------------------------------
+# Dekker/Knuth: two_sum and two_prod return (s, err) with s + err == a + b (a * b) exactly
+# (barring overflow; two_prod's Veltkamp split needs |a|, |b| < 2**996). They let the stick
+# slopes W_NN - W_TN W_TT^-1 W_TN = det(W) / det(W_TT) be computed to a few ulps with W taken
+# as exact, instead of losing eps cond(W) to cancellation. Ref: Ogita, Rump & Oishi, SIAM J.
+# Sci. Comput. 26:1955 (2005).
+_SPLIT = 134217729.0     # 2**27 + 1 (Veltkamp split of a float64)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def two_sum(a, b):
+    """(s, err): s = fl(a + b) and s + err == a + b exactly."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def two_prod(a, b):
+    """(p, err): p = fl(a * b) and p + err == a * b exactly (no underflow)."""
+    p = a * b
+    t = _SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLIT * b
+    bh = t - (t - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _det2dd(a, d, b, c):
+    """a d - b c as an unevaluated double-double (hi, lo), |error| <~ eps^2 (|a d| + |b c|)."""
+    p1, e1 = two_prod(a, d)
+    p2, e2 = two_prod(b, c)
+    s, es = two_sum(p1, -p2)
+    lo = es + (e1 - e2)
+    hi = s + lo
+    return hi, lo - (hi - s)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def det2c(a, d, b, c):
+    """a d - b c, compensated: correct to a few ulps of the result for exact inputs."""
+    hi, lo = _det2dd(a, d, b, c)
+    return hi + lo
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def det3sc(a, b, c, d, e, f):
+    """Determinant of the symmetric [[a, b, c], [b, d, e], [c, e, f]], compensated (cofactor
+    expansion in double-double): a few ulps of the result plus eps^2 sum |terms|, where
+    ``det3s`` loses eps cond."""
+    h0, l0 = _det2dd(d, f, e, e)            # c00 = d f - e^2
+    h1, l1 = _det2dd(c, e, b, f)            # c01 = c e - b f
+    h2, l2 = _det2dd(b, e, c, d)            # c02 = b e - c d
+    p0, q0 = two_prod(a, h0)
+    p1, q1 = two_prod(b, h1)
+    p2, q2 = two_prod(c, h2)
+    s, r1 = two_sum(p0, p1)
+    s, r2 = two_sum(s, p2)
+    return s + ((r1 + r2) + (q0 + q1 + q2) + (a * l0 + b * l1 + c * l2))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def schur2(a, b, c):
+    """Stick slope a - b^2 / c of the SPD [[a, b], [b, c]] (= det / c), compensated."""
+    return det2c(a, c, b, b) / c
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def schur3(a, b, c, d, e, f):
+    """Normal stick slope W_NN - W_TN . W_TT^-1 W_TN = det(W) / det(W_TT) of the symmetric
+    W = [[a, b, c], [b, d, e], [c, e, f]] (normal first), compensated."""
+    return det3sc(a, b, c, d, e, f) / det2c(d, f, e, e)
