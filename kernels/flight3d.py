@@ -43,7 +43,6 @@ Every function is ``@njit(cache=True)``; ``pose_at`` allocates nothing.
 """
 import math
 
-import numpy as np
 from numba import njit
 
 N_STATE = 19

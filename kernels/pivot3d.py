@@ -667,7 +667,6 @@ def pivot_eval(pw, cp, fw, s, out):
 @njit(cache=True)
 def _slip_growth(y, cp, fw, k):
     """u . a_c (m/s^2): acceleration of contact k's slip along its friction direction u."""
-    nx, ny, nz = cp[CP_N], cp[CP_N + 1], cp[CP_N + 2]
     ro = FW_R1 + 3 * k
     so = FW_S1 + 3 * k
     rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]

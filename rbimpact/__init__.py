@@ -18,6 +18,8 @@ _LAZY = {
     "Ellipse": "shapes",
     "Scene2D": "scene", "Simulation": "simulation", "Result": "result",
     "impulse_space": "impulse_region", "ImpulseSpace": "impulse_region",
+    "Sphere": "shapes3d", "Box3D": "shapes3d", "Capsule": "shapes3d",
+    "Scene3D": "scene3d", "Simulation3D": "simulation3d", "Result3D": "result3d",
 }
 
 __all__ = ["NoSolutionError", "SimulationError", *_LAZY]

@@ -30,11 +30,10 @@ cluster    number of contacts resolved together at that instant (1: a single con
 Trajectories are stored as segments of exact constant-acceleration motion, so
 ``sample(times)`` is exact (to round-off) at any time in ``[t_start, t_end]``.
 """
-import csv
-import json
-import math
 
 import numpy as np
+
+from ._export import EventExport, pyplot
 
 __all__ = ["Result", "EVENT_DTYPE"]
 
@@ -68,11 +67,11 @@ def _build_events(ev_t, ev_i, ev_f, kinds):
     return ev
 
 
-_FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "normal_x", "normal_y",
+FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "normal_x", "normal_y",
                "v_i_N", "v_i_T", "v_f_N", "v_f_T", "P_N", "P_T", "mode", "dE", "cluster")
 
 
-class Result:
+class Result(EventExport):
     """Outcome of ``Simulation.run``.
 
     Attributes: ``events`` (see the module docstring), ``status`` ("done" or
@@ -169,48 +168,17 @@ class Result:
 
     # ---------------------------------------------------------------- export
 
-    def _rows(self):
-        for ev in self.events:
-            yield (float(ev["t"]), str(ev["kind"]), int(ev["a"]), int(ev["b"]),
-                   *map(float, ev["point"]), *map(float, ev["normal"]),
-                   *map(float, ev["v_i"]), *map(float, ev["v_f"]), *map(float, ev["P"]),
-                   int(ev["mode"]), float(ev["dE"]), int(ev["cluster"]))
+    FIELDS_CSV = FIELDS_CSV
+    _EVENT_VECTORS = ("point", "normal", "v_i", "v_f", "P")
 
-    def to_csv(self, path):
-        """Write the events to ``path`` as CSV (one header line; contact-space columns
-        normal first; ``b < 0`` is plane ``-1 - b``)."""
-        with open(path, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(_FIELDS_CSV)
-            for row in self._rows():
-                w.writerow([repr(x) if isinstance(x, float) else x for x in row])
-
-    def to_json(self, path):
-        """Write the run's metadata and events to ``path`` as JSON."""
-        doc = {
-            "status": self.status, "policy": self.policy, "law": self.law,
-            "t_start": self.t_start, "t_end": self.t_end, "t_requested": self.t_requested,
-            "n_bodies": self.n_bodies, "masses": self.masses.tolist(),
-            "moments": self.moments.tolist(), "gravity": self.gravity.tolist(),
-            "tolerances": {k: (v if not isinstance(v, float) or math.isfinite(v) else str(v))
-                           for k, v in self.tolerances.items()},
-            "fields": list(_FIELDS_CSV),
-            "events": [dict(zip(_FIELDS_CSV, row)) for row in self._rows()],
-        }
-        with open(path, "w") as f:
-            json.dump(doc, f, indent=1)
+    def _json_bodies(self):
+        return {"masses": self.masses.tolist(), "moments": self.moments.tolist()}
 
     def plot(self, path, n=2000):
         """Save a figure to ``path``: trajectories of the centres of mass with impact
         markers, height against time, and total energy against time. Needs matplotlib
         (the ``plot`` extra)."""
-        try:
-            import matplotlib
-            matplotlib.use("Agg", force=False)
-            import matplotlib.pyplot as plt
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError("Result.plot needs matplotlib: pip install 'rbimpact[plot]'") \
-                from exc
+        plt = pyplot("Result.plot")
         t = np.linspace(self.t_start, self.t_end, n)
         ev_t = self.events["t"]
         t = np.union1d(t, ev_t[(ev_t >= self.t_start) & (ev_t <= self.t_end)])

@@ -33,11 +33,10 @@ Trajectories are stored as segments of exact motion (``rbimpact.kernels.flight3d
 ``sample(times)`` re-evaluates them (exact closed forms; integrated rotations are
 re-integrated from the segment start with the run's ``rot_tol``, reproducing the run).
 """
-import csv
-import json
-import math
 
 import numpy as np
+
+from ._export import EventExport, pyplot
 
 __all__ = ["Result3D", "EVENT_DTYPE_3D"]
 
@@ -48,13 +47,13 @@ EVENT_DTYPE_3D = np.dtype([
     ("mode", "i8"), ("dE", "f8"), ("cluster", "i8"),
 ])
 
-_FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x",
+FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x",
                "normal_y", "normal_z", "tangent_x", "tangent_y", "tangent_z", "v_i_N",
                "v_i_T1", "v_i_T2", "v_f_N", "v_f_T1", "v_f_T2", "P_N", "P_T1", "P_T2",
                "mode", "dE", "cluster")
 
 
-class Result3D:
+class Result3D(EventExport):
     """Outcome of ``Simulation3D.run``.
 
     Attributes: ``events`` (see the module docstring), ``status`` ("done" or
@@ -159,49 +158,17 @@ class Result3D:
 
     # ---------------------------------------------------------------- export
 
-    def _rows(self):
-        for ev in self.events:
-            yield (float(ev["t"]), str(ev["kind"]), int(ev["a"]), int(ev["b"]),
-                   *map(float, ev["point"]), *map(float, ev["normal"]),
-                   *map(float, ev["tangent"]), *map(float, ev["v_i"]),
-                   *map(float, ev["v_f"]), *map(float, ev["P"]),
-                   int(ev["mode"]), float(ev["dE"]), int(ev["cluster"]))
+    FIELDS_CSV = FIELDS_CSV
+    _EVENT_VECTORS = ("point", "normal", "tangent", "v_i", "v_f", "P")
 
-    def to_csv(self, path):
-        """Write the events to ``path`` as CSV (one header line; contact-space columns
-        normal first; ``b < 0`` is plane ``-1 - b``)."""
-        with open(path, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(_FIELDS_CSV)
-            for row in self._rows():
-                w.writerow([repr(x) if isinstance(x, float) else x for x in row])
-
-    def to_json(self, path):
-        """Write the run's metadata and events to ``path`` as JSON."""
-        doc = {
-            "status": self.status, "policy": self.policy, "law": self.law,
-            "t_start": self.t_start, "t_end": self.t_end, "t_requested": self.t_requested,
-            "n_bodies": self.n_bodies, "masses": self.masses.tolist(),
-            "inertias": self.inertias.tolist(), "gravity": self.gravity.tolist(),
-            "tolerances": {k: (v if not isinstance(v, float) or math.isfinite(v) else str(v))
-                           for k, v in self.tolerances.items()},
-            "fields": list(_FIELDS_CSV),
-            "events": [dict(zip(_FIELDS_CSV, row)) for row in self._rows()],
-        }
-        with open(path, "w") as f:
-            json.dump(doc, f, indent=1)
+    def _json_bodies(self):
+        return {"masses": self.masses.tolist(), "inertias": self.inertias.tolist()}
 
     def plot(self, path, n=2000):
         """Save a figure to ``path``: centre-of-mass trajectories seen from above (x, y) and
         from the side (x, z) with impact markers, and total energy against time. Needs
         matplotlib (the ``plot`` extra)."""
-        try:
-            import matplotlib
-            matplotlib.use("Agg", force=False)
-            import matplotlib.pyplot as plt
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError("Result3D.plot needs matplotlib: pip install 'rbimpact[plot]'") \
-                from exc
+        plt = pyplot("Result3D.plot")
         t = np.linspace(self.t_start, self.t_end, n)
         ev_t = self.events["t"]
         t = np.union1d(t, ev_t[(ev_t >= self.t_start) & (ev_t <= self.t_end)])

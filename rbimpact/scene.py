@@ -11,33 +11,10 @@ counter-clockwise; ``angular_velocity`` in rad/s (counter-clockwise positive).
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
+from ._validate import real as _real, vector
 from .shapes import Shape
 
 __all__ = ["Scene2D", "Body", "Plane"]
-
-
-def _vec2(what, value):
-    try:
-        v = np.array(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a pair of numbers, got {value!r}") from None
-    if v.shape != (2,):
-        raise ValueError(f"{what} must be a pair of numbers (x, y), got {value!r}")
-    if not np.all(np.isfinite(v)):
-        raise ValueError(f"{what} must be finite, got {value!r}")
-    return v
-
-
-def _real(what, value, unit):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a number ({unit}), got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{what} must be finite ({unit}), got {value!r}")
-    return v
 
 
 @dataclass(frozen=True)
@@ -75,7 +52,7 @@ class Scene2D:
     """Rigid bodies and static half-planes under uniform ``gravity`` (m/s^2)."""
 
     def __init__(self, gravity=(0.0, -9.81)):
-        g = _vec2("Scene2D: gravity", gravity)
+        g = vector("Scene2D: gravity", gravity, 2, "(x, y)")
         self.gravity = (float(g[0]), float(g[1]))
         self.bodies = []
         self.planes = []
@@ -95,9 +72,9 @@ class Scene2D:
         m = _real("add_body: mass", mass, "kg")
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
-        pos = _vec2("add_body: position", position)
+        pos = vector("add_body: position", position, 2, "(x, y)")
         ang = _real("add_body: angle", angle, "rad")
-        vel = _vec2("add_body: velocity", velocity)
+        vel = vector("add_body: velocity", velocity, 2, "(x, y)")
         w = _real("add_body: angular_velocity", angular_velocity, "rad/s")
         if moment is None:
             inertia = shape.moment(m)
@@ -116,8 +93,8 @@ class Scene2D:
     def add_plane(self, point, normal):
         """Add a static half-plane through ``point`` (m) with ``normal`` pointing into the
         free side (normalised here); returns its ``Plane``."""
-        pt = _vec2("add_plane: point", point)
-        n = _vec2("add_plane: normal", normal)
+        pt = vector("add_plane: point", point, 2, "(x, y)")
+        n = vector("add_plane: normal", normal, 2, "(x, y)")
         norm = math.hypot(n[0], n[1])
         if not norm > 0.0:
             raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")

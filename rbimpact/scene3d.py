@@ -9,36 +9,14 @@ Units: m, kg, s, rad. Positions are those of the centres of mass; ``orientation`
 unit quaternion ``(w, x, y, z)`` rotating the body frame into the world (normalised here);
 ``angular_velocity`` is in the **world** frame (rad/s).
 """
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from ._validate import real as _real, vector as _vec
 from .shapes3d import Shape3D
 
 __all__ = ["Scene3D", "Body3D", "Plane3D"]
-
-
-def _vec(what, value, n, names):
-    try:
-        v = np.array(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be {n} numbers {names}, got {value!r}") from None
-    if v.shape != (n,):
-        raise ValueError(f"{what} must be {n} numbers {names}, got {value!r}")
-    if not np.all(np.isfinite(v)):
-        raise ValueError(f"{what} must be finite, got {value!r}")
-    return v
-
-
-def _real(what, value, unit):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a number ({unit}), got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{what} must be finite ({unit}), got {value!r}")
-    return v
 
 
 @dataclass(frozen=True)

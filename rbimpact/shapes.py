@@ -20,26 +20,15 @@ import math
 
 import numpy as np
 
+from ._validate import ValueShape, size as _size
+
 __all__ = ["Shape", "Disk", "Box", "Polygon", "Rod", "Ellipse"]
 
 # shape kinds of the compiled stepper (kernels/stepper2d.py: SH_*)
 _SH_DISK, _SH_POLY, _SH_ELLIPSE = 0, 1, 2
 
 
-def _size(cls, name, value, allow_zero=False):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{cls}: {name} must be a number (m), got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{cls}: {name} must be finite, got {value!r}")
-    if v < 0.0 or (v == 0.0 and not allow_zero):
-        need = ">= 0" if allow_zero else "> 0"
-        raise ValueError(f"{cls}: {name} must be {need} (m), got {value!r}")
-    return v
-
-
-class Shape:
+class Shape(ValueShape):
     """Base class. Subclasses define ``area`` (m^2), ``unit_moment`` (m^2: moment of inertia
     about the centre of mass per unit mass, uniform density), ``bounding_radius`` (m) and
     the kernel encoding ``_kernel()`` -> (kind, rounding radius, a, b, vertices[n, 2])."""
@@ -49,11 +38,6 @@ class Shape:
         density."""
         return float(mass) * self.unit_moment
 
-    def __eq__(self, other):
-        return type(self) is type(other) and self._key() == other._key()
-
-    def __hash__(self):
-        return hash((type(self).__name__, self._key()))
 
 
 class Disk(Shape):

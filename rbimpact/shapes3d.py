@@ -26,25 +26,15 @@ import math
 
 import numpy as np
 
+from ._validate import ValueShape, size as _size
+
 __all__ = ["Shape3D", "Sphere", "Box3D", "Capsule"]
 
 # shape kinds of the compiled stepper (kernels/stepper3d.py: SH_*)
 _SH_SPHERE, _SH_BOX, _SH_CAPSULE = 0, 1, 2
 
 
-def _size(cls, name, value):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{cls}: {name} must be a number (m), got {value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{cls}: {name} must be finite, got {value!r}")
-    if not v > 0.0:
-        raise ValueError(f"{cls}: {name} must be > 0 (m), got {value!r}")
-    return v
-
-
-class Shape3D:
+class Shape3D(ValueShape):
     """Base class. Subclasses define ``volume`` (m^3), ``unit_inertia`` (principal moments
     per unit mass about the body axes, m^2, uniform density), ``bounding_radius`` (m) and
     the kernel encoding ``_kernel()`` -> (kind, feature radius, half extents (3,),
@@ -55,11 +45,6 @@ class Shape3D:
         ``mass`` (kg), uniform density."""
         return float(mass) * np.asarray(self.unit_inertia, dtype=float)
 
-    def __eq__(self, other):
-        return type(self) is type(other) and self._key() == other._key()
-
-    def __hash__(self):
-        return hash((type(self).__name__, self._key()))
 
 
 class Sphere(Shape3D):

@@ -175,10 +175,17 @@ class Simulation:
     simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000.
     """
 
+    def __new__(cls, scene=None, *args, **kwargs):
+        """A ``Scene3D`` gets a ``Simulation3D`` (same arguments, see its docstring)."""
+        if cls is Simulation and type(scene).__name__ == "Scene3D":
+            from .simulation3d import Simulation3D
+            return Simulation3D(scene, *args, **kwargs)
+        return super().__new__(cls)
+
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
                  ignore_unsupported_pairs=False, **tolerances):
         if not isinstance(scene, Scene2D):
-            raise ValueError(f"Simulation: scene must be a Scene2D, got {scene!r}")
+            raise ValueError(f"Simulation: scene must be a Scene2D or a Scene3D, got {scene!r}")
         if not scene.bodies:
             raise ValueError("Simulation: the scene has no body")
         if policy not in POLICIES:

@@ -2,7 +2,7 @@
 bounce direction curves."""
 import numpy as np
 
-from . import ALL_LAWS, law_params, make_law, nonnegative, positive, register
+from . import ALL_LAWS, law_params, make_law, positive, register
 from .die_toss import Scenario3D
 
 DESCRIPTION = """\

@@ -3,7 +3,6 @@ rotation invariance, energy, torque-free rotation, the die, Zeno, simultaneous c
 results and errors."""
 import json
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -16,7 +15,7 @@ from rbimpact.simulation3d import Simulation3D
 from rbimpact.kernels import flight3d as fl
 from rbimpact import scenarios
 from rbimpact.scenarios import die_toss as die_mod  # noqa: F401  (registers the scenario)
-from rbimpact.scenarios import spinning_ball_3d, superball_3d, tumbling_capsule  # noqa: F401
+from rbimpact.scenarios import spinning_ball_3d, superball_3d, tumbling_capsule  # noqa: F401,E501 (register)
 
 G = 9.81
 
