@@ -33,7 +33,7 @@ Trajectories are stored as segments of exact constant-acceleration motion, so
 
 import numpy as np
 
-from ._export import EventExport, pyplot
+from .result_base import ResultBase, pyplot
 
 __all__ = ["Result", "EVENT_DTYPE"]
 
@@ -71,7 +71,7 @@ FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "normal_x", "normal_y
                "v_i_N", "v_i_T", "v_f_N", "v_f_T", "P_N", "P_T", "mode", "dE", "cluster")
 
 
-class Result(EventExport):
+class Result(ResultBase):
     """Outcome of ``Simulation.run``.
 
     Attributes: ``events`` (see the module docstring), ``status`` ("done" or
@@ -128,18 +128,6 @@ class Result(EventExport):
             self._seg_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
             self._raw_seg = None
         return self._seg_t, self._seg_s, self._seg_start
-
-    def _times(self, times):
-        t = np.atleast_1d(np.asarray(times, dtype=float))
-        if t.ndim != 1:
-            raise ValueError("times must be a scalar or a 1-D array of times (s)")
-        if not np.all(np.isfinite(t)):
-            raise ValueError("times must be finite")
-        slack = 1e-12 * max(1.0, abs(self.t_end))
-        if t.size and (t.min() < self.t_start - slack or t.max() > self.t_end + slack):
-            raise ValueError(f"times must lie in the simulated interval [{self.t_start:g}, "
-                             f"{self.t_end:g}] s, got [{t.min():g}, {t.max():g}]")
-        return t
 
     def sample(self, times):
         """Exact state at ``times`` (s): dict of arrays "x", "y" (m), "angle" (rad), "vx",

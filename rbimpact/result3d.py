@@ -36,7 +36,7 @@ re-integrated from the segment start with the run's ``rot_tol``, reproducing the
 
 import numpy as np
 
-from ._export import EventExport, pyplot
+from .result_base import ResultBase, pyplot
 
 __all__ = ["Result3D", "EVENT_DTYPE_3D"]
 
@@ -53,7 +53,7 @@ FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x"
                "mode", "dE", "cluster")
 
 
-class Result3D(EventExport):
+class Result3D(ResultBase):
     """Outcome of ``Simulation3D.run``.
 
     Attributes: ``events`` (see the module docstring), ``status`` ("done" or
@@ -91,18 +91,6 @@ class Result3D(EventExport):
     def __repr__(self):
         return (f"Result3D(status={self.status!r}, policy={self.policy!r}, "
                 f"t_end={self.t_end:g}, {len(self.events)} events, {self.n_impacts} impacts)")
-
-    def _times(self, times):
-        t = np.atleast_1d(np.asarray(times, dtype=float))
-        if t.ndim != 1:
-            raise ValueError("times must be a scalar or a 1-D array of times (s)")
-        if not np.all(np.isfinite(t)):
-            raise ValueError("times must be finite")
-        slack = 1e-12 * max(1.0, abs(self.t_end))
-        if t.size and (t.min() < self.t_start - slack or t.max() > self.t_end + slack):
-            raise ValueError(f"times must lie in the simulated interval [{self.t_start:g}, "
-                             f"{self.t_end:g}] s, got [{t.min():g}, {t.max():g}]")
-        return t
 
     def sample(self, times):
         """State at ``times`` (s): dict of arrays "position" (m) and "velocity" (m/s) of

@@ -1,15 +1,19 @@
-"""What 2D and 3D results share: writing the event log as CSV or JSON, and loading pyplot.
+"""What 2D and 3D results share: sample-time checks, writing the event log as CSV or JSON,
+and loading pyplot.
 
-A result class using ``EventExport`` defines ``FIELDS_CSV`` (the flat column names),
+A result class deriving from ``ResultBase`` defines ``FIELDS_CSV`` (the flat column names),
 ``_EVENT_VECTORS`` (the vector fields of its events record, in column order) and
 ``_json_bodies()`` (its body properties for the JSON header)."""
 import csv
 import json
 import math
 
+import numpy as np
 
-class EventExport:
-    """Mixin: ``to_csv(path)`` and ``to_json(path)`` over ``self.events``."""
+
+class ResultBase:
+    """Base of ``Result`` and ``Result3D``: ``_times`` (sample-time check), ``to_csv(path)`` and ``to_json(path)`` over
+    ``self.events``."""
 
     FIELDS_CSV = ()
     _EVENT_VECTORS = ()
@@ -22,6 +26,22 @@ class EventExport:
 
     def _json_bodies(self):
         raise NotImplementedError
+
+    #: slack (relative to max(1 s, |t_end|)) on the simulated interval for sample times
+    TIME_SLACK = 1e-12
+
+    def _times(self, times):
+        """``times`` (s) as a finite 1-D float array inside [t_start, t_end]."""
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        if t.ndim != 1:
+            raise ValueError("times must be a scalar or a 1-D array of times (s)")
+        if not np.all(np.isfinite(t)):
+            raise ValueError("times must be finite")
+        slack = self.TIME_SLACK * max(1.0, abs(self.t_end))
+        if t.size and (t.min() < self.t_start - slack or t.max() > self.t_end + slack):
+            raise ValueError(f"times must lie in the simulated interval [{self.t_start:g}, "
+                             f"{self.t_end:g}] s, got [{t.min():g}, {t.max():g}]")
+        return t
 
     def to_csv(self, path):
         """Write the events to ``path`` as CSV (one header line; contact-space columns
