@@ -19,6 +19,12 @@ Equations (DESIGN §4), with ``a = -(1 + e) v_N >= 0``:
    SPD ``W``).
    If ``P*_T = 0`` (only possible for ``P*_N <= 0`` when ``e = -1``), ``r = 0``.
 
+Numerics: the target ``P*`` is solved as in Kane & Levinson (2D: Cramer's rule with
+Kahan's FMA determinants, a few ulps componentwise; 3D: ``common.spd3_solve``, exact SPD
+test up to cond ~1e15 and a backward-stable solve), so ``v_f*`` is met to round-off of
+``|v| + ||W|| |P|`` however ill-conditioned ``W`` is. The 3D slip branch is
+``common.cone_slip3`` (shared with Chatterjee & Ruina).
+
 ``MODE_NO_SOLUTION`` (``P_out`` zeroed) when ``W_NN + W_NT . r <= 0`` (the clamped ratio
 would need a negative normal impulse), when ``W`` is not positive definite, or when the
 result is not finite. With this direction rule and SPD ``W`` the first cannot happen:
@@ -47,9 +53,11 @@ from .common import (
     P_E,
     P_ET,
     P_MU,
-    det3s,
-    solve2,
-    solve3s,
+    cone_slip3,
+    det2k,
+    finite3,
+    spd3_solve,
+    store3,
 )
 
 
@@ -64,19 +72,25 @@ def brach_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu, et):
         if wnn > 0.0 and pn - pn == 0.0:
             return MODE_SLIP, pn, 0.0
         return MODE_NO_SOLUTION, 0.0, 0.0
-    det = wnn * wtt - wnt * wnt
+    det = det2k(wnn, wtt, wnt, wnt)        # within 2 ulps: its sign is exact
     if not (det > 0.0 and wnn > 0.0):
         return MODE_NO_SOLUTION, 0.0, 0.0
-    # target: W P* = (a, -(1 + e_t) v_T)
-    pn, pt = solve2(wnn, wnt, wtt, a, -(1.0 + et) * vt)
-    if pn >= 0.0 and abs(pt) <= mu * pn:
+    # target W P* = (a, b), b = -(1 + e_t) v_T, by Cramer's rule with Kahan's FMA
+    # determinants (each within 2 ulps: P* to a few ulps componentwise, backward stable);
+    # the cone test is made on the numerators det P*_N, det P*_T (det > 0): no division
+    b = -(1.0 + et) * vt
+    nn = det2k(a, wtt, wnt, b)
+    nt = det2k(wnn, b, wnt, a)
+    if nn >= 0.0 and abs(nt) <= mu * nn:
         mode = MODE_STICK
+        pn = nn / det
+        pt = nt / det
     else:
-        if pt > 0.0:
+        if nt > 0.0:
             r = mu
-        elif pt < 0.0:
+        elif nt < 0.0:
             r = -mu
-        elif pt == 0.0:
+        elif nt == 0.0:
             r = 0.0
         else:                              # NaN input
             return MODE_NO_SOLUTION, 0.0, 0.0
@@ -117,31 +131,16 @@ def brach_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu, et):
         if wnn > 0.0 and pn - pn == 0.0:
             return MODE_SLIP, pn, 0.0, 0.0
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-    if not (det3s(wnn, w1, w2, t11, t12, t22) > 0.0 and wnn > 0.0):
-        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
     k = -(1.0 + et)
-    p0, p1, p2 = solve3s(wnn, w1, w2, t11, t12, t22, a, k * v1, k * v2)
-    st = math.sqrt(p1 * p1 + p2 * p2)
-    if p0 >= 0.0 and st <= mu * p0:
-        mode = MODE_STICK
-    else:
-        r1 = 0.0
-        r2 = 0.0
-        if st > 0.0:
-            r1 = mu * (p1 / st)
-            r2 = mu * (p2 / st)
-        elif st != 0.0:                    # NaN input
-            return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-        den = wnn + w1 * r1 + w2 * r2
-        if not (den > 0.0):
-            return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-        p0 = a / den
-        p1 = r1 * p0
-        p2 = r2 * p0
-        mode = MODE_SLIP
-    if p0 - p0 == 0.0 and p1 - p1 == 0.0 and p2 - p2 == 0.0:
-        return mode, p0, p1, p2
-    return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    # positive-definiteness test and target W P* = (a, k v_T1, k v_T2), both compensated
+    # (common.spd3_solve): P* to a few ulps, SPD decided exactly
+    spd, p0, p1, p2 = spd3_solve(wnn, w1, w2, t11, t12, t22, a, k * v1, k * v2)
+    if not spd:
+        return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    if p0 >= 0.0 and math.sqrt(p1 * p1 + p2 * p2) <= mu * p0:
+        return finite3(MODE_STICK, p0, p1, p2)
+    # clamp the ratio on the cone along P*_T (r = 0 if P*_T = 0)
+    return cone_slip3(a, mu, wnn, w1, w2, p1, p2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -153,10 +152,7 @@ def brach_3d(v, W, params, P_out):
     mode, p0, p1, p2 = brach_3d_scalar(
         v[0], v[1], v[2], W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2],
         params[P_E], params[P_MU], params[P_ET])
-    P_out[0] = p0
-    P_out[1] = p1
-    P_out[2] = p2
-    return mode
+    return store3(P_out, mode, p0, p1, p2)
 
 
 @njit(cache=True, error_model="numpy")

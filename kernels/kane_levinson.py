@@ -34,11 +34,23 @@ are physical: the largest ``u . v_T`` (final slip closest to the initial slip di
 the 3D form of the 2D rule), ties (e.g. ``v_T = 0``) to the smaller ``P_N``. In planar
 motion the out-of-plane roots always have ``lambda < 0``, so 3D reproduces 2D.
 
+Numerics. 2D: the stick trial is Cramer's rule with every determinant by Kahan's FMA
+algorithm (``common.det2k``, within 2 ulps even under cancellation), so ``P*`` is correct
+to a few ulps componentwise for any SPD ``W`` (plain Cramer's rule left ``v_fT`` at
+``eps cond(W)``), the SPD test ``det W > 0`` is exact, and the stick/slip decision is taken
+on the numerators (no division before it). 3D: ``common.spd3_solve`` decides positive
+definiteness (Sylvester, compensated minors: every SPD ``W`` up to cond ~1e15 accepted)
+and solves the stick trial backward stably (plain cofactors when ``W`` is well
+conditioned, else double-double cofactors plus one refinement step). In the slip branch
+the final ``P_N`` is the least-squares solution of the normal and the tangential
+equations at the polished angle, which keeps both residuals at round-off when ``D`` is
+small (``a / D`` alone amplified the angle's rounding by ``P_N D' / D``).
+
 Failures (``P_out`` zeroed): ``MODE_NO_SOLUTION`` when no stick and no consistent slip
-exists, when ``W`` is not positive definite (``W_NN <= 0`` or ``det W <= 0``), or when the
-result is not finite. For SPD ``W`` the 2D law always has a solution (with
-``c = -P_T / (mu P_N)`` in [-1, 1], ``v_fT(c)`` decreases where ``W_NN - mu c W_NT > 0``, and
-runs to -infinity or +infinity at a pole in the Painleve case), and none was found
+exists, when ``W`` is not positive definite, or when the result is not finite. For SPD
+``W`` the 2D law always has a solution (with ``c = -P_T / (mu P_N)`` in [-1, 1],
+``v_fT(c)`` decreases where ``W_NN - mu c W_NT > 0``, and runs to -infinity or +infinity
+at a pole in the Painleve case), and none was found
 missing in 3D on 10^5 random strongly coupled cases. ``MODE_NOT_CONVERGED`` if a root
 polish exceeds its iteration limit (not observed: it falls back to bisection).
 ``mu == 0`` takes the frictionless path ``P = (a / W_NN, 0)`` and reports ``MODE_SLIP``
@@ -57,6 +69,7 @@ the scalar twin, one thread).
 """
 import math
 
+import numpy as np
 from numba import njit
 
 from .common import (
@@ -67,9 +80,10 @@ from .common import (
     MODE_STICK,
     P_E,
     P_MU,
-    det3s,
-    solve2,
-    solve3s,
+    det2k,
+    finite3,
+    spd3_solve,
+    store3,
 )
 
 N_SCAN = 64          # samples of the slip-direction circle in 3D
@@ -93,17 +107,23 @@ def kane_levinson_2d_scalar(vn, vt, wnn, wnt, wtt, e, mu):
         if wnn > 0.0 and pn - pn == 0.0:
             return MODE_SLIP, pn, 0.0
         return MODE_NO_SOLUTION, 0.0, 0.0
-    det = wnn * wtt - wnt * wnt
+    det = det2k(wnn, wtt, wnt, wnt)        # within 2 ulps: its sign is exact
     if not (det > 0.0 and wnn > 0.0):
         return MODE_NO_SOLUTION, 0.0, 0.0
-    # stick trial: W P = (a, -v_T)
-    pn, pt = solve2(wnn, wnt, wtt, a, -vt)
-    if pn >= 0.0 and abs(pt) <= mu * pn:
+    # stick trial W P* = (a, -v_T) by Cramer's rule with Kahan's FMA determinants:
+    # det P*_N = a W_TT + W_NT v_T and det P*_T = -(W_NN v_T + W_NT a), each within
+    # 2 ulps, so P* is correct to a few ulps componentwise (backward stable). The test
+    # P*_N >= 0, |P*_T| <= mu P*_N is made on these numerators (det > 0): no division.
+    nn = det2k(a, wtt, -wnt, vt)
+    nt = -det2k(wnn, vt, -wnt, a)
+    if nn >= 0.0 and abs(nt) <= mu * nn:
         mode = MODE_STICK
+        pn = nn / det
+        pt = nt / det
     else:
         # slip, P_T = r P_N, r = -mu s, first with r along P*_T: the consistent sign
         mode = MODE_SLIP
-        r = mu if pt > 0.0 else -mu
+        r = mu if nt > 0.0 else -mu
         den = wnn + wnt * r
         pn = a / den
         q = wnt + wtt * r
@@ -133,11 +153,16 @@ def kane_levinson_2d(v, W, params, P_out):
     return mode
 
 
+# cos and sin of the scan angles k 2 pi / N_SCAN, k = 0..N_SCAN (constants: the scan then
+# costs no trigonometric call)
+_SCAN_COS = np.array([math.cos(k * (_TWO_PI / N_SCAN)) for k in range(N_SCAN + 1)])
+_SCAN_SIN = np.array([math.sin(k * (_TWO_PI / N_SCAN)) for k in range(N_SCAN + 1)])
+
+
 @njit(cache=True, error_model="numpy")
-def _g(th, A0, A1, B1, A2, B2):
-    """g(th) = A0 + A1 cos th + B1 sin th + A2 cos 2th + B2 sin 2th and g'(th)."""
-    c = math.cos(th)
-    s = math.sin(th)
+def _g(c, s, A0, A1, B1, A2, B2):
+    """g(th) = A0 + A1 cos th + B1 sin th + A2 cos 2th + B2 sin 2th and g'(th), given
+    ``c = cos th``, ``s = sin th``."""
     c2 = c * c - s * s
     s2 = 2.0 * s * c
     g = A0 + A1 * c + B1 * s + A2 * c2 + B2 * s2
@@ -167,7 +192,7 @@ def _polish(lo, hi, glo, gtol, A0, A1, B1, A2, B2):
     x = 0.5 * (lo + hi)
     dxold = abs(hi - lo)
     dx = dxold
-    g, dg = _g(x, A0, A1, B1, A2, B2)
+    g, dg = _g(math.cos(x), math.sin(x), A0, A1, B1, A2, B2)
     for _ in range(_MAXIT):
         if abs(g) <= gtol:
             return x, True
@@ -181,7 +206,7 @@ def _polish(lo, hi, glo, gtol, A0, A1, B1, A2, B2):
             x = x - dx
         if abs(dx) <= 4.0 * _EPS:
             return x, True
-        g, dg = _g(x, A0, A1, B1, A2, B2)
+        g, dg = _g(math.cos(x), math.sin(x), A0, A1, B1, A2, B2)
         if g < 0.0:
             xl = x
         else:
@@ -229,7 +254,7 @@ def _kl3_slip(v1, v2, wnn, w1, w2, t11, t12, t22, a, mu):
     best_pn = math.inf
     found = False
     converged = True
-    g0, dg0 = _g(0.0, A0, A1, B1, A2, B2)
+    g0, dg0 = _g(1.0, 0.0, A0, A1, B1, A2, B2)
     ga = g0
     dga = dg0
     tha = 0.0
@@ -240,7 +265,7 @@ def _kl3_slip(v1, v2, wnn, w1, w2, t11, t12, t22, a, mu):
             dgb = dg0
         else:
             thb = (k + 1) * h
-            gb, dgb = _g(thb, A0, A1, B1, A2, B2)
+            gb, dgb = _g(_SCAN_COS[k + 1], _SCAN_SIN[k + 1], A0, A1, B1, A2, B2)
         # up to two roots in [tha, thb); a root exactly at thb is counted with the next interval
         n_r = 0
         r0 = 0.0
@@ -256,7 +281,7 @@ def _kl3_slip(v1, v2, wnn, w1, w2, t11, t12, t22, a, mu):
               and abs(gb) <= dgbound * h):
             # same sign at both ends and an extremum inside: two roots may hide there
             thm = _extremum(tha, thb, dga, A1, B1, A2, B2)
-            gm, _d = _g(thm, A0, A1, B1, A2, B2)
+            gm, _d = _g(math.cos(thm), math.sin(thm), A0, A1, B1, A2, B2)
             if abs(gm) <= gtol:
                 n_r = 1
                 r0 = thm
@@ -292,7 +317,15 @@ def _kl3_slip(v1, v2, wnn, w1, w2, t11, t12, t22, a, mu):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
     c = math.cos(best_th)
     s = math.sin(best_th)
-    pn = a / (wnn - mu * (w1 * c + w2 * s))
+    # P_N from both equations at th: D P_N = a (normal) and u x (v_T + P_N q) = 0
+    # (tangential). They agree at the exact root (their inconsistency is g(th)); at a
+    # rounded th the least-squares P_N keeps both residuals at round-off, where a / D alone
+    # is off by a (dD/dth) dth / D^2 when D is small (near-Painleve coupling: P_N huge).
+    den = wnn - mu * (w1 * c + w2 * s)
+    uq = c * (w2 - mu * (t12 * c + t22 * s)) - s * (w1 - mu * (t11 * c + t12 * s))
+    pn = (a * den - uq * (c * v2 - s * v1)) / (den * den + uq * uq)
+    if not (pn > 0.0):
+        pn = a / den
     return MODE_SLIP, pn, -mu * pn * c, -mu * pn * s
 
 
@@ -312,17 +345,16 @@ def kane_levinson_3d_scalar(vn, v1, v2, wnn, w1, w2, t11, t12, t22, e, mu):
         if wnn > 0.0 and pn - pn == 0.0:
             return MODE_SLIP, pn, 0.0, 0.0
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-    if not (det3s(wnn, w1, w2, t11, t12, t22) > 0.0 and wnn > 0.0):
+    # positive-definiteness test and stick trial W P* = (a, -v_T1, -v_T2), both
+    # compensated (common.spd3_solve): P* to a few ulps, SPD decided exactly
+    spd, p0, p1, p2 = spd3_solve(wnn, w1, w2, t11, t12, t22, a, -v1, -v2)
+    if not spd:
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-    # stick trial: W P = (a, -v_T1, -v_T2)
-    p0, p1, p2 = solve3s(wnn, w1, w2, t11, t12, t22, a, -v1, -v2)
     if p0 >= 0.0 and math.sqrt(p1 * p1 + p2 * p2) <= mu * p0:
         mode = MODE_STICK
     else:
         mode, p0, p1, p2 = _kl3_slip(v1, v2, wnn, w1, w2, t11, t12, t22, a, mu)
-    if p0 - p0 == 0.0 and p1 - p1 == 0.0 and p2 - p2 == 0.0:
-        return mode, p0, p1, p2
-    return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    return finite3(mode, p0, p1, p2)
 
 
 @njit(cache=True, error_model="numpy")
@@ -334,10 +366,7 @@ def kane_levinson_3d(v, W, params, P_out):
     mode, p0, p1, p2 = kane_levinson_3d_scalar(
         v[0], v[1], v[2], W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2],
         params[P_E], params[P_MU])
-    P_out[0] = p0
-    P_out[1] = p1
-    P_out[2] = p2
-    return mode
+    return store3(P_out, mode, p0, p1, p2)
 
 
 @njit(cache=True, error_model="numpy")

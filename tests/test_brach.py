@@ -5,8 +5,10 @@ reduction. Conventions: DESIGN.md §3 (normal first)."""
 import numpy as np
 import pytest
 
-from _impact_helpers import (ROD, SPHERE_2D, SPHERE_3D, check_energy_identity, params,
-                             random_contact, run, tangent_rotation)
+from _impact_helpers import (EPS, ROD, SPHERE_2D, SPHERE_3D, W_COND_7E11, W_SPD_CANCELS,
+                             W_THIN_ROD, check_energy_identity, exact_minors, exact_solve,
+                             exact_vf, ill_conditioned_spd, params, random_contact, run,
+                             tangent_rotation)
 from rbimpact.kernels.brach import (brach, brach_2d, brach_2d_scalar, brach_3d,
                                     brach_3d_scalar)
 from rbimpact.kernels.common import (MODE_NO_SOLUTION, MODE_SEPARATING, MODE_SLIP,
@@ -204,3 +206,72 @@ def test_3d_reproduces_2d_for_planar_motion():
 def test_energy_identity_with_rigid_bodies(dim, kernel):
     rng = np.random.default_rng(28 + dim)
     assert check_energy_identity(kernel, rng, dim, 200, (-1.0, 1.0), 2.0, (-1.0, 1.0)) == 200
+
+
+# ---- backward-stable solves (stability issue 6): regression against rational arithmetic ----
+
+@pytest.mark.parametrize("et", [0.0, -0.5, -1.0])
+def test_2d_target_thin_rod_at_round_off(et):
+    """Thin rod (cond 1e8): the target v_fT = -e_t v_T is met to a few ulps of s for the
+    exact v + W P (Cramer's rule missed it by 4.5e-10 s)."""
+    v = np.array([-1.0, 1.0])
+    mode, P, _, _ = run(brach_2d, v, W_THIN_ROD, params(0.0, 1e4, et))
+    ref = exact_solve(W_THIN_ROD, [1.0, -(1.0 + et) * 1.0])
+    assert mode == MODE_STICK
+    for x, r in zip(P, ref):
+        assert abs(x - float(r)) <= 4 * EPS * abs(float(r))
+    s = np.linalg.norm(v) + np.linalg.norm(W_THIN_ROD, 2) * np.linalg.norm(P)
+    assert np.all(np.abs(exact_vf(v, W_THIN_ROD, P) - [0.0, -et]) <= 4 * EPS * s)
+
+
+def test_3d_target_cond_7e11_at_round_off():
+    """Stability reproducer (cond 6.7e11, mu = 54525): the cofactor solve missed v_fT = 0
+    by (8849, -8588) m/s = 1.9e-7 s; now within a few ulps of s (exact v + W P)."""
+    v = np.array([-6583.876388369971, 0.0, 0.0])
+    et = -0.25008103118059777
+    mode, P, _, _ = run(brach_3d, v, W_COND_7E11, params(0.0, 54525.22602201105, et))
+    assert mode == MODE_STICK
+    s = np.linalg.norm(v) + np.linalg.norm(W_COND_7E11, 2) * np.linalg.norm(P)
+    vf = exact_vf(v, W_COND_7E11, P)
+    assert np.all(np.abs(vf) <= 8 * EPS * s)            # target (0, -e_t 0, -e_t 0)
+
+
+@pytest.mark.parametrize("log_cond", [8.0, 12.0, 15.0])
+def test_3d_spd_accepted_and_target_at_round_off(log_cond):
+    """Every exactly-SPD W up to cond 1e15 is accepted (no NoSolutionError), the stick
+    target v_fT = -e_t v_T holds to a few ulps of s, and the slip branch lies on the cone
+    along P*_T (rational P*) with v_fN = -e v_N."""
+    rng = np.random.default_rng(30 + int(log_cond))
+    for k in range(30):
+        W = ill_conditioned_spd(rng, 3, log_cond)
+        v = rng.normal(size=3)
+        v[0] = -abs(v[0])
+        e, et = rng.uniform(-1, 1), rng.uniform(-1, 1)
+        mu = 10.0 ** rng.uniform(-2, 6)
+        mode, P, _, _ = run(brach_3d, v, W, params(e, mu, et))
+        assert mode in (MODE_STICK, MODE_SLIP)
+        s = np.linalg.norm(v) + np.linalg.norm(W, 2) * np.linalg.norm(P)
+        vf = exact_vf(v, W, P)
+        assert abs(vf[0] + e * v[0]) <= 16 * EPS * s
+        if mode == MODE_STICK:
+            assert np.all(np.abs(vf[1:] + et * v[1:]) <= 16 * EPS * s)
+        else:
+            Ps = [float(x) for x in exact_solve(W, [-(1 + e) * v[0], -(1 + et) * v[1],
+                                                     -(1 + et) * v[2]])]
+            u = np.array(Ps[1:]) / np.hypot(*Ps[1:])
+            assert np.hypot(*P[1:]) == pytest.approx(mu * P[0], rel=4 * EPS)
+            if np.linalg.norm(W, 2) * np.linalg.norm(Ps) < 1e6 * s:   # P* direction known
+                assert np.allclose(P[1:] / np.hypot(*P[1:]), u, atol=1e-9)
+
+
+def test_3d_spd_with_cancelling_cofactor_determinant_is_accepted():
+    """SPD W of cond 5.6e9 whose plain cofactor determinant is -7.9e-6 (used to raise
+    NoSolutionError); the same W made indefinite is rejected."""
+    v = np.array([-1036.9590984213548, 0.08664642602372336, 0.0])
+    mode, P, _, _ = run(brach_3d, v, W_SPD_CANCELS, params(0.86, 5.36, 0.3))
+    assert mode in (MODE_STICK, MODE_SLIP)
+    Wb = W_SPD_CANCELS.copy()
+    Wb[2, 2] -= 1e-3
+    assert exact_minors(Wb)[2] < 0
+    mode, P, _, _ = run(brach_3d, v, Wb, params(0.86, 5.36, 0.3))
+    assert mode == MODE_NO_SOLUTION and np.all(P == 0.0)

@@ -7,8 +7,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from _impact_helpers import (ROD, SPHERE_2D, SPHERE_3D, SWERVE_V, SWERVE_W,
-                             check_energy_identity, params, random_contact, run,
+from _impact_helpers import (EPS, ROD, SPHERE_2D, SPHERE_3D, SWERVE_V, SWERVE_W,
+                             W_SPD_CANCELS, check_energy_identity, exact_dE, exact_minors,
+                             ill_conditioned_spd, params, random_contact, rel_err, run,
                              tangent_rotation)
 from rbimpact.kernels.chatterjee_ruina import (chatterjee_ruina, chatterjee_ruina_2d,
                                                chatterjee_ruina_2d_scalar,
@@ -230,3 +231,96 @@ def test_energy_identity_with_rigid_bodies(dim, kernel):
     rng = np.random.default_rng(47 + dim)
     n = check_energy_identity(kernel, rng, dim, 200, (0.0, 1.0), 2.0, (-1.0, 1.0))
     assert n == 200
+
+
+# ---- backward-stable solves (stability issue 6): regression against rational arithmetic ----
+
+def _exact_cr(v, W, e, mu, et):
+    """The law of the module docstring in rational arithmetic: (stick?, P as Fractions)."""
+    from fractions import Fraction as F
+    d = len(v)
+    pi = -F(float(v[0])) / F(float(W[0][0]))
+    vTI = [F(float(v[i])) + F(float(W[i][0])) * pi for i in range(1, d)]
+    # D = -W^-1 (0, v_T^I), with the rational right-hand side
+    A = [[F(float(W[i][j])) for j in range(d)] + [F(0) if i == 0 else -vTI[i - 1]]
+         for i in range(d)]
+    for k in range(d):
+        for i in range(k + 1, d):
+            m = A[i][k] / A[k][k]
+            A[i] = [x - m * y for x, y in zip(A[i], A[k])]
+    D = [F(0)] * d
+    for k in reversed(range(d)):
+        D[k] = (A[k][d] - sum(A[k][j] * D[j] for j in range(k + 1, d))) / A[k][k]
+    base = (1 + F(e)) * pi
+    k = 1 + F(et)
+    Ph = [base + k * D[0]] + [k * x for x in D[1:]]
+    nT = sum(float(x) ** 2 for x in Ph[1:]) ** 0.5
+    if nT <= mu * float(Ph[0]):
+        return True, Ph
+    nD = sum(float(x) ** 2 for x in D[1:]) ** 0.5
+    kk = F(mu) * base / (F(nD) - F(mu) * D[0])
+    return False, [base + kk * D[0]] + [kk * x for x in D[1:]]
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_slip_on_the_cone_equals_the_papers_formula(dim):
+    """The kernels place the slip impulse as P_T = mu P_N D_T/|D_T|, P_N = a/(W_NN + W_NT.r)
+    (the tail shared with Brach): the same point as (1 + e) P_I + k D with
+    k = mu (1 + e) P_I,N / (|D_T| - mu D_N), evaluated here in rational arithmetic."""
+    rng = np.random.default_rng(11 + dim)
+    kernel = chatterjee_ruina_2d if dim == 2 else chatterjee_ruina_3d
+    n_slip = 0
+    for _ in range(60):
+        v, W = random_contact(rng, dim, coupling=float(rng.choice([0.3, 1.0, 3.0])))
+        e, et, mu = rng.uniform(0, 1), rng.uniform(-1, 1), rng.uniform(0.01, 1.0)
+        stick, ref = _exact_cr(v, W, e, mu, et)
+        mode, P, _, _ = run(kernel, v, W, params(e, mu, et))
+        assert mode == (MODE_STICK if stick else MODE_SLIP)
+        assert rel_err(P, ref) <= 1e-13
+        n_slip += not stick
+    assert n_slip >= 10
+
+
+@pytest.mark.parametrize("dim, log_cond", [(2, 8.0), (2, 14.0), (3, 8.0), (3, 12.0)])
+def test_elastic_stick_conserves_energy_ill_conditioned(dim, log_cond):
+    """e = e_t = 1 inside the cone reverses v (v_f = -v): dE = 0 in exact arithmetic and the
+    computed P may not create more than round-off of energy (exact dE of the kernel's P) even
+    for cond(W) up to 1e14 (2D) / 1e12 (3D) — the stability suite found 2e-6 E_scale."""
+    rng = np.random.default_rng(int(log_cond) + 10 * dim)
+    kernel = chatterjee_ruina_2d if dim == 2 else chatterjee_ruina_3d
+    n_stick = 0
+    for _ in range(40):
+        W = ill_conditioned_spd(rng, dim, log_cond)
+        v = rng.normal(size=dim) * 10.0 ** rng.uniform(-3, 3, size=dim)
+        v[0] = -abs(v[0])
+        mode, P, vf, _ = run(kernel, v, W, params(1.0, 1e12, 1.0))
+        assert mode in (MODE_STICK, MODE_SLIP)     # slip where P^_N < 0
+        n_stick += mode == MODE_STICK
+        escale = 0.5 * float(np.sum(np.abs(P) * (np.abs(v) + np.abs(vf))))
+        assert exact_dE(v, W, P) <= 16 * EPS * escale
+    assert n_stick >= 10
+
+
+def test_2d_stability_reproducer_energy():
+    """Stability reproducer (random cell): dE/E_scale was +2e-6 with the Cramer D."""
+    v = np.array([-5418.9477068965925, -2.2406746946618817e-109])
+    W = np.array([[0.04211320191922464, -0.014275656435246063],
+                  [-0.014275656435246063, 0.004839203797766421]])
+    mode, P, vf, _ = run(chatterjee_ruina_2d, v, W, params(1.0, 196826.55264126335, 1.0))
+    escale = 0.5 * float(np.sum(np.abs(P) * (np.abs(v) + np.abs(vf))))
+    assert mode == MODE_STICK and exact_dE(v, W, P) <= 16 * EPS * escale
+
+
+def test_3d_spd_with_cancelling_cofactor_determinant_is_accepted():
+    """SPD W of cond 5.6e9 whose plain cofactor determinant is -7.9e-6 (used to raise
+    NoSolutionError); the same W made indefinite is rejected."""
+    v = np.array([-1036.9590984213548, 0.08664642602372336, 0.0])
+    mode, P, vf, _ = run(chatterjee_ruina_3d, v, W_SPD_CANCELS, params(0.86, 5.36, 1.0))
+    assert mode in (MODE_STICK, MODE_SLIP)
+    escale = 0.5 * float(np.sum(np.abs(P) * (np.abs(v) + np.abs(vf))))
+    assert exact_dE(v, W_SPD_CANCELS, P) <= 16 * EPS * escale
+    Wb = W_SPD_CANCELS.copy()
+    Wb[2, 2] -= 1e-3
+    assert exact_minors(Wb)[2] < 0
+    mode, P, _, _ = run(chatterjee_ruina_3d, v, Wb, params(0.86, 5.36, 1.0))
+    assert mode == MODE_NO_SOLUTION and np.all(P == 0.0)

@@ -4,13 +4,15 @@ contacts, energy bookkeeping against rigid bodies, 3D root choice against an ind
 dense scan, invariance, planar reduction. Conventions: DESIGN.md §3 (normal first)."""
 import numpy as np
 import pytest
+from numba import njit
 from scipy.optimize import brentq
 
-from _impact_helpers import (ROD, SPHERE_2D, SPHERE_3D, SWERVE_V, SWERVE_W,
-                             check_energy_identity, params, random_contact, run,
-                             tangent_rotation)
+from _impact_helpers import (EPS, ROD, SPHERE_2D, SPHERE_3D, SWERVE_V, SWERVE_W,
+                             W_SPD_CANCELS, W_THIN_ROD, check_energy_identity, exact_minors,
+                             exact_solve, exact_vf, ill_conditioned_spd, params,
+                             random_contact, rel_err, run, tangent_rotation)
 from rbimpact.kernels.common import (MODE_NO_SOLUTION, MODE_SEPARATING, MODE_SLIP,
-                                     MODE_STICK)
+                                     MODE_STICK, det2k, fma, spd3_solve)
 from rbimpact.kernels.kane_levinson import (kane_levinson, kane_levinson_2d,
                                             kane_levinson_2d_scalar, kane_levinson_3d,
                                             kane_levinson_3d_scalar)
@@ -352,3 +354,167 @@ def test_numpy_version_mirror_symmetry():
     P = kane_levinson_2d_numpy(v, W, 0.4, 0.5)
     Pm = kane_levinson_2d_numpy(v @ F, F @ W @ F, 0.4, 0.5)
     np.testing.assert_allclose(Pm, P @ F, rtol=1e-12, atol=1e-14)
+
+
+# ---- backward-stable solves (stability issue 6): regression against rational arithmetic ----
+
+def test_2d_stick_trial_thin_rod_is_exact():
+    """Thin rod (I = 1e-8 m r^2, cond 1e8): Cramer's rule left v_fT = 4.5e-10 s; the Kahan
+    determinants give P* to a few ulps and v_fT = 0 to round-off of the exact v + W P."""
+    v = np.array([-1.0, 1.0])
+    mode, P, _, _ = run(kane_levinson_2d, v, W_THIN_ROD, params(0.0, 5.0))
+    ref = exact_solve(W_THIN_ROD, [1.0, -1.0])
+    assert mode == MODE_STICK
+    for x, r in zip(P, ref):
+        assert abs(x - float(r)) <= 4 * EPS * abs(float(r))
+    s = np.linalg.norm(v) + np.linalg.norm(W_THIN_ROD, 2) * np.linalg.norm(P)
+    assert np.all(np.abs(exact_vf(v, W_THIN_ROD, P) - [0.0, 0.0]) <= 4 * EPS * s)
+
+
+@pytest.mark.parametrize("log_cond", [4.0, 8.0, 12.0, 15.0])
+def test_2d_stick_trial_componentwise_exact(log_cond):
+    """Stick trial on random SPD W up to cond 1e15: each component of P* within a few ulps
+    of the rational solution of W P* = (a, -v_T)."""
+    rng = np.random.default_rng(int(log_cond))
+    n_stick = 0
+    for _ in range(40):
+        W = ill_conditioned_spd(rng, 2, log_cond)
+        v = rng.normal(size=2)
+        v[0] = -abs(v[0])
+        e = float(rng.choice([0.0, 0.5, 1.0]))
+        ref = [float(x) for x in exact_solve(W, [-(1.0 + e) * v[0], -v[1]])]
+        if ref[0] <= 0:
+            continue
+        mu = 2.0 * abs(ref[1]) / ref[0] + 1.0          # inside the cone: stick
+        mode, P, _, _ = run(kane_levinson_2d, v, W, params(e, mu))
+        assert mode == MODE_STICK
+        for x, r in zip(P, ref):
+            assert abs(x - r) <= 8 * EPS * abs(r)
+        n_stick += 1
+    assert n_stick >= 10
+
+
+@njit
+def _fma_jit(a, b, c):
+    return fma(a, b, c)
+
+
+def test_det2k_sign_and_accuracy():
+    """Kahan's FMA determinant: within 2 ulps of a d - b c (rational reference) even under
+    total cancellation, where the plain formula has the wrong sign; the Python fallback of
+    fma is the correctly rounded a b + c."""
+    from fractions import Fraction as F
+    rng = np.random.default_rng(5)
+    for _ in range(300):
+        a, b = rng.normal(size=2)
+        d = (b * b + rng.normal() * 1e-13) / a          # a d ~ b^2: cancels
+        exact = F(a) * F(d) - F(b) * F(b)
+        got = det2k(a, d, b, b)
+        assert abs(F(got) - exact) <= 2 * EPS * abs(exact)
+        assert (got > 0) == (exact > 0)
+        x, y, z = rng.normal(size=3)
+        assert fma(x, y, z) == float(F(x) * F(y) + F(z)) == _fma_jit(x, y, z)
+
+
+def _backward_error(W, r, x):
+    """max_i |r - W x|_i / (|r| + |W| |x|)_i with the residual in rational arithmetic."""
+    from fractions import Fraction as F
+    res = [F(float(r[i])) - sum(F(float(W[i][j])) * F(float(x[j])) for j in range(3))
+           for i in range(3)]
+    return max(abs(float(res[i])) / (abs(r[i]) + np.abs(W[i]) @ np.abs(x)) for i in range(3))
+
+
+@pytest.mark.parametrize("log_cond", [1.0, 6.0, 10.0, 13.0, 15.0])
+def test_spd3_solve_against_rational(log_cond):
+    """common.spd3_solve: accepts every exactly-SPD W up to cond 1e15 (Sylvester with
+    rational minors as the reference) and rejects it made indefinite by a hair; the solve is
+    componentwise backward stable (|r - W x| <= 4 eps (|r| + |W||x|) row by row, exact
+    residual), and forward accurate to a few ulps normwise up to cond 1e13."""
+    rng = np.random.default_rng(100 + int(log_cond))
+    for _ in range(30):
+        W = ill_conditioned_spd(rng, 3, log_cond)
+        r = rng.normal(size=3) * 10.0 ** rng.uniform(-3, 3, size=3)
+        ok, *x = spd3_solve(W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2], *r)
+        assert ok
+        assert _backward_error(W, r, x) <= 4 * EPS
+        if log_cond <= 13.0:
+            assert rel_err(x, exact_solve(W, r)) <= 16 * EPS
+        # indefinite by a hair: lower W_22 by twice the last Cholesky pivot
+        Wb = W.copy()
+        minors = exact_minors(W)
+        Wb[2, 2] -= 2.0 * float(minors[2] / minors[1])
+        if not all(m > 0 for m in exact_minors(Wb)):
+            ok, *x = spd3_solve(Wb[0, 0], Wb[0, 1], Wb[0, 2], Wb[1, 1], Wb[1, 2], Wb[2, 2],
+                                *r)
+            assert not ok and x == [0.0, 0.0, 0.0]
+
+
+def test_3d_spd_with_cancelling_cofactor_determinant_is_accepted():
+    """SPD W of cond 5.6e9 whose plain cofactor determinant is -7.9e-6: used to raise
+    NoSolutionError; now resolved, and the same W made indefinite is still rejected."""
+    v = np.array([-1036.9590984213548, 0.08664642602372336, 0.0])
+    mode, P, vf, _ = run(kane_levinson_3d, v, W_SPD_CANCELS, params(0.86, 5.36))
+    assert mode in (MODE_STICK, MODE_SLIP)
+    s = np.linalg.norm(v) + np.linalg.norm(W_SPD_CANCELS, 2) * np.linalg.norm(P)
+    assert abs(exact_vf(v, W_SPD_CANCELS, P)[0] - 0.86 * 1036.9590984213548) <= 1e-14 * s
+    Wb = W_SPD_CANCELS.copy()
+    Wb[2, 2] -= 1e-3                                    # det becomes negative (exactly)
+    assert exact_minors(Wb)[2] < 0
+    mode, P, _, _ = run(kane_levinson_3d, v, Wb, params(0.86, 5.36))
+    assert mode == MODE_NO_SOLUTION and np.all(P == 0.0)
+
+
+@pytest.mark.parametrize("log_cond", [8.0, 12.0])
+def test_3d_stick_trial_residual_at_round_off(log_cond):
+    """3D stick trial on ill-conditioned W (cond up to 1e12): v_f = (-e v_N, 0, 0) to a few
+    ulps of s = |v| + ||W|| |P| for the exact v + W P (the cofactor solve missed it by
+    ~eps cond)."""
+    rng = np.random.default_rng(7 + int(log_cond))
+    n_stick = 0
+    for _ in range(30):
+        W = ill_conditioned_spd(rng, 3, log_cond)
+        v = rng.normal(size=3)
+        v[0] = -abs(v[0])
+        ref = [float(x) for x in exact_solve(W, [-v[0], -v[1], -v[2]])]
+        if ref[0] <= 0:
+            continue
+        mu = 2.0 * np.hypot(ref[1], ref[2]) / ref[0] + 1.0
+        mode, P, _, _ = run(kane_levinson_3d, v, W, params(0.0, mu))
+        assert mode == MODE_STICK
+        s = np.linalg.norm(v) + np.linalg.norm(W, 2) * np.linalg.norm(P)
+        assert np.all(np.abs(exact_vf(v, W, P)) <= 16 * EPS * s)
+        n_stick += 1
+    assert n_stick >= 5
+
+
+# near-Painleve 3D slip (W_NN < mu |W_NT|, tiny v_N): P_N = a / D with D ~ 1e-15 ||W||
+KL3_NEAR_PAINLEVE = [
+    ([-3.826876022838944e-09, 2.332721390631426e-09, -4405.841143638487],
+     [[3.992874106840114e-05, 3.0171555156973024e-05, -9.893088753349557e-06],
+      [3.0171555156973024e-05, 0.00016549392649138614, -0.00010903170756023525],
+      [-9.893088753349557e-06, -0.00010903170756023525, 7.489982190202088e-05]],
+     0.0, 5.513800536036348),
+    ([-2.99289221876759e-08, 6.050812960988013e-290, 556.0364400993321],
+     [[1.907301739650419e-08, 9.187225736826713e-08, 6.117636703470964e-08],
+      [9.187225736826713e-08, 4.425389349726186e-07, 2.946808059407338e-07],
+      [6.117636703470964e-08, 2.946808059407338e-07, 1.962244599861841e-07]],
+     1.0, 0.40293729381681426),
+]
+
+
+@pytest.mark.parametrize("v, W, e, mu", KL3_NEAR_PAINLEVE)
+def test_3d_slip_near_painleve_residual_at_round_off(v, W, e, mu):
+    """Slip with a tiny denominator D: P_N = a / D at the rounded angle left v_fT off the
+    slip direction by 2.5e-6 s; the least-squares P_N of the normal and tangential
+    equations keeps v_fN = -e v_N and v_fT = lambda u (lambda > 0, u = -P_T/|P_T|) to a few
+    ulps of s = |v| + ||W|| |P| (exact v + W P)."""
+    v, W = np.array(v), np.array(W)
+    mode, P, _, _ = run(kane_levinson_3d, v, W, params(e, mu))
+    assert mode == MODE_SLIP
+    s = np.linalg.norm(v) + np.linalg.norm(W, 2) * np.linalg.norm(P)
+    vf = exact_vf(v, W, P)
+    u = -P[1:] / np.linalg.norm(P[1:])
+    assert np.linalg.norm(P[1:]) == pytest.approx(mu * P[0], rel=4 * EPS)
+    assert abs(vf[0] + e * v[0]) <= 16 * EPS * s
+    lam = vf[1:] @ u
+    assert lam > 0 and np.linalg.norm(vf[1:] - lam * u) <= 16 * EPS * s
