@@ -32,11 +32,20 @@ Failure modes (``P_out`` zeroed):
   give ``W_TN^2 > W_NN W_TT``. So the jam branch is reached only for non-SPD ``W``.
 * ``MODE_NOT_CONVERGED`` (3D only): more than ``MAX_STEPS`` Runge-Kutta step attempts.
 
-2D is exact: at most three straight segments (slip; stick or reversed slip), every event
-impulse in closed form, no iteration.
+2D is exact: at most two straight segments (slip; stick or reversed slip), every event
+impulse in closed form, no iteration; the slopes and ``v_N`` where the slip stops are
+formed with error-free transformations (FMA), so the result is the exact path of the
+float inputs to a few ulps for any SPD ``W`` (tested against rational arithmetic).
 
-3D: Dormand-Prince 5(4) (FSAL, local extrapolation) on the state ``(v_T, Wk)``, ``Wk =
-int v_N dp``, with ``v_N = v_N0 + kappa p + z.(v_T - v_T0)``, ``z = C^-1 w``; error control
+Stick slopes are never formed as a difference of large numbers: 2D ``det W / W_TT`` (FMA
+determinant), 3D ``det W / det W_TT`` (``common.schur3``); ``W_TT^-1 W_TN`` by Cramer's rule
+with compensated numerators and determinant.
+
+3D: Dormand-Prince 5(4) (FSAL, local extrapolation) on the state ``(v_T, P_T, Wk)``, ``Wk =
+int v_N dp``, with ``v_N = v_N0 + kappa p + z.(v_T - v_T0)``, ``z = C^-1 w``; ``P_T`` is
+carried along (``dP_T/dp = -mu u``: on the friction cone up to truncation error, and
+clipped onto it at the end) instead of being recovered as ``C^-1 (v_T - v_T0 - w p)``,
+which multiplies the tol-level error of ``v_T`` by ``||C^-1||``; error control
 on ``v_T`` and ``Wk`` to ``tol`` relative to ``|v0|`` (max norm), predictive step control;
 events (``v_N = 0``, energetic/newton termination) located on Shampine's 4th-order
 continuous extension with a safeguarded Newton polish; poisson lands on ``p_f`` exactly.
@@ -45,7 +54,8 @@ DOP853 on the swerve case (scipy counts: 276 vs 216 at 1e-10), has a free contin
 extension for the events (DOP853's costs 3 more stages), and each evaluation is one
 dependent sqrt and division; below ~1e-11 DOP853 would be cheaper (about 2x at 1e-12).
 The ODE is singular at ``v_T = 0``: steps are capped (SING_STEP_FRAC) while ``|v_T|``
-shrinks; when the slip is within LOCK_REL tol |v0| of an invariant ray that attracts it,
+shrinks, and near a ray that attracts the slip angle they are kept in the stability
+interval of the angle's rate ``dF/dphi / |v_T|`` (STIFF_STEP); when the slip is within LOCK_REL tol |v0| of an invariant ray that attracts it,
 the rest is that straight ray (to ``v_T = 0`` if lambda < 0, for good if lambda > 0);
 in the singular zone (SING_VT_*) the approach is finished on a straight line. From
 ``v_T = 0`` on everything is exact and closed form (stick, or the diverging ray).
@@ -64,8 +74,30 @@ from .common import (
     REST_ENERGETIC, REST_POISSON, REST_NEWTON,
     MODE_SEPARATING, MODE_STICK, MODE_SLIP, MODE_SLIP_STICK, MODE_SLIP_REVERSE,
     MODE_NO_SOLUTION, MODE_NOT_CONVERGED,
-    solve2,
+    det2c, det2k, schur3, solve2, two_sum,
 )
+from .common import fma as _fma
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _schur2_fma(a, b, c):
+    """Stick slope a - b^2/c = det/c of the SPD [[a, b], [b, c]], the determinant by Kahan's
+    FMA algorithm (``common.det2k``: error <= 2 ulps of the result)."""
+    return det2k(a, c, b, b) / c
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _axpy_dd(a, m, b):
+    """a - m b as an unevaluated sum (hi, lo), exact to ~eps^2 (|a| + |m b|) (FMA two-product
+    and two-sum): the sliding slopes W_NN - mu s W_TN and W_TN - mu s W_TT, which cancel when
+    the slip nearly jams or nearly stalls."""
+    q = m * b
+    qe = _fma(m, b, -q)                          # m b = q + qe exactly
+    s, se = two_sum(a, -q)
+    lo = se - qe
+    hi = s + lo
+    return hi, lo - (hi - s)
+
 
 # ---- named tolerances and limits (3D integrator) -----------------------------------------
 TOL_DEFAULT = 1e-10   # relative tolerance used when params[P_TOL] is <= 0 or not finite (-)
@@ -79,6 +111,12 @@ SING_STEP_FRAC = 0.9   # while |v_T| decreases, a step may cover at most this fr
                        #   impulse |v_T| / (-d|v_T|/dp) predicted to reach v_T = 0 (-), so
                        #   that no stage crosses the singularity; |v_T| then shrinks
                        #   geometrically (x10 per step) into the singular zone.
+STIFF_STEP = 2.0       # near a ray that attracts the slip angle (dF/dphi < 0) a step is at most
+                       #   STIFF_STEP |v_T| / |dF/dphi| (N s): h times the angle's rate
+                       #   |dF/dphi| / |v_T| stays in DP5's real stability interval (-3.3, 0),
+                       #   amplification |R(-2)| = 0.17. Without it the error control accepts
+                       #   unstable steps when |v_T| ~ 10 tol |v0| and the discrete slip
+                       #   circles v_T = 0 until MAX_STEPS (MODE_NOT_CONVERGED).
 LOCK_REL = 1.0         # ray lock-on: when v_T is within LOCK_REL * tol * |v0| (m/s, distance
                        #   |v_T| |phi - phi*|) of an invariant ray phi* that attracts the slip
                        #   (dF/dphi + lambda < 0), the rest of the slip is that straight ray.
@@ -215,6 +253,14 @@ def routh_2d_scalar(vN0, vT, a, b, c, e, mu, r):
     until ``v_T = 0``; then stick if ``|W_TN| <= mu W_TT`` (``dP_T/dp = -W_TN/W_TT``,
     ``dv_N/dp = det W / W_TT``), else slip along ``sign(W_TN)`` (reversal). Returns
     MODE_STICK / SLIP / SLIP_STICK / SLIP_REVERSE, MODE_SEPARATING, or MODE_NO_SOLUTION.
+
+    Accuracy (W, v taken as exact): the slopes ``W_NN - mu s W_TN``, ``W_TN - mu s W_TT``
+    (FMA two-product, ``_axpy_dd``) and the stick slope ``det W / W_TT`` (``_schur2_fma``)
+    are correct to ~1 ulp, and ``v_N`` where the slip stops, ``v_N0 - k v_T / k_T``, is
+    formed in double-double: it is a small difference of O(|v_N0|) terms when the slip
+    nearly reaches the compression end (thin rods), and the stick phase divides it by a
+    slope that can be ~cond(W)^-1 W_NN. A single segment (no slip stop) terminates at
+    ``p_f = (1 + e) p_c`` for every restitution kind.
     """
     if vN0 >= 0.0:
         return MODE_SEPARATING, 0.0, 0.0
@@ -227,50 +273,78 @@ def routh_2d_scalar(vN0, vT, a, b, c, e, mu, r):
     stick_ok = abs(b) <= mu * c
     if vT == 0.0:
         if stick_ok:
-            s = 0.0
-            mode = MODE_STICK
-        else:
-            s = 1.0 if b > 0.0 else -1.0          # diverging direction: d v_T/dp has sign s
-            mode = MODE_SLIP
+            return _single_2d(MODE_STICK, vN0, _schur2_fma(a, b, c), -b / c, e)
+        s = 1.0 if b > 0.0 else -1.0              # diverging direction: d v_T/dp has sign s
+        k, _ = _axpy_dd(a, mu * s, b)
+        return _single_2d(MODE_SLIP, vN0, k, -mu * s, e)
+    s = 1.0 if vT > 0.0 else -1.0
+    ms = mu * s                                   # exact: s = +-1
+    kh, kl = _axpy_dd(a, ms, b)                   # normal slope while slipping
+    kTh, kTl = _axpy_dd(b, ms, c)                 # tangential slope
+    if s * kTh >= 0.0:                            # the slip never stops
+        return _single_2d(MODE_SLIP, vN0, kh, -ms, e)
+    # ---- the slip stops at h1 = -vT/kT; v_N there in double-double ----
+    t = vT / kTh
+    t_lo = (_fma(-kTh, t, vT) - kTl * t) / kTh    # vT/kT = t + t_lo to ~eps^2
+    h1 = -t
+    q = kh * t
+    qe = _fma(kh, t, -q)
+    sN, sNe = two_sum(vN0, -q)
+    vN1 = sN + (sNe - (qe + kh * t_lo + kl * t))  # vN0 - k vT/kT
+    k = kh + kl
+    if stick_ok:
+        k2 = _schur2_fma(a, b, c)
+        g2 = -b / c
+        mode2 = MODE_SLIP_STICK
     else:
-        s = 1.0 if vT > 0.0 else -1.0
-        mode = MODE_SLIP
-    p = 0.0
-    PT = 0.0
-    vN = vN0
+        k2, _ = _axpy_dd(a, -ms, b)
+        g2 = ms
+        mode2 = MODE_SLIP_REVERSE
+    rest_f = rest
+    # ---- segment 1: slip, p in [0, h1] ----
     Wk = 0.0
-    comp = True
-    pc = 0.0
-    Wc = 0.0
-    code = 0
-    for _ in range(3):                            # slip -> (stick | reversed slip): <= 2 used
-        if s == 0.0:
-            k = a - b * b / c
-            g = -b / c
-            kT = 0.0
-            hmax = np.inf
-        else:
-            k = a - mu * s * b
-            g = -mu * s
-            kT = b - mu * s * c
-            hmax = -vT / kT if s * kT < 0.0 else np.inf
-        p_old = p
-        code, p, vN, Wk, comp, pc, Wc = _advance_linear(p, vN, Wk, comp, pc, Wc, k, hmax,
-                                                        e, rest, vN0)
-        h = p - p_old
-        PT += g * h
-        if code != 0:
-            break
-        vT = 0.0                                  # v_T reached 0 exactly at p
-        if stick_ok:
-            s = 0.0
-            mode = MODE_SLIP_STICK
-        else:
-            s = -s
-            mode = MODE_SLIP_REVERSE
-    if code != 1 or not (abs(p) < np.inf and abs(PT) < np.inf):
+    if vN1 < 0.0:                                  # still compressing at the stop
+        p = h1
+        Wk = 0.5 * h1 * (vN0 + vN1)
+        code, p, vN, Wk, comp, pc, Wc = _advance_linear(p, vN1, Wk, True, 0.0, 0.0, k2,
+                                                        np.inf, e, rest_f, vN0)
+        PT = -ms * h1 + g2 * (p - h1)
+        if code != 1 or not (abs(p) + abs(PT) < np.inf):
+            return MODE_NO_SOLUTION, 0.0, 0.0
+        return mode2, p, PT
+    # compression ends inside segment 1 (k > 0 here since vN1 >= 0 > vN0)
+    pc = -vN0 / k
+    if pc > h1:
+        pc = h1
+    Wc = 0.5 * vN0 * pc
+    if e <= 0.0:
+        return MODE_SLIP, pc, -ms * pc
+    pf = (1.0 + e) * pc                             # single-segment termination (all kinds)
+    if pf <= h1:
+        return MODE_SLIP, pf, -ms * pf
+    # termination after the stop: continue on segment 2 from (h1, vN1)
+    Wk = Wc + 0.5 * (h1 - pc) * vN1                 # int_pc^h1 of a linear v_N from 0
+    code, p, vN, Wk, comp, pc, Wc = _advance_linear(h1, vN1, Wk, False, pc, Wc, k2, np.inf,
+                                                    e, rest_f, vN0)
+    PT = -ms * h1 + g2 * (p - h1)
+    if code != 1 or not (abs(p) + abs(PT) < np.inf):
         return MODE_NO_SOLUTION, 0.0, 0.0
-    return mode, p, PT
+    return mode2, p, PT
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _single_2d(mode, vN0, k, g, e):
+    """One unbounded straight segment from p = 0 with normal slope ``k`` and ``dP_T/dp = g``:
+    ``p_c = -v_N0/k`` and, for every termination kind, ``p_f = (1 + e) p_c`` (poisson by
+    definition; newton ``v_N = k (p_f - p_c) = -e v_N0``; energetic ``k h^2/2 = e^2 |W_c|``
+    with ``W_c = v_N0 p_c / 2``). ``k <= 0``: v_N never reaches 0 (jam)."""
+    if not (k > 0.0):
+        return MODE_NO_SOLUTION, 0.0, 0.0
+    pf = ((1.0 + e) * -vN0) / k
+    PT = g * pf
+    if not (pf < np.inf and abs(PT) < np.inf):
+        return MODE_NO_SOLUTION, 0.0, 0.0
+    return mode, pf, PT
 
 @njit(cache=True, error_model="numpy")
 def routh_2d(v, W, params, P_out):
@@ -287,19 +361,31 @@ def routh_2d(v, W, params, P_out):
 # 3D helpers
 # ============================================================================================
 @njit(cache=True, error_model="numpy", inline="always")
-def _rhs(x1, x2, p, w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02):
-    """Sliding ODE in p, state (v_T1, v_T2, Wk): returns (dv_T1/dp, dv_T2/dp, v_N) with
-    ``dv_T/dp = w - mu C v_T / |v_T|`` (``m = mu C`` precomputed) and ``dWk/dp = v_N``.
-    Written so that mu C v_T is formed while the square root runs (one sqrt and two
-    independent divisions on the critical path)."""
+def _rhs(x1, x2, p, w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02):
+    """Sliding ODE in p: returns ``(dv_T1/dp, dv_T2/dp, v_N, dP_T1/dp, dP_T2/dp)`` with
+    ``dP_T/dp = -mu u``, ``u = v_T/|v_T|``, ``dv_T/dp = w - mu C u`` (``m = mu C``
+    precomputed), and ``dWk/dp = v_N``. mu C v_T is formed while the square root runs."""
     r2 = x1 * x1 + x2 * x2
     g1 = m00 * x1 + m01 * x2
     g2 = m01 * x1 + m11 * x2
     vN = vN0 + kap * p + z1 * (x1 - x01) + z2 * (x2 - x02)
     if r2 > 0.0:
-        r = math.sqrt(r2)
-        return w1 - g1 / r, w2 - g2 / r, vN
-    return w1, w2, vN
+        ir = 1.0 / math.sqrt(r2)
+        mi = mu * ir
+        return w1 - g1 * ir, w2 - g2 * ir, vN, -mi * x1, -mi * x2
+    return w1, w2, vN, 0.0, 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _cone(p, P1, P2, mu):
+    """(P1, P2) scaled onto the friction cone |P_T| <= mu p if (by round-off or truncation
+    error of the integrator) it lies outside."""
+    n = math.sqrt(P1 * P1 + P2 * P2)
+    lim = mu * p
+    if n > lim:
+        f = lim / n
+        return P1 * f, P2 * f
+    return P1, P2
 
 
 # m^(-1/5) on [0.5, 1]: quadratic through m = 0.5, 0.75, 1 (relative error < 1.6e-3)
@@ -393,6 +479,17 @@ def _ray_dF(u1, u2, w1, w2, c00, c01, c11, mu):
     c2 = u1 * u1 - u2 * u2
     s2 = 2.0 * u1 * u2
     return -w2 * u2 - w1 * u1 + 2.0 * (-0.5 * mu * (c11 - c00) * c2 + mu * c01 * s2)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _h_stiff(x1, x2, w1, w2, c00, c01, c11, mu):
+    """Largest step STIFF_STEP |v_T| / |dF/dphi| allowed where the slip angle is attracted
+    (dF/dphi < 0) to a ray (N s); inf elsewhere or at v_T = 0."""
+    r = math.sqrt(x1 * x1 + x2 * x2)
+    if not (r > 0.0):
+        return np.inf
+    dF = _ray_dF(x1 / r, x2 / r, w1, w2, c00, c01, c11, mu)
+    return STIFF_STEP * r / (-dF) if dF < 0.0 else np.inf
 
 
 @njit(cache=True, error_model="numpy")
@@ -549,8 +646,13 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     ``(mode, P_N, P_T1, P_T2)`` (N s), ``P = 0`` on failure.
 
     Slides with the DP5 integrator described in the module docstring, then finishes
-    exactly from ``v_T = 0`` (or from a locked-on invariant ray);
-    ``P_T = C^-1 (v_T - v_T0 - w p)``. Returns MODE_STICK (sticks from the start),
+    exactly from ``v_T = 0`` (or from a locked-on invariant ray). The tangential impulse
+    is integrated with the slip (``dP_T/dp = -mu u``, the same Runge-Kutta weights as
+    ``v_T``), never recovered through ``W_TT^-1`` (which would amplify tol-level velocity
+    errors by ``||W_TT^-1||``), and is finally held on the friction cone (``_cone``). The
+    stick slope ``kappa = det W / det W_TT`` (``common.schur3``) and ``z = W_TT^-1 W_TN``
+    (compensated numerators and determinant) are accurate to a few ulps for any SPD ``W``,
+    so that no stable stick is taken for a jam. Returns MODE_STICK (sticks from the start),
     MODE_SLIP (slides throughout, possibly starting on the diverging ray),
     MODE_SLIP_STICK, MODE_SLIP_REVERSE (stops, resumes on the diverging ray),
     MODE_SEPARATING, MODE_NO_SOLUTION or MODE_NOT_CONVERGED.
@@ -559,7 +661,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         return MODE_SEPARATING, 0.0, 0.0, 0.0
     ok, rest = _check_params(e, mu, r)
     vscale = math.sqrt(vN0 * vN0 + x01 * x01 + x02 * x02)
-    detC = c00 * c11 - c01 * c01
+    detC = det2c(c00, c11, c01, c01)
     finite = vscale + abs(a) + abs(w1) + abs(w2) + abs(c00) + abs(c01) + abs(c11) < np.inf
     if not ok or not finite or not (a > 0.0) or not (c00 > 0.0) or not (detC > 0.0):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
@@ -568,8 +670,9 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     if not (tol > 0.0 and tol < np.inf):
         tol = TOL_DEFAULT
     tol = min(max(tol, TOL_MIN), TOL_MAX)
-    z1, z2 = solve2(c00, c01, c11, w1, w2)         # C^-1 w
-    kap = a - (w1 * z1 + w2 * z2)                  # 1/(W^-1)_NN > 0
+    z1 = det2c(c11, w1, c01, w2) / detC            # z = C^-1 w, compensated Cramer
+    z2 = det2c(c00, w2, c01, w1) / detC
+    kap = schur3(a, w1, w2, c00, c01, c11)         # 1/(W^-1)_NN = det W / det C > 0
     stick_ok = z1 * z1 + z2 * z2 <= mu * mu
     thr = max(SING_VT_PER_TOL * tol, SING_VT_MIN) * vscale
     lock = LOCK_REL * tol * vscale
@@ -579,6 +682,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     p = 0.0
     x1 = x01
     x2 = x02
+    P1 = 0.0                                       # tangential impulse (N s)
+    P2 = 0.0
     Wk = 0.0
     comp = True
     pc = 0.0
@@ -600,12 +705,14 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         m00 = mu * c00
         m01 = mu * c01
         m11 = mu * c11
-        f1, f2, f3 = _rhs(x1, x2, p, w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
+        f1, f2, f3, f4, f5 = _rhs(x1, x2, p, w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2,
+                                  x01, x02)
         fn = math.sqrt(f1 * f1 + f2 * f2)
         ps = -vN0 / a
         if fn * ps > r0:
             ps = r0 / fn
         h = H0_FRAC * math.pow(tol, 0.2) * ps
+        hstiff = _h_stiff(x1, x2, w1, w2, c00, c01, c11, mu)
         h_prev = 0.0
         rho_prev = 1.0
         rejected = False
@@ -619,40 +726,47 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             rr2 = x1 * f1 + x2 * f2                # |v_T| d|v_T|/dp
             if rr2 < 0.0 and hh * (-rr2) > SING_STEP_FRAC * r2:
                 hh = SING_STEP_FRAC * r2 / (-rr2)  # at most a fraction of the way to v_T = 0
+            # the slip angle obeys dphi/dp = F(phi)/|v_T|: near an attracting ray its rate
+            # dF/dphi / |v_T| grows without bound as |v_T| -> 0 (stiff); keep the step in
+            # DP5's stability interval so that the angle converges onto the ray (lock-on)
+            # instead of oscillating around it (hstiff: formed at the end of the previous
+            # step, off this step's critical path)
+            if hh > hstiff:
+                hh = hstiff
             last = False
             if not comp and rest == REST_POISSON and p + hh >= pf:
                 hh = pf - p
                 last = True
             # ---- Dormand-Prince 5(4) step, FSAL (k1 = f). Stage sums add the newest stage
             # last, so that only one multiply-add separates consecutive stages ----
-            k11, k12, k13 = f1, f2, f3
-            k21, k22, k23 = _rhs(x1 + (hh * _A21) * k11, x2 + (hh * _A21) * k12,
+            k11, k12, k13, k14, k15 = f1, f2, f3, f4, f5
+            k21, k22, k23, k24, k25 = _rhs(x1 + (hh * _A21) * k11, x2 + (hh * _A21) * k12,
                                  p + _C2 * hh,
-                                 w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
-            k31, k32, k33 = _rhs((x1 + hh * (_A31 * k11)) + (hh * _A32) * k21,
+                                 w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
+            k31, k32, k33, k34, k35 = _rhs((x1 + hh * (_A31 * k11)) + (hh * _A32) * k21,
                                  (x2 + hh * (_A31 * k12)) + (hh * _A32) * k22,
                                  p + _C3 * hh,
-                                 w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
-            k41, k42, k43 = _rhs((x1 + hh * (_A41 * k11 + _A42 * k21)) + (hh * _A43) * k31,
+                                 w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
+            k41, k42, k43, k44, k45 = _rhs((x1 + hh * (_A41 * k11 + _A42 * k21)) + (hh * _A43) * k31,
                                  (x2 + hh * (_A41 * k12 + _A42 * k22)) + (hh * _A43) * k32,
                                  p + _C4 * hh,
-                                 w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
-            k51, k52, k53 = _rhs(
+                                 w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
+            k51, k52, k53, k54, k55 = _rhs(
                 (x1 + hh * (_A51 * k11 + _A52 * k21 + _A53 * k31)) + (hh * _A54) * k41,
                 (x2 + hh * (_A51 * k12 + _A52 * k22 + _A53 * k32)) + (hh * _A54) * k42,
-                p + _C5 * hh, w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
-            k61, k62, k63 = _rhs(
+                p + _C5 * hh, w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
+            k61, k62, k63, k64, k65 = _rhs(
                 (x1 + hh * (_A61 * k11 + _A62 * k21 + _A63 * k31 + _A64 * k41))
                 + (hh * _A65) * k51,
                 (x2 + hh * (_A61 * k12 + _A62 * k22 + _A63 * k32 + _A64 * k42))
                 + (hh * _A65) * k52,
-                p + hh, w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
+                p + hh, w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
             pn = pf if last else p + hh
             y1 = (x1 + hh * (_B1 * k11 + _B3 * k31 + _B4 * k41 + _B5 * k51)) + (hh * _B6) * k61
             y2 = (x2 + hh * (_B1 * k12 + _B3 * k32 + _B4 * k42 + _B5 * k52)) + (hh * _B6) * k62
             yw = Wk + hh * (_B1 * k13 + _B3 * k33 + _B4 * k43 + _B5 * k53 + _B6 * k63)
-            k71, k72, k73 = _rhs(y1, y2, pn,
-                                 w1, w2, m00, m01, m11, vN0, kap, z1, z2, x01, x02)
+            k71, k72, k73, k74, k75 = _rhs(y1, y2, pn,
+                                 w1, w2, m00, m01, m11, mu, vN0, kap, z1, z2, x01, x02)
             e1 = hh * (_E1 * k11 + _E3 * k31 + _E4 * k41 + _E5 * k51 + _E6 * k61 + _E7 * k71)
             e2 = hh * (_E1 * k12 + _E3 * k32 + _E4 * k42 + _E5 * k52 + _E6 * k62 + _E7 * k72)
             e3 = hh * (_E1 * k13 + _E3 * k33 + _E4 * k43 + _E5 * k53 + _E6 * k63 + _E7 * k73)
@@ -698,15 +812,17 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             if ev != 0:
                 if ev == 2 and rest == REST_ENERGETIC:
                     th = _event_root(g0, hh, k13, k33, k43, k53, k63, k73)
-                else:                              # event on v_N: stage slopes kap + z.k
+                else:                              # event on v_N: stage slopes a + w.dP_T
                     th = _event_root(g0, hh,
-                                     kap + z1 * k11 + z2 * k12, kap + z1 * k31 + z2 * k32,
-                                     kap + z1 * k41 + z2 * k42, kap + z1 * k51 + z2 * k52,
-                                     kap + z1 * k61 + z2 * k62, kap + z1 * k71 + z2 * k72)
+                                     a + (w1 * k14 + w2 * k15), a + (w1 * k34 + w2 * k35),
+                                     a + (w1 * k44 + w2 * k45), a + (w1 * k54 + w2 * k55),
+                                     a + (w1 * k64 + w2 * k65), a + (w1 * k74 + w2 * k75))
                 b1, b3, b4, b5, b6, b7 = _dense_b(th)
                 x1 = x1 + hh * (b1 * k11 + b3 * k31 + b4 * k41 + b5 * k51 + b6 * k61 + b7 * k71)
                 x2 = x2 + hh * (b1 * k12 + b3 * k32 + b4 * k42 + b5 * k52 + b6 * k62 + b7 * k72)
                 Wk = Wk + hh * (b1 * k13 + b3 * k33 + b4 * k43 + b5 * k53 + b6 * k63 + b7 * k73)
+                P1 = P1 + hh * (b1 * k14 + b3 * k34 + b4 * k44 + b5 * k54 + b6 * k64 + b7 * k74)
+                P2 = P2 + hh * (b1 * k15 + b3 * k35 + b4 * k45 + b5 * k55 + b6 * k65 + b7 * k75)
                 p = p + th * hh
                 if ev == 2:
                     status = 1
@@ -722,17 +838,18 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
                     status = 1                     # (1 + e) p_c == p_c in floating point
                     break
                 h = max(h, hh)
-                f1, f2, f3 = _rhs(x1, x2, p, w1, w2, m00, m01, m11, vN0, kap, z1, z2,
-                                  x01, x02)
+                hstiff = _h_stiff(x1, x2, w1, w2, c00, c01, c11, mu)
+                f1, f2, f3, f4, f5 = _rhs(x1, x2, p, w1, w2, m00, m01, m11, mu, vN0, kap,
+                                          z1, z2, x01, x02)
             else:
                 if comp:
-                    S = kap + z1 * k71 + z2 * k72  # normal slope a - mu w.u at the step end
+                    S = a + (w1 * k74 + w2 * k75)  # normal slope a - mu w.u at the step end
                     if S <= 0.0 and not stick_ok:  # (stable stick: the slip always stops)
                         rn = math.sqrt(y1 * y1 + y2 * y2)
                         if rn > 0.0 and _jam_ahead(y1 / rn, y2 / rn, a, w1, w2, c00, c01,
                                                    c11, mu):
                             return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-                elif k73 <= 0.0 and kap + z1 * k71 + z2 * k72 <= 0.0:
+                elif k73 <= 0.0 and a + (w1 * k74 + w2 * k75) <= 0.0:
                     # v_N came back down to 0 before termination (not mere round-off
                     # right after p_c, where v_N ~ 0 and increases)
                     return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
@@ -740,7 +857,9 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
                 x1 = y1
                 x2 = y2
                 Wk = yw
-                f1, f2, f3 = k71, k72, k73
+                P1 = P1 + hh * (_B1 * k14 + _B3 * k34 + _B4 * k44 + _B5 * k54 + _B6 * k64)
+                P2 = P2 + hh * (_B1 * k15 + _B3 * k35 + _B4 * k45 + _B5 * k55 + _B6 * k65)
+                f1, f2, f3, f4, f5 = k71, k72, k73, k74, k75
                 if last:
                     status = 1
                     break
@@ -754,6 +873,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             u1 = x1 / r
             u2 = x2 / r
             dF = _ray_dF(u1, u2, w1, w2, c00, c01, c11, mu)
+            hstiff = STIFF_STEP * r / (-dF) if dF < 0.0 else np.inf
             lam = u1 * f1 + u2 * f2
             if dF + lam < 0.0 and dF < 0.0 and abs(xc) <= lock * (-dF):
                 u1, u2, lam, dF = _ray_near(u1, u2, w1, w2, c00, c01, c11, mu)
@@ -763,7 +883,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
 
     if status == 1:
         # terminated while sliding
-        PT1, PT2 = solve2(c00, c01, c11, x1 - x01 - w1 * p, x2 - x02 - w2 * p)
+        PT1, PT2 = _cone(p, P1, P2, mu)
         if not (abs(p) + abs(PT1) + abs(PT2) < np.inf):
             return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
         return mode, p, PT1, PT2
@@ -781,7 +901,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         # straight line along u: to v_T = 0 (lam < 0) or for good (lam > 0)
         S = a - mu * (w1 * u1 + w2 * u2)
         dl = r / (-lam) if lam < 0.0 else np.inf
-        PT1, PT2 = solve2(c00, c01, c11, x1 - x01 - w1 * p, x2 - x02 - w2 * p)
+        PT1 = P1
+        PT2 = P2
         p_old = p
         code, p, vN, Wk, comp, pc, Wc = _advance_linear(p, vN, Wk, comp, pc, Wc, S, dl,
                                                         e, rest, vN0)
@@ -790,6 +911,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         if code == 1:
             PT1 -= mu * u1 * (p - p_old)
             PT2 -= mu * u2 * (p - p_old)
+            PT1, PT2 = _cone(p, PT1, PT2, mu)
             if not (abs(p) + abs(PT1) + abs(PT2) < np.inf):
                 return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
             return MODE_SLIP, p, PT1, PT2
@@ -797,6 +919,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             mode = MODE_SLIP_STICK
         else:
             mode = MODE_SLIP_REVERSE
+        P1 = PT1 - mu * u1 * (p - p_old)           # impulse where v_T reaches 0
+        P2 = PT2 - mu * u2 * (p - p_old)
         vN = vN0 + kap * p - z1 * x01 - z2 * x02   # v_T = 0 exactly from here on
     else:
         mode = MODE_STICK if stick_ok else MODE_SLIP
@@ -805,7 +929,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     if stick_ok:
         code, p, vN, Wk, comp, pc, Wc = _advance_linear(p, vN, Wk, comp, pc, Wc, kap, np.inf,
                                                         e, rest, vN0)
-        PT1, PT2 = solve2(c00, c01, c11, -x01 - w1 * p, -x02 - w2 * p)
+        PT1 = P1 - z1 * (p - ps)                   # stick: dP_T/dp = -C^-1 w
+        PT2 = P2 - z2 * (p - ps)
     else:
         found, u1, u2, lam = _diverging_ray(w1, w2, c00, c01, c11, mu)
         if not found:
@@ -813,11 +938,11 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         S = a - mu * (w1 * u1 + w2 * u2)
         code, p, vN, Wk, comp, pc, Wc = _advance_linear(p, vN, Wk, comp, pc, Wc, S, np.inf,
                                                         e, rest, vN0)
-        PT1, PT2 = solve2(c00, c01, c11, -x01 - w1 * ps, -x02 - w2 * ps)
-        PT1 -= mu * u1 * (p - ps)
-        PT2 -= mu * u2 * (p - ps)
+        PT1 = P1 - mu * u1 * (p - ps)
+        PT2 = P2 - mu * u2 * (p - ps)
     if code != 1 or not (abs(p) + abs(PT1) + abs(PT2) < np.inf):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
+    PT1, PT2 = _cone(p, PT1, PT2, mu)
     return mode, p, PT1, PT2
 
 @njit(cache=True, error_model="numpy")
