@@ -45,6 +45,11 @@ import math
 
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled code before the kernel modules below are imported (cache_guard)
+guard(__name__, __file__)
+
 from .common import (
     MODE_NO_SOLUTION,
     MODE_SEPARATING,

@@ -9,6 +9,11 @@ pays no reference counting per contact (the batch kernels use them).
 """
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
 from .brach import brach_2d_scalar, brach_3d_scalar
 from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
 from .common import (LAW_BRACH, LAW_CHATTERJEE_RUINA, LAW_KANE_LEVINSON, LAW_ROUTH,

@@ -45,6 +45,9 @@ import math
 
 from numba import njit
 
+from .dopri5 import (C2, C3, C4, C5, arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store,
+                     error_estimate, reject_factor, solution, step_factor)
+
 N_STATE = 19
 SX, SQ, SV, SW, SA, SAL = 0, 3, 7, 10, 13, 16
 
@@ -76,27 +79,7 @@ N_WS = 129
 RK_OK = 0
 RK_TOO_MANY_STEPS = 1
 
-# Dormand-Prince RK5(4)7M coefficients (Hairer, Norsett & Wanner, Table II.5.2) and the
-# dense-output coefficients of their code DOPRI5.
-A21 = 1.0 / 5.0
-A31, A32 = 3.0 / 40.0, 9.0 / 40.0
-A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
-A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
-A61, A62, A63, A64, A65 = (9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0,
-                           -5103.0 / 18656.0)
-A71, A73, A74, A75, A76 = (35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0,
-                           11.0 / 84.0)
-C2, C3, C4, C5 = 0.2, 0.3, 0.8, 8.0 / 9.0
-E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0,
-                          -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0)
-D1, D3, D4, D5, D6, D7 = (-12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0,
-                          -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
-                          -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0)
-
-# step-size controller (dimensionless): h_new = h * clip(SAFETY * err^(-1/5), FAC_MIN, FAC_MAX)
-SAFETY = 0.9
-FAC_MIN = 0.2
-FAC_MAX = 5.0
+# Dormand-Prince RK5(4)7M: tableau, dense output and step control in kernels/dopri5.py
 # first step: the rotation angle of one step is FIRST_ANGLE * rot_tol^(1/5) (rad)
 FIRST_ANGLE = 0.5
 
@@ -369,63 +352,38 @@ def _rk_step(ws):
         ws[WS_H] = math.inf
         return RK_OK
     K = WS_K
+    n = 7
     _rhs(ws, s0, ws, WS_Y, ws, K)
     while True:
         ws[WS_NSTEP] += 1.0
         if ws[WS_NSTEP] > ws[WS_MAXSTEP]:
             return RK_TOO_MANY_STEPS
-        for j in range(7):
-            ws[WS_YT + j] = ws[WS_Y + j] + h * A21 * ws[K + j]
+        arg2(ws, n, WS_Y, K, WS_YT, h)
         _rhs(ws, s0 + C2 * h, ws, WS_YT, ws, K + 7)
-        for j in range(7):
-            ws[WS_YT + j] = ws[WS_Y + j] + h * (A31 * ws[K + j] + A32 * ws[K + 7 + j])
+        arg3(ws, n, WS_Y, K, WS_YT, h)
         _rhs(ws, s0 + C3 * h, ws, WS_YT, ws, K + 14)
-        for j in range(7):
-            ws[WS_YT + j] = ws[WS_Y + j] + h * (A41 * ws[K + j] + A42 * ws[K + 7 + j]
-                                                + A43 * ws[K + 14 + j])
+        arg4(ws, n, WS_Y, K, WS_YT, h)
         _rhs(ws, s0 + C4 * h, ws, WS_YT, ws, K + 21)
-        for j in range(7):
-            ws[WS_YT + j] = ws[WS_Y + j] + h * (A51 * ws[K + j] + A52 * ws[K + 7 + j]
-                                                + A53 * ws[K + 14 + j] + A54 * ws[K + 21 + j])
+        arg5(ws, n, WS_Y, K, WS_YT, h)
         _rhs(ws, s0 + C5 * h, ws, WS_YT, ws, K + 28)
-        for j in range(7):
-            ws[WS_YT + j] = ws[WS_Y + j] + h * (A61 * ws[K + j] + A62 * ws[K + 7 + j]
-                                                + A63 * ws[K + 14 + j] + A64 * ws[K + 21 + j]
-                                                + A65 * ws[K + 28 + j])
+        arg6(ws, n, WS_Y, K, WS_YT, h)
         _rhs(ws, s0 + h, ws, WS_YT, ws, K + 35)
-        for j in range(7):
-            ws[WS_Y1 + j] = ws[WS_Y + j] + h * (A71 * ws[K + j] + A73 * ws[K + 14 + j]
-                                                + A74 * ws[K + 21 + j] + A75 * ws[K + 28 + j]
-                                                + A76 * ws[K + 35 + j])
+        solution(ws, n, WS_Y, K, WS_Y1, h)
         _rhs(ws, s0 + h, ws, WS_Y1, ws, K + 42)
         err = 0.0
         for j in range(7):
-            ej = h * (E1 * ws[K + j] + E3 * ws[K + 14 + j] + E4 * ws[K + 21 + j]
-                      + E5 * ws[K + 28 + j] + E6 * ws[K + 35 + j] + E7 * ws[K + 42 + j])
+            ej = error_estimate(ws, n, K, h, j)
             sc = tol if j < 4 else tol * wsc
             if sc > 0.0:
                 r = abs(ej) / sc
                 if r > err:
                     err = r
         if err <= 1.0:
-            # dense output (DOPRI5)
-            for j in range(7):
-                y0 = ws[WS_Y + j]
-                ydiff = ws[WS_Y1 + j] - y0
-                bspl = h * ws[K + j] - ydiff
-                ws[WS_RC + j] = y0
-                ws[WS_RC + 7 + j] = ydiff
-                ws[WS_RC + 14 + j] = bspl
-                ws[WS_RC + 21 + j] = ydiff - h * ws[K + 42 + j] - bspl
-                ws[WS_RC + 28 + j] = h * (D1 * ws[K + j] + D3 * ws[K + 14 + j]
-                                          + D4 * ws[K + 21 + j] + D5 * ws[K + 28 + j]
-                                          + D6 * ws[K + 35 + j] + D7 * ws[K + 42 + j])
+            dense_store(ws, n, WS_Y, WS_Y1, K, WS_RC, h)
             ws[WS_H] = h
-            fac = FAC_MAX if err == 0.0 else min(FAC_MAX, max(FAC_MIN,
-                                                              SAFETY * err ** -0.2))
-            ws[WS_HNEXT] = h * fac
+            ws[WS_HNEXT] = h * step_factor(err)
             return RK_OK
-        h = h * max(FAC_MIN, SAFETY * err ** -0.2)
+        h = h * reject_factor(err)
 
 
 @njit(cache=True)
@@ -442,12 +400,8 @@ def rk_eval(ws, s, out):
             return rc
     h = ws[WS_H]
     th = (s - ws[WS_S0]) / h if h < math.inf else 0.0
-    th1 = 1.0 - th
-    R = WS_RC
     for j in range(7):
-        v = ws[R + j] + th * (ws[R + 7 + j] + th1 * (ws[R + 14 + j] + th * (
-            ws[R + 21 + j] + th1 * ws[R + 28 + j])))
-        out[3 + j if j < 4 else 6 + j] = v
+        out[3 + j if j < 4 else 6 + j] = dense_eval(ws, 7, WS_RC, th, j)
     q0, q1, q2, q3 = qnormalize(out[3], out[4], out[5], out[6])
     out[3] = q0
     out[4] = q1

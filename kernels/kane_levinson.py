@@ -72,6 +72,11 @@ import math
 import numpy as np
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled code before the kernel modules below are imported (cache_guard)
+guard(__name__, __file__)
+
 from .common import (
     MODE_NOT_CONVERGED,
     MODE_NO_SOLUTION,

@@ -43,6 +43,13 @@ import math
 
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
+from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
+                     reject_factor, solution, step_factor)
 from .flight3d import pose_at, qmul, qnormalize, qrot
 
 # ---- contact parameters cp (float64[N_CP]) ----------------------------------------------
@@ -132,20 +139,7 @@ PE_SLIP = 2         # a sticking contact reaches its cone (index: contact, or 2 
 PE_STOP = 3         # a sliding contact's slip falls to slip_eps (index: contact)
 PE_GAP = 4          # another feature reaches a plane (index: plane * 1000 + feature)
 
-# Dormand-Prince (same tableau as flight3d)
-A21 = 1.0 / 5.0
-A31, A32 = 3.0 / 40.0, 9.0 / 40.0
-A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
-A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
-A61, A62, A63, A64, A65 = (9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0,
-                           -5103.0 / 18656.0)
-A71, A73, A74, A75, A76 = (35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0,
-                           11.0 / 84.0)
-E1, E3, E4, E5, E6, E7 = (71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0,
-                          -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0)
-D1, D3, D4, D5, D6, D7 = (-12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0,
-                          -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
-                          -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0)
+# Dormand-Prince RK5(4)7M (the same step as flight3d): kernels/dopri5.py
 
 
 # ------------------------------------------------------------------ linear algebra
@@ -573,60 +567,35 @@ def pivot_step(pw, cp, fw):
         pw[PW_NSTEP] += 1.0
         if pw[PW_NSTEP] > pw[PW_MAXSTEP]:
             return PI_TOO_MANY_STEPS
-        for j in range(NY):
-            pw[YT + j] = pw[Y + j] + h * A21 * pw[K + j]
+        arg2(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY]) != PV_OK:
             return PI_FORCES
-        for j in range(NY):
-            pw[YT + j] = pw[Y + j] + h * (A31 * pw[K + j] + A32 * pw[K + 13 + j])
+        arg3(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY]) != PV_OK:
             return PI_FORCES
-        for j in range(NY):
-            pw[YT + j] = pw[Y + j] + h * (A41 * pw[K + j] + A42 * pw[K + 13 + j]
-                                          + A43 * pw[K + 26 + j])
+        arg4(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY]) != PV_OK:
             return PI_FORCES
-        for j in range(NY):
-            pw[YT + j] = pw[Y + j] + h * (A51 * pw[K + j] + A52 * pw[K + 13 + j]
-                                          + A53 * pw[K + 26 + j] + A54 * pw[K + 39 + j])
+        arg5(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY]) != PV_OK:
             return PI_FORCES
-        for j in range(NY):
-            pw[YT + j] = pw[Y + j] + h * (A61 * pw[K + j] + A62 * pw[K + 13 + j]
-                                          + A63 * pw[K + 26 + j] + A64 * pw[K + 39 + j]
-                                          + A65 * pw[K + 52 + j])
+        arg6(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY]) != PV_OK:
             return PI_FORCES
-        for j in range(NY):
-            pw[PW_Y1 + j] = pw[Y + j] + h * (A71 * pw[K + j] + A73 * pw[K + 26 + j]
-                                             + A74 * pw[K + 39 + j] + A75 * pw[K + 52 + j]
-                                             + A76 * pw[K + 65 + j])
+        solution(pw, NY, Y, K, PW_Y1, h)
         if _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY]) != PV_OK:
             return PI_FORCES
         err = 0.0
         for j in range(NY):
-            ej = h * (E1 * pw[K + j] + E3 * pw[K + 26 + j] + E4 * pw[K + 39 + j]
-                      + E5 * pw[K + 52 + j] + E6 * pw[K + 65 + j] + E7 * pw[K + 78 + j])
-            r = abs(ej) / (tol * pw[PW_SC + j])
+            r = abs(error_estimate(pw, NY, K, h, j)) / (tol * pw[PW_SC + j])
             if r > err:
                 err = r
         if err <= 1.0:
-            for j in range(NY):
-                y0 = pw[Y + j]
-                ydiff = pw[PW_Y1 + j] - y0
-                bspl = h * pw[K + j] - ydiff
-                pw[PW_RC + j] = y0
-                pw[PW_RC + 13 + j] = ydiff
-                pw[PW_RC + 26 + j] = bspl
-                pw[PW_RC + 39 + j] = ydiff - h * pw[K + 78 + j] - bspl
-                pw[PW_RC + 52 + j] = h * (D1 * pw[K + j] + D3 * pw[K + 26 + j]
-                                          + D4 * pw[K + 39 + j] + D5 * pw[K + 52 + j]
-                                          + D6 * pw[K + 65 + j] + D7 * pw[K + 78 + j])
+            dense_store(pw, NY, Y, PW_Y1, K, PW_RC, h)
             pw[PW_H] = h
-            fac = 5.0 if err == 0.0 else min(5.0, max(0.2, 0.9 * err ** -0.2))
-            pw[PW_HNEXT] = h * fac
+            pw[PW_HNEXT] = h * step_factor(err)
             return PI_OK
-        h = h * max(0.2, 0.9 * err ** -0.2)
+        h = h * reject_factor(err)
 
 
 @njit(cache=True)
@@ -634,11 +603,8 @@ def pivot_dense(pw, s, out):
     """State at s (within the current step) into out[0:13], quaternion normalised."""
     h = pw[PW_H]
     th = (s - pw[PW_S0]) / h
-    th1 = 1.0 - th
-    R = PW_RC
     for j in range(NY):
-        out[j] = pw[R + j] + th * (pw[R + 13 + j] + th1 * (pw[R + 26 + j] + th * (
-            pw[R + 39 + j] + th1 * pw[R + 52 + j])))
+        out[j] = dense_eval(pw, NY, PW_RC, th, j)
     q0, q1, q2, q3 = qnormalize(out[3], out[4], out[5], out[6])
     out[3] = q0
     out[4] = q1

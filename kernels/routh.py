@@ -69,6 +69,11 @@ import math
 import numpy as np
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled code before the kernel modules below are imported (cache_guard)
+guard(__name__, __file__)
+
 from .common import (
     P_E, P_MU, P_REST, P_TOL,
     REST_ENERGETIC, REST_POISSON, REST_NEWTON,

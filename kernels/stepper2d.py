@@ -36,6 +36,22 @@ Events: ``ev_t`` (s), ``ev_i`` (kind ``EV_*``, a, b, mode, cluster size) and ``e
 (point xy, normal xy, v_i (N, T), v_f (N, T), P (N, T), dE). ``b`` is a body index or
 ``-1 - plane`` for a plane. Segments: ``seg_t``, ``seg_b``, ``seg_s``: body ``seg_b`` moves
 from ``seg_t`` with state row ``seg_s`` (exact piecewise-quadratic trajectories).
+
+Accumulation (Zeno)
+-------------------
+After an impact on a plane pushing the body, when the energy of its motion normal to the
+plane (and, not for a disk, of its rotation) plus its height above its rest falls below
+``m zeno_speed^2 / 2``, the run jumps to the accumulation time ``t_inf`` and snaps the body
+onto its rest there (event "contact"). The rest is the face least inclined to the plane
+at the lowest corner; the accumulation is accepted only if it is consistent: the centre
+of mass is over that face and the snap does not lift it (``SNAP_RTOL``), else the impacts
+are stepped on. From the last impact to ``t_inf`` the body's reported trajectory (and
+every other candidate event) is its held motion (``_held_into``: at the height of the
+last impact, no normal velocity, tangential motion the exact free flight), so it never
+dips below the plane; ``st`` keeps the free-flight row, so that the "contact" event
+reports the accumulated impulse ``m v (1 + e) / (1 - e)`` and the energy removed. An
+impact of another contact before ``t_inf`` cancels the jump: the body continues from its
+held state (the unfinished normal energy, below the threshold, is dropped).
 """
 import math
 
@@ -50,6 +66,12 @@ _I2 = int64[:, ::1]
 _f = float64
 _i = int64
 
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
+from . import evbuf
 from .common import P_E, P_MU
 from .dispatch import resolve_2d
 from .flight2d import fly_into, fly_row
@@ -120,6 +142,10 @@ ERR_TOO_MANY = -11
 ERR_JOINT_E = -12
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
+#: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
+#: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
+#: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
+SNAP_RTOL = 1e-12
 N_CF = 13            # columns of the contact workspace c_f
 N_CI = 6             # columns of the contact workspace c_i
 
@@ -136,12 +162,13 @@ CF_VIN, CF_VIT, CF_PN, CF_PT, CF_VCMN = 8, 9, 10, 11, 12
 
 
 def event_margin(toli, nb):
-    """Free event rows the loop needs before it handles one more instant."""
-    return int(toli[TI_SEQ_MAXSTEPS]) + 8 * MAXC + 6 * nb + 16
+    """Free event rows the loop needs before it handles one more instant (evbuf)."""
+    return int(evbuf.event_margin.py_func(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
 
 
 def segment_margin(nb):
-    return 6 * nb + 4 * MAXC + 16
+    """Free segment rows the loop needs before it handles one more instant (evbuf)."""
+    return int(evbuf.segment_margin.py_func(MAXC, nb))
 
 
 # ------------------------------------------------------------------ small helpers
@@ -180,6 +207,40 @@ def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i):
     for j in range(9):
         seg_s[k, j] = st[i, j]
     cnt[1] = k + 1
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _push_row(seg_t, seg_b, seg_s, cnt, row, t, i):
+    k = cnt[1]
+    seg_t[k] = t
+    seg_b[k] = i
+    for j in range(9):
+        seg_s[k, j] = row[j]
+    cnt[1] = k + 1
+
+
+@njit(cache=True, _nrt=False)
+def _held_into(src, kind, nx, ny, out):
+    """The motion of a body during a pending accumulation (Zeno) jump on the plane with
+    normal n: ``out`` = the state row ``src`` with its normal velocity and normal
+    acceleration removed, and (not for a disk) its rotation stopped. From the last impact
+    to the accumulation time the body then stays at the height of that impact while its
+    tangential motion is the exact free flight (the bounces of the accumulation do not
+    change it); the reported trajectory never dips below the plane. ``src`` may be
+    ``out``. The stepper keeps the true free-flight row in ``st`` (so that the "contact"
+    event at the accumulation time reports the accumulated impulse and the energy
+    removed) and uses this row for the trajectory and for the other candidate events."""
+    for j in range(9):
+        out[j] = src[j]
+    vN = nx * out[3] + ny * out[4]
+    out[3] -= vN * nx
+    out[4] -= vN * ny
+    aN = nx * out[6] + ny * out[7]
+    out[6] -= aN * nx
+    out[7] -= aN * ny
+    if kind != SH_DISK:
+        out[5] = 0.0
+        out[8] = 0.0
 
 
 @njit((_A1, _f, _i, _i, _f, _f, _f, _f, _f), cache=True, _nrt=False)
@@ -350,10 +411,11 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
 # ------------------------------------------------------------------ candidates
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp, bp_t,
-                      bp_off, tolf, toli, err):
-    """Next impact time of body i (state at t_now) against every plane."""
+                      bp_off, tolf, toli, tmp, err):
+    """Next impact time of body i (state at t_now) against every plane (during a pending
+    accumulation jump: of its held motion, see ``_held_into``; ``tmp[0]`` scratch)."""
     S = tolf[TF_T_END] - t_now
     kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
     v0 = bint[i, 1]
@@ -362,6 +424,9 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
     ea = bflt[i, 3]
     eb = bflt[i, 4]
     row = st[i]
+    if tz[i] < INF:
+        _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
+        row = tmp[0]
     for p in range(planes.shape[0]):
         if (bp_off[i, p] != 0 or (pm[i, 0] != PM_FLIGHT and pm[i, 1] == p)
                 or (tz[i] < INF and zp[i] == p)):
@@ -389,14 +454,21 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
 
 
 @njit(cache=True, _nrt=False)
-def _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, tmp, err):
+def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t, pr_off,
+                    tolf, toli, tmp, err):
     if pr_off[q] != 0:
         pr_t[q] = INF
         return 0
     a = pairs[q, 0]
     b = pairs[q, 1]
-    fly_into(st[a], t_now - tref[a], tmp[0])
-    fly_into(st[b], t_now - tref[b], tmp[1])
+    # a disk in a pending accumulation jump moves with its held motion
+    for j in range(2):
+        i = a if j == 0 else b
+        if tz[i] < INF:
+            _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[j])
+            fly_into(tmp[j], t_now - tref[i], tmp[j])
+        else:
+            fly_into(st[i], t_now - tref[i], tmp[j])
     R = bflt[a, 2] + bflt[b, 2]
     s, code = disk_disk_toi(tmp[0, 0] - tmp[1, 0], tmp[0, 1] - tmp[1, 1],
                             tmp[0, 3] - tmp[1, 3], tmp[0, 4] - tmp[1, 4],
@@ -413,7 +485,7 @@ def _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, t
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _recompute_marked(t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp, bp_t,
                       bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
     """Recompute the candidates of every marked body (state at t_now) and of its pairs."""
@@ -421,13 +493,13 @@ def _recompute_marked(t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
         if bmark[i] == 0:
             continue
         rc = _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
-                               bp_t, bp_off, tolf, toli, err)
+                               bp_t, bp_off, tolf, toli, tmp, err)
         if rc < 0:
             return rc
     for q in range(pairs.shape[0]):
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
-            rc = _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli,
-                                 tmp, err)
+            rc = _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
+                                 pr_off, tolf, toli, tmp, err)
             if rc < 0:
                 return rc
     return 0
@@ -495,13 +567,20 @@ def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
         f0 = k0
         f1 = 1 - k0
     else:
+        # of the two faces at the lowest corner, the one least inclined to the plane
+        # (its outward normal closest to -n): the smaller rise per unit length (not the
+        # lower neighbour: a short steep face can end lower than a long flat one)
         kp = (k0 - 1) % nv
         kn = (k0 + 1) % nv
         gp = (nx * (c * verts[v0 + kp, 0] - s * verts[v0 + kp, 1])
               + ny * (s * verts[v0 + kp, 0] + c * verts[v0 + kp, 1]))
         gq = (nx * (c * verts[v0 + kn, 0] - s * verts[v0 + kn, 1])
               + ny * (s * verts[v0 + kn, 0] + c * verts[v0 + kn, 1]))
-        if gq <= gp:
+        lp = math.hypot(verts[v0 + kp, 0] - verts[v0 + k0, 0],
+                        verts[v0 + kp, 1] - verts[v0 + k0, 1])
+        lq = math.hypot(verts[v0 + kn, 0] - verts[v0 + k0, 0],
+                        verts[v0 + kn, 1] - verts[v0 + k0, 1])
+        if (gq - gmin) * lp <= (gp - gmin) * lq:
             f0 = k0
             f1 = kn
         else:
@@ -1005,7 +1084,8 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr
             hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
             if not stable or hc - hf > tolf[TF_GAP_TOL]:
                 continue
-            if eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+            if (eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+                    and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
                 rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                              ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
@@ -1013,8 +1093,8 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr
     return 0
 
 
-@njit(cache=True, _nrt=False)
-def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz, bp_t,
+@njit(cache=True, _nrt=False, inline="always")
+def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz, zp, bp_t,
             pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
     simul_gap), bring their bodies to t and build their contact frames. Returns the number
@@ -1072,12 +1152,17 @@ def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, t
         c_i[nc, CI_LAW] = pairs[q, 2]
         c_i[nc, CI_OFF] = 0
         nc += 1
-    # bring the bodies involved to t; a pending accumulation point is cancelled
+    # bring the bodies involved to t; a pending accumulation point is cancelled: the body
+    # continues from its held motion (on the plane, normal velocity zero; the normal
+    # energy of the unfinished accumulation, below the accumulation threshold
+    # m zeno_speed^2 / 2, is dropped without an event)
     for i in range(nb):
         if bmark[i] != 0:
+            if tz[i] < INF:
+                _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], st[i])
+                tz[i] = INF
             fly_row(st, i, t - tref[i])
             tref[i] = t
-            tz[i] = INF
     # contact frames
     for c in range(nc):
         a = c_i[c, CI_A]
@@ -1172,7 +1257,7 @@ def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, 
 @njit(cache=True, _nrt=False)
 def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pairs,
                    pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f,
-                   seg_t, seg_b, seg_s, cnt, err):
+                   seg_t, seg_b, seg_s, cnt, tmp, err):
     """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
     contacts, schedule accumulation points, detect single-point chatter, log segments."""
     nb = st.shape[0]
@@ -1212,7 +1297,11 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                 continue
             stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts,
                                                         planes, grav)
-            if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)):
+            # accumulation on that rest only when consistent: the centre of mass is over
+            # the face (stable), the motion left is below the threshold, and the snap
+            # onto the face does not lift the body (create energy)
+            if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+                    and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
                 continue
             after = nx * st[i, 3] + ny * st[i, 4]
             before = c_f[c, CF_VCMN]
@@ -1245,7 +1334,12 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
         if not _finite(st, i):
             _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
-        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+        if tz[i] < INF:
+            # accumulation jump pending: the trajectory holds the body on the plane
+            _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
+            _push_row(seg_t, seg_b, seg_s, cnt, tmp[0], tref[i], i)
+        else:
+            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
     return 0
 
 
@@ -1261,15 +1355,25 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
     npr = pairs.shape[0]
     t_end = tolf[TF_T_END]
     max_events = toli[TI_MAX_EVENTS]
-    margin_e = toli[TI_SEQ_MAXSTEPS] + 8 * MAXC + 6 * nb + 16
-    margin_s = 6 * nb + 4 * MAXC + 16
+    margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
+    margin_s = evbuf.segment_margin(MAXC, nb)
     cap_e = ev_t.shape[0]
     cap_s = seg_t.shape[0]
+    # the candidates of the bodies marked at an instant are recomputed at the top of the
+    # next pass (one call site, inlined: the per-impact path makes no large calls)
+    pend = False
     while True:
+        if pend:
+            pend = False
+            rc = _recompute_marked(glob[0], st, tref, bint, bflt, verts, planes, pairs, pm, tz,
+                                   zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp,
+                                   err)
+            if rc < 0:
+                return rc
         t_now = glob[0]
         if cnt[3] == 0:
             # ---- start of the run
-            if cnt[0] + margin_e > cap_e or cnt[1] + margin_s + nb > cap_s:
+            if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
                 return RC_BUFFER_FULL
             rc = _init(t_now, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                        ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
@@ -1279,11 +1383,7 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             for i in range(nb):
                 bmark[i] = 1
                 _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
-            rc = _recompute_marked(t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                                   zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp,
-                                   err)
-            if rc < 0:
-                return rc
+            pend = True
             continue
         tmin = INF
         for i in range(nb):
@@ -1302,7 +1402,7 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             return RC_DONE
         if cnt[0] >= max_events:
             return RC_MAX_EVENTS
-        if cnt[0] + margin_e > cap_e or cnt[1] + margin_s > cap_s:
+        if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
             return RC_BUFFER_FULL
         if tmin <= t_now:
             tmin = t_now
@@ -1343,14 +1443,11 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
                 return ERR_NONFINITE
             _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
         if did:
-            rc = _recompute_marked(t, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                                   bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err)
-            if rc < 0:
-                return rc
+            pend = True
             continue
 
         nc = _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz,
-                     bp_t, pr_t, c_i, c_f, bmark, err)
+                     zp, bp_t, pr_t, c_i, c_f, bmark, err)
         if nc < 0:
             return nc
         rc = _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2,
@@ -1359,69 +1456,7 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             return rc
         rc = _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark,
-                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, err)
         if rc < 0:
             return rc
-        rc = _recompute_marked(t, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                               bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err)
-        if rc < 0:
-            return rc
-
-
-# ------------------------------------------------------------------ stale-cache guard
-# Numba's on-disk cache of a function is invalidated only when the function's own source
-# file changes, yet the loop above has the law kernels (dispatch.py and the laws), toi2d.py
-# and flight2d.py compiled into it. Keep a hash of every kernel module next to the cache
-# and flush this module's cached functions when any of them changed.
-
-
-def _dependency_stamp():
-    """Hash of the kernel modules compiled into this one: dispatch, toi2d, flight2d and
-    everything they import from this package (the 2D and 3D law kernels, common)."""
-    import hashlib
-    import os
-    import re
-    here = os.path.dirname(os.path.abspath(__file__))
-    todo = ["dispatch", "toi2d", "flight2d", "common"]
-    seen = set()
-    h = hashlib.sha256()
-    while todo:
-        name = todo.pop()
-        if name in seen:
-            continue
-        seen.add(name)
-        with open(os.path.join(here, name + ".py"), "rb") as f:
-            src = f.read()
-        h.update(name.encode() + b"\0" + src)
-        text = src.decode("utf-8", "replace")
-        todo += re.findall(r"^\s*from \.(\w+) import", text, re.M)
-        for group in re.findall(r"^\s*from \. import ([\w, ]+)", text, re.M):
-            todo += [x.strip() for x in group.split(",") if x.strip()]
-    return h.hexdigest()
-
-
-def _flush_if_stale():
-    import os
-    from numba.core.registry import CPUDispatcher
-    try:
-        path = os.path.join(run_loop._cache.cache_path, "stepper2d.deps")
-    except AttributeError:          # caching disabled
-        return
-    try:
-        stamp = _dependency_stamp()
-        try:
-            with open(path) as f:
-                old = f.read()
-        except OSError:
-            old = None
-        if old != stamp:
-            for obj in list(globals().values()):
-                if isinstance(obj, CPUDispatcher) and obj.py_func.__module__ == __name__:
-                    obj._cache.flush()
-            with open(path, "w") as f:
-                f.write(stamp)
-    except OSError:                 # read-only install: nothing cached to go stale
-        pass
-
-
-_flush_if_stale()
+        pend = True

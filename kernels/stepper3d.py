@@ -31,11 +31,15 @@ accumulation point and its plane; ``ttr`` next persistent-mode transition; ``bt`
 /``bft`` next body-plane impact time, plane and feature; ``bp_off`` body-plane pairs
 disabled after a perforating impact; ``pr_t``/``pr_off`` the same for sphere pairs;
 ``glob[0]`` the current time; ``cnt`` = (events, segments, consecutive events at one
-instant).
+instant); integrated point/edge contact (``PM_PIVOT``): ``pv`` float64[nb, N_CP] its
+contact parameters, ``pw`` float64[nb, N_PW] its integrator, ``pk`` int64[nb, 2] its
+next event (kind ``pivot3d.PE_*``, index), due at ``ttr``.
 
 Output: events ``ev_t`` (s), ``ev_i`` (kind ``EV_*``, a, b, mode, cluster), ``ev_f`` (point
 xyz, normal xyz, tangent t1 xyz, v_i (N, T1, T2), v_f, P, dE); segments ``seg_t``,
-``seg_b``, ``seg_s`` (body ``seg_b`` moves from ``seg_t`` with state row ``seg_s``).
+``seg_b``, ``seg_s`` (body ``seg_b`` moves from ``seg_t`` with state row ``seg_s[:19]``;
+``seg_s[19] == 1`` marks an integrated-contact segment whose parameters are
+``seg_s[20:]``).
 
 Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
 
@@ -47,10 +51,16 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   along the slip) has no closed form: ``ERR_SLIDE_CURVE``. Requires spherical inertia.
 * Box (on the face most aligned with the plane) and capsule (on its side):
   ``E_ex = m v_N^2 / 2 + w . I w / 2 + m |g_n| (h - h_rest)``; when below the threshold
-  the run jumps to the accumulation point, snaps the body onto the face (rotation to the
+  and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
+  and a box's centre of mass is over that face) the run jumps to the accumulation point, snaps the body onto the face (rotation to the
   face, normal velocity and rotation removed: event "contact") and it then rests or
   slides without rotating (closed form; the face must carry the friction moment, else
   ``ERR_TIPPING``; a capsule must slide along its axis, else ``ERR_UNSUPPORTED``).
+* During an accumulation jump (last impact to ``t_inf``) the reported trajectory and the
+  other candidate events use the held motion (``_held_into``: height of the last impact,
+  no normal velocity, tangential motion exact, a box or capsule not rotating), so the
+  body never dips below the plane; ``st`` keeps the free-flight row, so that the
+  "contact" event reports the accumulated impulse and the energy removed.
 * Integrated point and edge contact (``PM_PIVOT``, ``kernels/pivot3d.py``): when, after
   the impacts of an instant, one or two features of a box or capsule touch a plane with a
   normal speed below ``sqrt(2 |g''| rest_length)`` (or ``zeno_speed``) while their gap
@@ -73,13 +83,19 @@ import math
 import numpy as np
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
+from . import evbuf
 from .common import P_E, P_MU
 from .dispatch import resolve_3d
-from .flight3d import N_WS, RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
+from .flight3d import RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
     qrot, qrot_inv
 from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N,
                       CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL,
-                      FW_C1, FW_F1, FW_LAM, FW_MARG, FW_R1, FW_S1, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP,
+                      FW_F1, FW_LAM, FW_MARG, FW_R1, FW_S1, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP,
                       PI_OK, PI_TOO_MANY_STEPS, PV_OK, pivot_eval, pivot_forces,
                       pivot_next_event, pivot_start)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
@@ -88,10 +104,8 @@ from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_b
 INF = math.inf
 # Compile time: callees are never passed int or bool literals (Numba compiles a separate
 # copy of a function for every literal value it is called with); small helpers are
-# inlined. Numba caches a compiled function by the hash of its own file only: bump this revision
-# whenever a kernel module called from here (pivot3d, flight3d, toi3d, the laws) changes,
-# so that cached callers are recompiled.
-KERNEL_REVISION = 10
+# inlined. Numba caches a compiled function by the stamp of its own file only: the
+# cache_guard call above flushes this module's cache when a kernel it calls changed.
 
 # shape kinds
 SH_SPHERE = 0
@@ -188,6 +202,10 @@ N_SLIP_SCAN = 72
 #: a face holds the friction moment when the pressure centre stays inside it by this
 #: fraction of the face's half extent (dimensionless round-off allowance)
 FACE_RTOL = 1e-12
+#: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
+#: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
+#: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
+SNAP_RTOL = 1e-12
 
 MAXC = 24          # contacts resolved at one instant
 N_CI = 6
@@ -200,12 +218,13 @@ N_ERR = 20          # err: t, a, b, xyz, x1, x2, x3, |v_T|, v (3), W (6 upper en
 
 
 def event_margin(toli, nb):
-    """Free event rows the loop needs before it handles one more instant."""
-    return int(toli[TI_SEQ_MAXSTEPS]) + 8 * MAXC + 6 * nb + 16
+    """Free event rows the loop needs before it handles one more instant (evbuf)."""
+    return int(evbuf.event_margin.py_func(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
 
 
 def segment_margin(nb):
-    return 6 * nb + 4 * MAXC + 16
+    """Free segment rows the loop needs before it handles one more instant (evbuf)."""
+    return int(evbuf.segment_margin.py_func(MAXC, nb))
 
 
 # ------------------------------------------------------------------ small helpers
@@ -252,6 +271,43 @@ def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
             seg_s[k, 20 + j] = pv[i, j]
     else:
         seg_s[k, 19] = 0.0
+    cnt[1] = k + 1
+
+
+@njit(cache=True)
+def _held_into(src, kind, nx, ny, nz, out):
+    """The motion of a body during a pending accumulation (Zeno) jump on the plane with
+    normal n: ``out[:19]`` = the state row ``src`` with its normal velocity and normal
+    acceleration removed and (not for a sphere) its rotation stopped. From the last impact
+    to the accumulation time the body then stays at the height of that impact while its
+    tangential motion is the exact free flight; the reported trajectory never dips below
+    the plane. ``src`` may be ``out``. ``st`` keeps the true free-flight row, so that the
+    "contact" event at the accumulation time reports the accumulated impulse and the
+    energy removed; this row is used for the trajectory and the other candidate events."""
+    for j in range(19):
+        out[j] = src[j]
+    vN = nx * out[7] + ny * out[8] + nz * out[9]
+    aN = nx * out[13] + ny * out[14] + nz * out[15]
+    out[7] -= vN * nx
+    out[8] -= vN * ny
+    out[9] -= vN * nz
+    out[13] -= aN * nx
+    out[14] -= aN * ny
+    out[15] -= aN * nz
+    if kind != SH_SPHERE:
+        for j in range(3):
+            out[10 + j] = 0.0
+            out[16 + j] = 0.0
+
+
+@njit(cache=True)
+def _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, p):
+    """Log body i's held motion during a pending accumulation jump on plane p."""
+    k = cnt[1]
+    seg_t[k] = tref[i]
+    seg_b[k] = i
+    _held_into(st[i], bint[i, 0], planes[p, 0], planes[p, 1], planes[p, 2], seg_s[k])
+    seg_s[k, 19] = 0.0
     cnt[1] = k + 1
 
 
@@ -525,8 +581,10 @@ def _gap_accel(st, bflt, c_i, c_f, c):
 
 @njit(cache=True)
 def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl,
-                      bft, bp_off, ws, tolf, toli, skip, pose, err):
-    """Next impact time of body i (state at t_now = tref[i]) against every plane."""
+                      bft, bp_off, ws, tolf, toli, skip, pose, hrow, err):
+    """Next impact time of body i (state at t_now = tref[i]) against every plane (during
+    a pending accumulation jump: of its held motion, built in the scratch row ``hrow``;
+    the integrator workspace is then reset, as it belongs to the free-flight row)."""
     npl = planes.shape[0]
     for p in range(npl):
         skip[p] = 0
@@ -534,11 +592,20 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
                 or (tz[i] < INF and zp[i] == p)):
             skip[p] = 1
     S = tolf[TF_T_END] - t_now
-    s, p, k, code = body_planes_toi(st[i], bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2],
+    row = st[i]
+    held = tz[i] < INF
+    if held:
+        zq = zp[i]
+        _held_into(st[i], bint[i, 0], planes[zq, 0], planes[zq, 1], planes[zq, 2], hrow)
+        row = hrow
+        ws[i, WS_MODE] = -1.0
+    s, p, k, code = body_planes_toi(row, bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2],
                                     bflt[i, 3], ws[i], feats, bint[i, 1], bint[i, 2],
                                     bflt[i, 4], planes, skip, t_now, S, tolf[TF_TOI_RTOL],
                                     tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT],
                                     tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pose)
+    if held:
+        ws[i, WS_MODE] = -1.0
     if code == TOI_MISSED:
         _set_err(err, t_now + s, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], k, 0.0, 0.0)
         return ERR_MISSED
@@ -554,26 +621,43 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
     return 0
 
 
+@njit(cache=True, inline="always")
+def _centre_motion(st, tref, i, t, tz, zp, planes):
+    """Centre of mass of body i at t: position, velocity, acceleration (9 scalars); during
+    a pending accumulation jump its held motion (see ``_held_into``)."""
+    s = t - tref[i]
+    h = 0.5 * s * s
+    v0, v1, v2 = st[i, 7], st[i, 8], st[i, 9]
+    a0, a1, a2 = st[i, 13], st[i, 14], st[i, 15]
+    if tz[i] < INF:
+        p = zp[i]
+        nx, ny, nz = planes[p, 0], planes[p, 1], planes[p, 2]
+        vN = nx * v0 + ny * v1 + nz * v2
+        aN = nx * a0 + ny * a1 + nz * a2
+        v0, v1, v2 = v0 - vN * nx, v1 - vN * ny, v2 - vN * nz
+        a0, a1, a2 = a0 - aN * nx, a1 - aN * ny, a2 - aN * nz
+    return (st[i, 0] + v0 * s + a0 * h, st[i, 1] + v1 * s + a1 * h,
+            st[i, 2] + v2 * s + a2 * h, v0 + a0 * s, v1 + a1 * s, v2 + a2 * s, a0, a1, a2)
+
+
 @njit(cache=True)
-def _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, err):
+def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_off, tolf,
+                    toli, err):
     if pr_off[q] != 0:
         pr_t[q] = INF
         return 0
     a = pairs[q, 0]
     b = pairs[q, 1]
-    sa = t_now - tref[a]
-    sb = t_now - tref[b]
-    ha = 0.5 * sa * sa
-    hb = 0.5 * sb * sb
-    d0 = (st[a, 0] + st[a, 7] * sa + st[a, 13] * ha) - (st[b, 0] + st[b, 7] * sb + st[b, 13] * hb)
-    d1 = (st[a, 1] + st[a, 8] * sa + st[a, 14] * ha) - (st[b, 1] + st[b, 8] * sb + st[b, 14] * hb)
-    d2 = (st[a, 2] + st[a, 9] * sa + st[a, 15] * ha) - (st[b, 2] + st[b, 9] * sb + st[b, 15] * hb)
-    u0 = (st[a, 7] + st[a, 13] * sa) - (st[b, 7] + st[b, 13] * sb)
-    u1 = (st[a, 8] + st[a, 14] * sa) - (st[b, 8] + st[b, 14] * sb)
-    u2 = (st[a, 9] + st[a, 15] * sa) - (st[b, 9] + st[b, 15] * sb)
+    xa, ya, za, ua, va, wa, aa, ba, ca = _centre_motion(st, tref, a, t_now, tz, zp, planes)
+    xb, yb, zb, ub, vb, wb, ab, bb, cb = _centre_motion(st, tref, b, t_now, tz, zp, planes)
+    d0 = xa - xb
+    d1 = ya - yb
+    d2 = za - zb
+    u0 = ua - ub
+    u1 = va - vb
+    u2 = wa - wb
     R = bflt[a, 4] + bflt[b, 4]
-    s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, st[a, 13] - st[b, 13],
-                                st[a, 14] - st[b, 14], st[a, 15] - st[b, 15], R, t_now,
+    s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, aa - ab, ba - bb, ca - cb, R, t_now,
                                 tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                 tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
     if code == TOI_MISSED:
@@ -617,18 +701,18 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
 @njit(cache=True)
 def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp, bt,
                     bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose, err, ttr, pk,
-                    pv, pw, fw, ybuf, vals, vals0, vfl):
+                    pv, pw, fw, ybuf, vals, vals0, vfl, hrow):
     if pm[i, 0] == PM_PIVOT:
         return _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
                                 pw, fw, tolf, toli, skip, ybuf, vals, vals0, vfl, err)
     rc = _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt,
-                           bpl, bft, bp_off, ws, tolf, toli, skip, pose, err)
+                           bpl, bft, bp_off, ws, tolf, toli, skip, pose, hrow, err)
     if rc < 0:
         return rc
     for q in range(pairs.shape[0]):
         if pairs[q, 0] == i or pairs[q, 1] == i:
-            rc = _recompute_pair(q, t_now, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli,
-                                 err)
+            rc = _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t,
+                                 pr_off, tolf, toli, err)
             if rc < 0:
                 return rc
     return 0
@@ -934,9 +1018,6 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     their (tiny) normal velocities with normal impulses, choose stick or slip, and enter
     integrated contact (event "pivot"). Returns 0, 1 (no contact can persist) or an
     error."""
-    nx = planes[p, 0]
-    ny = planes[p, 1]
-    nz = planes[p, 2]
     pv[i, CP_M] = bflt[i, 0]
     for j in range(3):
         pv[i, CP_I + j] = bflt[i, 1 + j]
@@ -1179,6 +1260,31 @@ def _excess(i, p, st, bint, bflt, planes, grav, hrest):
         return 0.5 * m * vN * vN + m * g * max(hc - hrest, 0.0), 0.5 * m * v2 + erot
     return (0.5 * m * vN * vN + erot + m * g * (hc - hrest),
             0.5 * m * v2 + erot + m * g * (hc - hrest))
+
+
+@njit(cache=True)
+def _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hrest, eex):
+    """May the accumulation of body i's bounces on plane p end on its rest (face, height
+    hrest, excess energy eex)? Only if the snap onto it does not lift the body (create
+    energy): ``E_ex >= -m |g_n| SNAP_RTOL h_rest``; and, for a box, if the vertical through
+    the centre of mass meets that face now (else the body would fall over its edge)."""
+    g = -(planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2])
+    if not eex >= -bflt[i, 0] * g * SNAP_RTOL * hrest:
+        return False
+    if bint[i, 0] != SH_BOX:
+        return True
+    bx, by, bz = qrot_inv(st[i, 3], st[i, 4], st[i, 5], st[i, 6], -planes[p, 0],
+                          -planes[p, 1], -planes[p, 2])
+    k = face // 2
+    nk = abs(bx if k == 0 else (by if k == 1 else bz))
+    lam = bflt[i, 5 + k] / nk          # the ray from the centre along -n meets the face
+    if k != 0 and abs(lam * bx) > bflt[i, 5] * (1.0 + FACE_RTOL):
+        return False
+    if k != 1 and abs(lam * by) > bflt[i, 6] * (1.0 + FACE_RTOL):
+        return False
+    if k != 2 and abs(lam * bz) > bflt[i, 7] * (1.0 + FACE_RTOL):
+        return False
+    return True
 
 
 @njit(cache=True)
@@ -1784,7 +1890,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             if hc - hr > tolf[TF_GAP_TOL]:
                 continue
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
-            if eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+            if (eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+                    and _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex)):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
                 if rc < 0:
@@ -1793,11 +1900,12 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
         _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
     for i in range(nb):
         rc = _recompute_planes(i, t, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl,
-                               bft, bp_off, ws, tolf, toli, skip, pose, err)
+                               bft, bp_off, ws, tolf, toli, skip, pose, c_f[MAXC - 2], err)
         if rc < 0:
             return rc
     for q in range(pairs.shape[0]):
-        rc = _recompute_pair(q, t, st, tref, bflt, pairs, pr_t, pr_off, tolf, toli, err)
+        rc = _recompute_pair(q, t, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_off, tolf,
+                             toli, err)
         if rc < 0:
             return rc
     return 0
@@ -1823,6 +1931,8 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
         eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
         if not eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+            continue
+        if not _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex):
             continue
         after = planes[p, 0] * st[i, 7] + planes[p, 1] * st[i, 8] + planes[p, 2] * st[i, 9]
         before = c_f[c, CF_VCMN]
@@ -1888,8 +1998,8 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
     npr = pairs.shape[0]
     t_end = tolf[TF_T_END]
     max_events = toli[TI_MAX_EVENTS]
-    margin_e = toli[TI_SEQ_MAXSTEPS] + 8 * MAXC + 6 * nb + 16
-    margin_s = 6 * nb + 4 * MAXC + 16
+    margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
+    margin_s = evbuf.segment_margin(MAXC, nb)
     cap_e = ev_t.shape[0]
     cap_s = seg_t.shape[0]
     policy = toli[TI_POLICY]
@@ -1914,7 +2024,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             return RC_DONE
         if cnt[0] >= max_events:
             return RC_MAX_EVENTS
-        if cnt[0] + margin_e > cap_e or cnt[1] + margin_s > cap_s:
+        if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
             return RC_BUFFER_FULL
         if tmin <= t_now:
             tmin = t_now
@@ -1966,7 +2076,8 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
             rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
                                  bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip,
-                                 pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl)
+                                 pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
+                                 c_f[MAXC - 2])
             if rc < 0:
                 return rc
         if did:
@@ -1983,9 +2094,16 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             if pr_t[q] <= tw:
                 bmark[pairs[q, 0]] = 1
                 bmark[pairs[q, 1]] = 1
-        # bring the bodies involved to t; a pending accumulation point is cancelled
+        # bring the bodies involved to t; a pending accumulation point is cancelled: the
+        # body continues from its held motion (the normal energy of the unfinished
+        # accumulation, below the threshold m zeno_speed^2 / 2, is dropped without event)
         for i in range(nb):
             if bmark[i] != 0:
+                if tz[i] < INF:
+                    zq = zp[i]
+                    _held_into(st[i], bint[i, 0], planes[zq, 0], planes[zq, 1], planes[zq, 2],
+                               st[i])
+                    ws[i, WS_MODE] = -1.0
                 rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
                 if rc < 0:
                     _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
@@ -2170,12 +2288,17 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                 return ERR_NONFINITE
             ws[i, WS_MODE] = -1.0
             bt[i] = INF
-            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+            if tz[i] < INF:
+                # accumulation jump pending: the trajectory holds the body on the plane
+                _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, zp[i])
+            else:
+                _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
         for i in range(nb):
             if bmark[i] == 0:
                 continue
             rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
                                  bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose,
-                                 err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl)
+                                 err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
+                                 c_f[MAXC - 2])
             if rc < 0:
                 return rc

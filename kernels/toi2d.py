@@ -100,6 +100,57 @@ def _safe_step(g, gd, M):
 
 
 @njit(cache=True, _nrt=False, inline="always")
+def centres_quadratic_toi(g0, dist, R, b, a, S, gap_tol):
+    """Closed-form earliest touching ``s`` in ``[0, S]`` of two round bodies (disks or
+    spheres, radii summing to ``R``) with equal accelerations: ``|d + u s|^2 = R^2`` with
+    ``g0 = |d| - R``, ``dist = |d|``, ``b = 2 d . u``, ``a = |u|^2``; cancellation-free.
+    Returns ``(s, code)`` (shared by ``disk_disk_toi`` and ``toi3d.sphere_sphere_toi``)."""
+    if g0 <= 0.0:
+        code = TOI_MISSED if g0 < -gap_tol else TOI_OK
+        if b < 0.0:
+            return 0.0, code
+        return INF, code
+    if b >= 0.0:
+        return INF, TOI_OK
+    c = g0 * (dist + R)
+    disc = b * b - 4.0 * a * c
+    if disc <= 0.0:
+        return INF, TOI_OK
+    q = -0.5 * (b - math.sqrt(disc))
+    s = c / q
+    return (s if s <= S else INF), TOI_OK
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def window_step(s, g, gd, dvn, da, R, H, S, t0, rtol, atol):
+    """One step of the windowed conservative advancement of two round bodies (radii
+    summing to ``R``, relative speed ``dvn`` and acceleration magnitude ``da`` at ``s``,
+    gap ``g >= 0`` and rate ``gd``): bound ``|g''| <= (dvn + da H)^2 / R + da`` over the
+    window ``H`` (clipped to ``S``), step to the first zero of the lower bound. Returns
+    ``(s, H, done)``: ``done`` 1 with ``s`` the root (``inf``: none in ``[0, S]``), 0 to
+    evaluate the gap at the new ``s`` and step again (shared by ``disk_disk_toi`` and
+    ``toi3d.sphere_sphere_toi``)."""
+    Hw = min(H, S - s)
+    M = (dvn + da * Hw) ** 2 / R + da
+    h = _safe_step(g, gd, M)
+    tol = atol + rtol * abs(t0 + s)
+    if h >= Hw:
+        h = Hw
+        H = 2.0 * H
+    else:
+        if h <= tol:
+            if gd < 0.0:
+                r = s + h
+                return (r if r <= S else INF), H, 1
+            h = tol
+        H = 4.0 * h
+    s += h
+    if s >= S:
+        return INF, H, 1
+    return s, H, 0
+
+
+@njit(cache=True, _nrt=False, inline="always")
 def vertex_gap(st, px, py, rad, nx, ny, d, s):
     """Gap (m) and its rate (m/s) at ``s`` of the point ``p`` (radius ``rad``) of a body."""
     h = 0.5 * s * s
@@ -209,22 +260,8 @@ def disk_disk_toi(dx, dy, dvx, dvy, dax, day, R, t0, S, rtol, atol, gap_tol, max
     dist = math.sqrt(dx * dx + dy * dy)
     g0 = dist - R
     if dax == 0.0 and day == 0.0:
-        b = 2.0 * (dx * dvx + dy * dvy)
-        if g0 <= 0.0:
-            code = TOI_MISSED if g0 < -gap_tol else TOI_OK
-            if b < 0.0:
-                return 0.0, code
-            return INF, code
-        if b >= 0.0:
-            return INF, TOI_OK
-        a = dvx * dvx + dvy * dvy
-        c = g0 * (dist + R)
-        disc = b * b - 4.0 * a * c
-        if disc <= 0.0:
-            return INF, TOI_OK
-        q = -0.5 * (b - math.sqrt(disc))
-        s = c / q
-        return (s if s <= S else INF), TOI_OK
+        return centres_quadratic_toi(g0, dist, R, 2.0 * (dx * dvx + dy * dvy),
+                                     dvx * dvx + dvy * dvy, S, gap_tol)
     # conservative advancement on g(s) = |dx(s)| - R with a windowed bound on |g''|
     da = math.sqrt(dax * dax + day * day)
     s = 0.0
@@ -238,24 +275,10 @@ def disk_disk_toi(dx, dy, dvx, dvy, dax, day, R, t0, S, rtol, atol, gap_tol, max
         g = 0.0
     H = S
     for _ in range(maxit):
-        Hw = min(H, S - s)
-        dvn = math.sqrt(ux * ux + uy * uy)
-        M = (dvn + da * Hw) ** 2 / R + da
-        h = _safe_step(g, gd, M)
-        tol = atol + rtol * abs(t0 + s)
-        if h >= Hw:
-            h = Hw
-            H = 2.0 * H
-        else:
-            if h <= tol:
-                if gd < 0.0:
-                    r = s + h
-                    return (r if r <= S else INF), TOI_OK
-                h = tol
-            H = 4.0 * h
-        s += h
-        if s >= S:
-            return INF, TOI_OK
+        s, H, done = window_step(s, g, gd, math.sqrt(ux * ux + uy * uy), da, R, H, S, t0,
+                                 rtol, atol)
+        if done:
+            return s, TOI_OK
         hs = 0.5 * s * s
         ex = dx + dvx * s + dax * hs
         ey = dy + dvy * s + day * hs

@@ -31,9 +31,14 @@ import math
 
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
 from .flight3d import RK_OK, ROT_GENERAL, pose_at, rotation_bounds
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK, _safe_step, \
-    quadratic_descending_root
+    centres_quadratic_toi, quadratic_descending_root, window_step
 
 INF = math.inf
 BASIS_SWITCH = 0.9            # |n_y| above which t1 is built from x^ instead of y^ (-)
@@ -198,22 +203,8 @@ def sphere_sphere_toi(dx, dy, dz, dvx, dvy, dvz, dax, day, daz, R, t0, S, rtol, 
     dist = math.sqrt(dx * dx + dy * dy + dz * dz)
     g0 = dist - R
     if dax == 0.0 and day == 0.0 and daz == 0.0:
-        b = 2.0 * (dx * dvx + dy * dvy + dz * dvz)
-        if g0 <= 0.0:
-            code = TOI_MISSED if g0 < -gap_tol else TOI_OK
-            if b < 0.0:
-                return 0.0, code
-            return INF, code
-        if b >= 0.0:
-            return INF, TOI_OK
-        a = dvx * dvx + dvy * dvy + dvz * dvz
-        c = g0 * (dist + R)
-        disc = b * b - 4.0 * a * c
-        if disc <= 0.0:
-            return INF, TOI_OK
-        q = -0.5 * (b - math.sqrt(disc))
-        s = c / q
-        return (s if s <= S else INF), TOI_OK
+        return centres_quadratic_toi(g0, dist, R, 2.0 * (dx * dvx + dy * dvy + dz * dvz),
+                                     dvx * dvx + dvy * dvy + dvz * dvz, S, gap_tol)
     da = math.sqrt(dax * dax + day * day + daz * daz)
     s = 0.0
     ex, ey, ez, ux, uy, uz = dx, dy, dz, dvx, dvy, dvz
@@ -226,24 +217,10 @@ def sphere_sphere_toi(dx, dy, dz, dvx, dvy, dvz, dax, day, daz, R, t0, S, rtol, 
         g = 0.0
     H = S
     for _ in range(maxit):
-        Hw = min(H, S - s)
-        dvn = math.sqrt(ux * ux + uy * uy + uz * uz)
-        M = (dvn + da * Hw) ** 2 / R + da
-        h = _safe_step(g, gd, M)
-        tol = atol + rtol * abs(t0 + s)
-        if h >= Hw:
-            h = Hw
-            H = 2.0 * H
-        else:
-            if h <= tol:
-                if gd < 0.0:
-                    r = s + h
-                    return (r if r <= S else INF), TOI_OK
-                h = tol
-            H = 4.0 * h
-        s += h
-        if s >= S:
-            return INF, TOI_OK
+        s, H, done = window_step(s, g, gd, math.sqrt(ux * ux + uy * uy + uz * uz), da, R, H,
+                                 S, t0, rtol, atol)
+        if done:
+            return s, TOI_OK
         hs = 0.5 * s * s
         ex = dx + dvx * s + dax * hs
         ey = dy + dvy * s + day * hs

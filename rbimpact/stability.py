@@ -636,54 +636,40 @@ def exact_dE(v, W, P):
     return float(sum(Pf[i] * vf[i] for i in range(d)) + q / 2)
 
 
-def kernel_det(W):
-    """The determinant the 2D/3D kernels test for positive definiteness (float, same
-    formula: ``W_NN W_TT - W_NT^2`` in 2D, ``_scalar3.det3s`` cofactors in 3D)."""
-    if len(W) == 2:
-        return W[0, 0] * W[1, 1] - W[0, 1] * W[0, 1]
-    a, b, c, d, e, f = W[0, 0], W[0, 1], W[0, 2], W[1, 1], W[1, 2], W[2, 2]
-    return a * (d * f - e * e) + b * (c * e - b * f) + c * (b * e - c * d)
-
-
-def stick_slope(W):
-    """The stick slope ``kappa = 1/(W^-1)_NN`` (1/kg) two ways: as Routh's kernels form
-    it (2D ``W_NN - W_NT^2/W_TT``; 3D ``W_NN - w.z`` with ``z = C^-1 w`` by Cramer's rule)
-    and as the last pivot of a Cholesky factorization ordered (T, N) (backward stable)."""
-    d = len(W)
-    if d == 2:
-        naive = W[0, 0] - W[0, 1] * W[0, 1] / W[1, 1]
-    else:
-        c00, c01, c11, w1, w2 = W[1, 1], W[1, 2], W[2, 2], W[0, 1], W[0, 2]
-        det = c00 * c11 - c01 * c01
-        z1 = (c11 * w1 - c01 * w2) / det
-        z2 = (c00 * w2 - c01 * w1) / det
-        naive = W[0, 0] - (w1 * z1 + w2 * z2)
-    order = list(range(1, d)) + [0]
-    try:
-        stable = np.linalg.cholesky(W[np.ix_(order, order)])[-1, -1] ** 2
-    except np.linalg.LinAlgError:
-        stable = math.nan
-    return float(naive), float(stable)
+def exact_stick_slope(W):
+    """The stick slope ``kappa = 1/(W^-1)_NN = det(W)/det(W_TT)`` (1/kg) in exact rational
+    arithmetic from the float entries of ``W`` (2D: ``W_NN - W_NT^2/W_TT``)."""
+    F = [[Fraction(float(x)) for x in row] for row in np.asarray(W, float)]
+    if len(F) == 2:
+        return float(F[0][0] - F[0][1] * F[0][1] / F[1][1])
+    a, b, c, d, e, f = F[0][0], F[0][1], F[0][2], F[1][1], F[1][2], F[2][2]
+    det = a * (d * f - e * e) + b * (c * e - b * f) + c * (b * e - c * d)
+    return float(det / (d * f - e * e))
 
 
 def diagnose_no_solution(name, W):
-    """Why a kernel may have refused an SPD ``W`` (None if no round-off cause is seen):
-    its positive-definiteness determinant or Routh's stick slope came out <= 0 by
-    cancellation while a Cholesky factorization succeeds."""
+    """Why a kernel's refusal of ``W`` is suspect (None if nothing is seen): ``W`` is
+    positive definite (Cholesky succeeds) and the law's kernel documents a solution for
+    every SPD ``W`` (K&L, Brach, C&R), or, for Routh, the exact stick slope is positive so
+    that a Painleve-type jam would be false."""
     try:
         np.linalg.cholesky(W)
     except np.linalg.LinAlgError:
         return None
-    d = len(W)
-    if d == 3 and name != "routh" and not kernel_det(W) > 0:
-        return (f"SPD W (cond {_cond(W):.1e}, Cholesky succeeds) rejected: the kernel's "
-                f"cofactor determinant is {kernel_det(W):.3g} <= 0 by cancellation")
+    if name in ("kane_levinson", "brach", "chatterjee_ruina"):
+        return f"SPD W (cond {_cond(W):.1e}, Cholesky succeeds) rejected"
     if name == "routh":
-        naive, stable = stick_slope(W)
-        if not naive > 0 and stable > 0:
-            return (f"stick slope W_NN - W_TN.W_TT^-1 W_TN = {naive:.3g} <= 0 by "
-                    f"cancellation (Cholesky pivot {stable:.3g} > 0): a false jam")
+        kappa = exact_stick_slope(W)
+        if kappa > 0 and len(W) == 3 and _painleve_free(W):
+            return (f"stick slope W_NN - W_TN.W_TT^-1 W_TN = {kappa:.3g} > 0 (exact) and no "
+                    f"Painleve coupling: a false jam")
     return None
+
+
+def _painleve_free(W):
+    """No tangential direction u makes the sliding slope W_NN - mu W_NT.u vanish for any
+    mu in the cases' range: |W_NT| = 0 (then a jam is impossible whatever mu)."""
+    return float(np.hypot(W[0, 1], W[0, 2])) == 0.0
 
 
 def _cond(W):

@@ -54,6 +54,83 @@ def test_bouncing_ball_times_accumulation_and_rest():
     assert res.status == "done" and res.t_end == 6.0
 
 
+def test_zeno_jump_holds_the_ball_on_the_floor():
+    """From the last impact to the accumulation time the ball is held on the floor (no
+    free flight through it: 4 h / (1 - e)^2 = 3.9e-6 m before), its horizontal motion
+    exact, and the energy never increases; the "contact" event at t_inf carries the
+    accumulated impulse m v (1 + e) / (1 - e) and the energy removed."""
+    e, h, r, vx = 0.99, 1.0, 0.05, 0.3
+    res = drop_ball(e, h, r=r, vx=vx).run(400.0)
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    sw = ev[ev["kind"] == "contact"]
+    t_inf = math.sqrt(2 * h / G0) * (1 + e) / (1 - e)
+    assert len(sw) == 1 and abs(sw["t"][0] - t_inf) < 1e-9 * t_inf
+    t_last = imp["t"][-1]
+    # dense sampling across the jump and around t_inf
+    t = np.concatenate([np.linspace(imp["t"][-50], t_inf + 1e-3, 20001),
+                        t_inf + np.linspace(-1e-6, 1e-6, 2001)])
+    s = res.sample(np.sort(t))
+    assert float(np.min(s["y"][:, 0] - r)) >= -1e-12
+    held = (np.sort(t) > t_last) & (np.sort(t) < t_inf)
+    assert held.sum() > 1000
+    np.testing.assert_allclose(s["vy"][held, 0], 0.0, atol=0.0)
+    np.testing.assert_allclose(s["x"][:, 0], vx * np.sort(t), rtol=1e-12)
+    E = res.energy(np.sort(t))
+    assert float(np.max(np.diff(E))) <= 1e-12 * float(np.max(np.abs(E)))
+    # accumulated impulse and energy removed by the bounces after the last impact
+    v = imp["v_f"][-1, 0]
+    assert math.isclose(sw["P"][0, 0], v * (1 + e) / (1 - e), rel_tol=1e-6)
+    assert math.isclose(sw["dE"][0], -0.5 * v * v, rel_tol=1e-6, abs_tol=1e-15)
+    # honest accounting: the events' dE add up to the energy change of the run
+    E0, E1 = res.energy(np.array([0.0, 400.0]))
+    assert math.isclose(float(np.sum(ev["dE"])), E1 - E0, rel_tol=1e-9, abs_tol=1e-12)
+
+
+def test_box_rest_face_is_the_least_inclined():
+    """The face a tilted box would settle on is the one least inclined to the plane, not
+    the one of the two lowest corners (a short steep face can end lower)."""
+    from rbimpact.kernels.stepper2d import _rest_config
+    a, b, th = 0.1, 0.05, 0.5467          # 0.2 x 0.1 box tilted by 31 degrees
+    st = np.zeros((1, 9))
+    st[0, 1] = b * math.cos(th) + a * math.sin(th)      # lowest corner on the floor
+    st[0, 2] = th
+    bint = np.array([[1, 0, 4]], np.int64)
+    bflt = np.array([[1.0, (0.2 ** 2 + 0.1 ** 2) / 12, 0.0, 0.0, 0.0]])
+    verts = np.array([[-a, -b], [a, -b], [a, b], [-a, b]])
+    planes = np.array([[0.0, 1.0, 0.0]])
+    grav = np.array([0.0, -G0])
+    stable, f0, f1, hf, dth, eex = _rest_config(0, 0, st, bint, bflt, verts, planes, grav)
+    assert {f0, f1} == {0, 1} and stable            # the long bottom face
+    assert math.isclose(hf, b) and math.isclose(dth, -th)
+    # its rest is below the centre of mass: snapping there removes m g (h_c - h_f)
+    assert math.isclose(eex, G0 * (st[0, 1] - b), rel_tol=1e-12)
+
+
+def test_flat_box_sequential_never_creates_energy():
+    """Sequential flat landing of a 0.2 x 0.1 box (routh e=0.5 mu=0.3): after the corner
+    impacts the box must not be snapped onto its short side (which lifts it: +0.039 J
+    before); it ends on its long face or, when a corner pivots, with the documented
+    single-point error -- with the energy never increasing either way."""
+    scene = Scene2D(gravity=(0.0, -9.81))
+    scene.add_floor(0.0)
+    scene.add_body(Box(0.2, 0.1), 1.0, (0.0, 0.55))
+    sim = Simulation(scene, Law("routh", e=0.5, mu=0.3), policy="sequential")
+    try:
+        res = sim.run(2.0)
+    except SimulationError as exc:
+        assert "single contact point" in str(exc)
+        res = exc.result
+    ev = res.events
+    assert float(np.max(ev["dE"])) <= 1e-12
+    t = np.linspace(0.0, res.t_end, 20001)
+    E = res.energy(t)
+    assert float(np.max(E - np.minimum.accumulate(E))) <= 1e-12 * float(np.max(np.abs(E)))
+    for k in ev[ev["kind"] == "contact"]:
+        ang = float(res.sample(np.array([k["t"]]))["angle"][0, 0])
+        assert abs(math.remainder(ang, math.pi)) < 1e-9     # on a long face only
+
+
 def test_sample_is_exact_flight_between_impacts():
     e, h, r = 0.8, 1.0, 0.05
     res = drop_ball(e, h, r=r).run(2.0)

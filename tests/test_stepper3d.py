@@ -329,6 +329,83 @@ def test_bouncing_sphere_impact_times_and_accumulation():
     assert np.abs(st["velocity"]).max() == 0.0
 
 
+def test_zeno_jump_holds_the_sphere_on_the_floor():
+    """From the last impact to the accumulation time the sphere is held on the floor (not
+    flown through it by 4 h / (1 - e)^2), its horizontal motion exact and its energy never
+    increasing; the "contact" event carries the accumulated impulse and energy removed."""
+    e, h, r, g = 0.99, 1.0, 0.05, 9.80665
+    vx, vy = 0.3, -0.2
+    sc = Scene3D(gravity=(0.0, 0.0, -g))
+    sc.add_floor()
+    sc.add_body(Sphere(r), 1.0, (0.0, 0.0, h + r), velocity=(vx, vy, 0.0))
+    res = Simulation3D(sc, Law("kane_levinson", e=e, mu=0.0)).run(400.0)
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    sw = ev[ev["kind"] == "contact"]
+    t_inf = math.sqrt(2 * h / g) * (1 + e) / (1 - e)
+    assert len(sw) == 1 and abs(sw["t"][0] - t_inf) < 1e-9 * t_inf
+    t = np.sort(np.concatenate([np.linspace(imp["t"][-50], t_inf + 1e-3, 20001),
+                                t_inf + np.linspace(-1e-6, 1e-6, 2001)]))
+    st = res.sample(t)
+    assert float(np.min(st["position"][:, 0, 2] - r)) >= -1e-12
+    held = (t > imp["t"][-1]) & (t < t_inf)
+    assert held.sum() > 1000
+    assert np.all(st["velocity"][held, 0, 2] == 0.0)
+    np.testing.assert_allclose(st["position"][:, 0, 0], vx * t, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(st["position"][:, 0, 1], vy * t, rtol=1e-12, atol=1e-12)
+    E = res.energy(t)
+    assert float(np.max(np.diff(E))) <= 1e-12 * float(np.max(np.abs(E)))
+    v = imp["v_f"][-1, 0]
+    assert math.isclose(sw["P"][0, 0], v * (1 + e) / (1 - e), rel_tol=1e-6)
+    assert math.isclose(sw["dE"][0], -0.5 * v * v, rel_tol=1e-6, abs_tol=1e-15)
+    E0, E1 = res.energy(np.array([0.0, 400.0]))
+    assert math.isclose(float(np.sum(ev["dE"])), E1 - E0, rel_tol=1e-9, abs_tol=1e-12)
+
+
+def _box_on_corner(half, u):
+    """State row of a box (half extents ``half``) turned so that body direction ``u`` points
+    down (-z), resting with its lowest corner on the floor z = 0."""
+    from rbimpact.kernels.stepper3d import SH_BOX
+    u = np.asarray(u, float) / np.linalg.norm(u)
+    t = np.array([0.0, 0.0, -1.0])
+    ax = np.cross(u, t)
+    ang = math.acos(float(np.clip(u @ t, -1.0, 1.0)))
+    if np.linalg.norm(ax) == 0.0:
+        q = np.array([1.0, 0.0, 0.0, 0.0])
+    else:
+        q = np.concatenate([[math.cos(ang / 2)], math.sin(ang / 2) * ax / np.linalg.norm(ax)])
+    st = np.zeros((1, 19))
+    st[0, 2] = float(np.abs(u) @ np.asarray(half))       # support height along -z
+    st[0, 3:7] = q
+    m = 1.0
+    a, b, c = half
+    I = m / 3.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+    bint = np.array([[SH_BOX, 0, 8, 2, 0]], np.int64)
+    bflt = np.array([[m, I[0], I[1], I[2], 0.0, a, b, c]])
+    return st, bint, bflt
+
+
+@pytest.mark.parametrize("half, u, ok", [
+    ((0.1, 0.002, 0.002), (0.6, 0.5657, 0.5657), False),   # rod on its end: rest above
+    ((0.1, 0.05, 0.025), (0.0, 0.0, -1.0), True),          # lying flat on its large face
+    ((0.1, 0.05, 0.025), (0.2, 0.0, -1.0), True),          # tilted 11 deg over that face
+])
+def test_accumulation_rest_must_not_lift_the_box(half, u, ok):
+    """Accumulation onto the face most aligned with the floor is consistent only if the
+    snap does not lift the centre of mass (create energy) and the vertical through the
+    centre meets that face; a rod tilted 53 deg from its end has its centre below the
+    height it would have standing on the end."""
+    from rbimpact.kernels.stepper3d import _excess, _rest_consistent, _rest_face
+    st, bint, bflt = _box_on_corner(half, u)
+    planes = np.array([[0.0, 0.0, 1.0, 0.0]])
+    grav = np.array([0.0, 0.0, -G])
+    face, hr, ux, uy, uz = _rest_face(0, 0, st, bint, bflt, planes)
+    eex, eab = _excess(0, 0, st, bint, bflt, planes, grav, hr)
+    assert math.isclose(eex, G * (st[0, 2] - hr), rel_tol=1e-12, abs_tol=1e-15)
+    assert (eex >= 0.0) == ok
+    assert _rest_consistent(0, 0, st, bint, bflt, planes, grav, face, hr, eex) == ok
+
+
 def test_sliding_sphere_starts_rolling_exactly():
     """A ball put down sliding with backspin on a level floor: Coulomb friction, then it
     rolls from t* = |c0| / (mu g (1 + m r^2 / I)) with v = (5 v0 - 2 r w0... )/7."""
