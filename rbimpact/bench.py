@@ -1,8 +1,19 @@
 """Benchmarks: every figure is a median of repeats, judged by a ratio measured in the same run.
 
-``rbimpact bench laws``     batched law throughput (contacts/s), 2D and 3D, one thread and
-                            all threads, against NumPy Kane & Levinson 2D and a plain copy.
-``rbimpact bench routh3d``  error of Routh 3D against run time on the DESIGN §5 swerve case.
+``rbimpact bench laws``        batched law throughput (contacts/s), 2D and 3D, one thread
+                               and all threads, against NumPy Kane & Levinson 2D and a plain
+                               copy; per-call cost of ``Law.resolve`` against ``Law.kernel``
+                               called from a user's njit loop.
+``rbimpact bench routh3d``     error of Routh 3D against run time on the DESIGN §5 swerve case.
+``rbimpact bench rotation3d``  torque-free 3D rotation: integrator error against ``rot_tol``.
+``rbimpact bench stepper``     impacts per second of the 2D stepper (elastic bouncing_ball,
+                               falling_rod, ...) and the 3D one (die_toss, die_toss batch), per
+                               impact against the elastic ball; fixed cost of a run.
+``rbimpact bench crosscheck``  rbimpact against pymunk on bouncing_ball: time and error ratios.
+``rbimpact bench compile``     start-up in a new process, empty and warm Numba cache.
+``rbimpact bench pay``         pay only for what is used: a frictionless one-ball scene against a
+                               rough two-ball scene, compile (new process, empty cache) and run.
+``rbimpact bench all``         all of the above.
 """
 import json
 import time
@@ -89,7 +100,8 @@ def bench_laws(n=1_000_000, repeat=7):
         if d == 2:
             t_np = _median_time(lambda: kane_levinson_2d_numpy(v, W, 0.5, 0.3), repeat)
             rows.append({"item": "NumPy kane_levinson 2D", "dim": 2, "threads": 1,
-                         "contacts_per_s": nd / t_np})
+                         "contacts_per_s": nd / t_np, "vs_copy": t_copy / t_np,
+                         "vs_numpy_kl2d": 1.0})
         for name, params in LAW_SETTINGS.items():
             law = Law(name, **params)
             table = law.params[None, :]
@@ -132,7 +144,7 @@ def bench_routh3d(repeat=7, n=2000):
     return rows
 
 
-def bench_overhead(repeat=7, n=20000):
+def bench_overhead(repeat=7, n=20000, laws=None):
     """Per-call cost of one 2D impact: ``Law.resolve`` from Python, and ``Law.kernel`` called
     from a user's njit loop (the way a user's own stepper would call it)."""
     from numba import njit
@@ -141,6 +153,8 @@ def bench_overhead(repeat=7, n=20000):
     v, W = random_contacts(n, 2, seed=1)
     rows = []
     for name, params in LAW_SETTINGS.items():
+        if laws is not None and name not in laws:
+            continue
         law = Law(name, **params)
         kernel, table = law.kernel, law.params
 
@@ -153,7 +167,7 @@ def bench_overhead(repeat=7, n=20000):
 
         P = np.zeros(2)
         t_njit = _median_time(lambda: user_loop(v, W, P), repeat)
-        m = 2000
+        m = min(2000, n)
 
         def python_loop():
             for i in range(m):
@@ -196,18 +210,28 @@ def bench_compile():
             wall = time.perf_counter() - t0
             rows.append({"item": f"first resolve of the 5 laws, {label}", "import_s": float(out[0]),
                          "first_calls_s": float(out[1]), "process_wall_s": wall})
+    for r in rows:  # ratio: against the empty cache (compilation)
+        r["vs_empty_cache"] = r["first_calls_s"] / rows[0]["first_calls_s"]
     return rows
 
 
-def bench_stepper(repeat=5):
-    """Warm event rates of the 2D stepper: elastic bouncing_ball (1e5 impacts), falling_rod,
-    and the figures that show a scene pays only for what it uses."""
+#: the stepper's target rate on the elastic bouncing ball (impacts per second)
+STEPPER_TARGET = 1e6
+
+
+def bench_stepper(repeat=5, n_elastic=100_000, tosses=200, with_3d=True):
+    """Warm event rates of the 2D stepper (elastic bouncing_ball with ``n_elastic`` impacts,
+    falling_rod, ...) and, with ``with_3d``, of the 3D stepper (die_toss, and the die_toss
+    batch over ``tosses`` random tosses). Ratios: ``vs_target`` (elastic ball against 1 M
+    impacts/s) and ``per_impact_vs_elastic`` (time per impact against the elastic ball's);
+    the last 2D row is the fixed cost of one ``run()`` call (a run with no event) and of
+    building the ``Simulation``, against one impact of the elastic ball."""
     import warnings
     from . import scenarios
 
     rows = []
     cases = [
-        ("bouncing_ball elastic, 1e5 impacts", dict(elastic=True), 1e9, 100_000),
+        (f"bouncing_ball elastic, {n_elastic:.0e} impacts", dict(elastic=True), 1e9, n_elastic),
         ("bouncing_ball e=0.8 to rest", {}, None, None),
         ("falling_rod (routh)", {}, None, None),
         ("falling_rod (kane_levinson)", dict(law="kane_levinson"), None, None),
@@ -230,38 +254,185 @@ def bench_stepper(repeat=5):
         t = _median_time(run, repeat)
         rows.append({"item": label, "impacts": int(res.n_impacts), "events": len(res.events),
                      "run_s": t, "impacts_per_s": res.n_impacts / t, "first_call_s": first})
+    per_impact = rows[0]["run_s"] / max(rows[0]["impacts"], 1)
+    rows[0]["vs_target"] = rows[0]["impacts_per_s"] / STEPPER_TARGET
+    for r in rows:
+        r["per_impact_vs_elastic"] = r["run_s"] / max(r["impacts"], 1) / per_impact
+    # fixed cost: a run that ends before the first event, and building the Simulation
+    sc = scenarios.get("bouncing_ball", law="kane_levinson")
+    sim = sc.simulation()
+    t_run = _median_time(lambda: sim.run(1e-3), max(repeat, 20))
+    t_build = _median_time(sc.simulation, max(repeat, 20))
+    rows.append({"item": "fixed cost of run() (no event)", "impacts": 0, "events": 0,
+                 "run_s": t_run, "build_s": t_build, "per_impact_vs_elastic": t_run / per_impact})
+    if with_3d:
+        from .bench3d import bench_stepper3d
+        for r in bench_stepper3d(repeat=max(1, repeat // 2), tosses=tosses):
+            if "time_s" in r:
+                r["run_s"] = r.pop("time_s")
+                r["first_call_s"] = r.pop("first_run_s")
+                r["per_impact_vs_elastic"] = r["run_s"] / max(r["impacts"], 1) / per_impact
+            else:
+                r["per_impact_vs_elastic"] = 1.0 / r["impacts_per_s"] / per_impact
+            rows.append(r)
     return rows
 
 
-def bench_pymunk(repeat=3, dt=1e-4):
+def bench_rotation3d(repeat=5):
+    """``bench3d.bench_rotation3d`` rows, with the ratio each is judged by: the orientation
+    error over ``rot_tol`` (integrator ladder) and the run time against the tightest
+    tolerance's."""
+    from .bench3d import bench_rotation3d as rot
+    rows = rot(repeat=repeat)
+    ladder = [r for r in rows if r["rot_tol"] > 0]
+    t_ref = ladder[-1]["time_s"] if ladder else 1.0
+    for r in rows:
+        if r["rot_tol"] > 0:
+            r["error_over_tol"] = r["orientation_error_rad"] / r["rot_tol"]
+        r["time_vs_tightest"] = r["time_s"] / t_ref
+    return rows
+
+
+def bench_pymunk(repeat=3, dt=1e-4, dts=None):
     """rbimpact against pymunk on bouncing_ball (first 5 impacts): pymunk at ``dt`` and at
-    its best step on the ladder, rbimpact exact; time and error ratios from one run."""
+    its neighbours on the ladder, rbimpact exact; time and error ratios (pymunk over
+    rbimpact) from one run, stored in each row."""
     from .crosscheck import crosscheck_report
-    _, rows = crosscheck_report("bouncing_ball", dts=(1e-3, dt, 1e-5), repeat=repeat)
+    _, rows = crosscheck_report("bouncing_ball", dts=dts or (1e-3, dt, 1e-5), repeat=repeat)
+    exact = next(r for r in rows if r["engine"] == "rbimpact")
+    for r in rows:
+        r["time_ratio"] = r["run_time_s"] / exact["run_time_s"]
+        r["error_ratio"] = r["error_m"] / max(exact["error_m"], 1e-300)
+    return rows
+
+
+PAY_SCENES = {  # label -> (scenario, parameters): what "pay only for what is used" compares
+    "one ball, frictionless": ("bouncing_ball", {}),
+    "two balls, rough (pair search, friction)": ("spinning_ball", {}),
+}
+
+_PAY_SCRIPT = """
+import sys, time, json
+t0 = time.perf_counter()
+from rbimpact import scenarios
+sc = scenarios.get({name!r}, **{params!r})
+sim = sc.simulation()
+r = sim.run(sc.t_end, max_events=sc.max_events)
+first = time.perf_counter() - t0
+mods = sorted(m for m in sys.modules if m.startswith("rbimpact.kernels.")
+              and m.rsplit(".", 1)[1] in ("stepper3d", "flight3d", "toi3d", "pivot3d"))
+import numba
+from numba.core.registry import CPUDispatcher
+compiled_3d = 0
+for m in list(sys.modules.values()):
+    if getattr(m, "__name__", "").startswith("rbimpact.kernels."):
+        for k, f in vars(m).items():
+            if isinstance(f, CPUDispatcher) and ("3d" in k) and f.py_func.__module__ == m.__name__:
+                compiled_3d += len(f.signatures)
+print(json.dumps({{"first_s": first, "impacts": int(r.n_impacts), "modules_3d": mods,
+                   "compiled_3d": compiled_3d}}))
+"""
+
+
+def bench_pay(repeat=5, cold=True):
+    """Pay only for what is used: a frictionless one-ball scene (mu = 0: the law's
+    frictionless path; one body: no pair search) against a rough two-ball scene. For each:
+    a new process with an empty Numba cache (``cold``; else the current cache) times the
+    first run (compilation included) and counts the 3D kernels it compiled or imported (a
+    2D scene: none); then warm runs in this process give the time per impact. Ratios:
+    one ball over the full scene."""
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    import warnings
+    from . import scenarios
+
+    rows = []
+    with tempfile.TemporaryDirectory() as cache:
+        for label, (name, params) in PAY_SCENES.items():
+            env = dict(os.environ)
+            if cold:
+                env["NUMBA_CACHE_DIR"] = os.path.join(cache, name)  # empty
+            code = _PAY_SCRIPT.format(name=name, params=params)
+            t0 = time.perf_counter()
+            out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                 capture_output=True, text=True).stdout
+            wall = time.perf_counter() - t0
+            info = json.loads(out.strip().splitlines()[-1])
+            sc = scenarios.get(name, **params)
+            sim = sc.simulation()
+
+            def run():
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    return sim.run(sc.t_end, max_events=sc.max_events)
+
+            res = run()
+            t = _median_time(run, repeat)
+            rows.append({"item": f"{label} ({name})", "cache": "empty" if cold else "warm",
+                         "first_run_s": info["first_s"], "process_wall_s": wall,
+                         "compiled_3d_kernels": info["compiled_3d"],
+                         "modules_3d_imported": len(info["modules_3d"]),
+                         "impacts": int(res.n_impacts), "run_s": t,
+                         "per_impact_s": t / max(res.n_impacts, 1)})
+    one, full = rows
+    for r in rows:
+        r["first_run_vs_full"] = r["first_run_s"] / full["first_run_s"]
+        r["per_impact_vs_full"] = r["per_impact_s"] / full["per_impact_s"]
     return rows
 
 
 def _print_stepper(rows):
-    print("2D stepper, warm (median of repeats; first call includes loading compiled code)")
-    print(f"{'scene':<36}{'impacts':>9}{'events':>8}{'run ms':>10}{'M impacts/s':>13}"
-          f"{'first call s':>14}")
+    print("Stepper, warm (median of repeats; first call includes loading or compiling code);")
+    print(f"ratios: elastic ball against the target {STEPPER_TARGET:.0e} impacts/s, and time per "
+          f"impact against the elastic ball's")
+    print(f"{'scene':<52}{'impacts':>9}{'run ms':>10}{'M impacts/s':>13}{'per impact':>12}"
+          f"{'first s':>9}")
     for r in rows:
-        print(f"{r['item']:<36}{r['impacts']:>9}{r['events']:>8}{1e3 * r['run_s']:>10.2f}"
-              f"{r['impacts_per_s'] / 1e6:>13.3f}{r['first_call_s']:>14.2f}")
+        rate = f"{r['impacts_per_s'] / 1e6:.3f}" if "impacts_per_s" in r else ""
+        ms = f"{1e3 * r['run_s']:.3f}" if "run_s" in r else ""
+        first = f"{r['first_call_s']:.2f}" if "first_call_s" in r else ""
+        extra = ""
+        if "vs_target" in r:
+            extra = f"  ({r['vs_target']:.2f} x target)"
+        if "build_s" in r:
+            extra = f"  (building the Simulation: {1e6 * r['build_s']:.0f} us)"
+        if "tosses_per_s" in r:
+            extra = (f"  ({r['tosses_per_s']:.1f} tosses/s, {r['unresolved']} unresolved, "
+                     f"faces {r['faces']})")
+        print(f"{r['item']:<52}{r.get('impacts', ''):>9}{ms:>10}{rate:>13}"
+              f"{r['per_impact_vs_elastic']:>11.2f}x{first:>9}{extra}")
 
 
 def _print_pymunk(rows):
     print("rbimpact against pymunk, bouncing_ball (first 5 impacts; error: max distance of the")
     print("centre of mass from the exact trajectory, m; run time median of repeats)")
-    exact = next(r for r in rows if r["engine"] == "rbimpact")
     print(f"{'engine':<10}{'setting':<14}{'run time s':>12}{'error m':>11}{'time ratio':>12}"
           f"{'error ratio':>13}")
     for r in rows:
-        ratio_t = r["run_time_s"] / exact["run_time_s"]
-        ratio_e = r["error_m"] / max(exact["error_m"], 1e-300)
         print(f"{r['engine']:<10}{r['setting']:<14}{r['run_time_s']:>12.3g}{r['error_m']:>11.2e}"
-              f"{ratio_t:>12.0f}{ratio_e:>13.1e}")
+              f"{r['time_ratio']:>12.0f}{r['error_ratio']:>13.1e}")
     print("(ratios: pymunk / rbimpact; rbimpact's error is round-off against the exact solution)")
+
+
+def _print_rotation3d(rows):
+    from .bench3d import format_rows
+    print("Torque-free 3D rotation: integrator error against rot_tol (reference rot_tol = "
+          "1e-14), energy and momentum drift; closed form against the integrator")
+    print(format_rows(rows))
+
+
+def _print_pay(rows):
+    print("Pay only for what is used: first run in a new process (compilation included), 3D "
+          "kernels it compiled/imported, warm time per impact; ratios against the full scene")
+    print(f"{'scene':<58}{'cache':>7}{'first s':>9}{'x full':>8}{'3D kernels':>12}"
+          f"{'us/impact':>11}{'x full':>8}")
+    for r in rows:
+        print(f"{r['item']:<58}{r['cache']:>7}{r['first_run_s']:>9.2f}"
+              f"{r['first_run_vs_full']:>8.2f}"
+              f"{r['compiled_3d_kernels'] + r['modules_3d_imported']:>12}"
+              f"{1e6 * r['per_impact_s']:>11.2f}{r['per_impact_vs_full']:>8.2f}")
 
 
 def _print_overhead(rows):
@@ -278,7 +449,7 @@ def _print_compile(rows):
     print(f"{'what':<44}{'import':>9}{'first calls':>13}{'process':>10}")
     for r in rows:
         print(f"{r['item']:<44}{r['import_s']:>9.3f}{r['first_calls_s']:>13.3f}"
-              f"{r['process_wall_s']:>10.2f}")
+              f"{r['process_wall_s']:>10.2f}  ({r['vs_empty_cache']:.3f} x empty cache)")
 
 
 def _print_laws(rows):
@@ -300,23 +471,51 @@ def _print_routh3d(rows):
               f"{r['impacts_per_s']:>12.3g}")
 
 
+#: subcommand -> the figures it runs (key, function, printer), in order
+SECTIONS = ("laws", "overhead", "routh3d", "rotation3d", "stepper", "pymunk", "compile", "pay")
+WHAT = {
+    "laws": ("laws", "overhead"),
+    "routh3d": ("routh3d",),
+    "rotation3d": ("rotation3d",),
+    "stepper": ("stepper",),
+    "crosscheck": ("pymunk",),
+    "compile": ("compile",),
+    "pay": ("pay",),
+    "all": SECTIONS,
+}
+
+
+def _json_default(x):
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    raise TypeError(f"not serialisable: {x!r}")
+
+
 def main(what="laws", repeat=7, json_path=None):
+    """Run the figures of ``what`` (a key of ``WHAT``), print them and optionally write
+    them all to ``json_path`` (one list of rows per figure)."""
+    if what not in WHAT:
+        raise ValueError(f"bench: what must be one of {', '.join(WHAT)}, got {what!r}")
+    runners = {
+        "laws": (lambda: bench_laws(repeat=repeat), _print_laws),
+        "overhead": (lambda: bench_overhead(repeat=repeat), _print_overhead),
+        "routh3d": (lambda: bench_routh3d(repeat=repeat), _print_routh3d),
+        "rotation3d": (lambda: bench_rotation3d(repeat=max(1, repeat // 2)), _print_rotation3d),
+        "stepper": (lambda: bench_stepper(repeat=max(1, repeat // 2)), _print_stepper),
+        "pymunk": (lambda: bench_pymunk(repeat=max(3, repeat // 2)), _print_pymunk),
+        "compile": (bench_compile, _print_compile),
+        "pay": (lambda: bench_pay(repeat=max(1, repeat // 2)), _print_pay),
+    }
     out = {}
-    if what in ("laws", "all"):
-        out["laws"] = bench_laws(repeat=repeat)
-        _print_laws(out["laws"])
-    for key, run, show in (("overhead", bench_overhead, _print_overhead),
-                           ("routh3d", bench_routh3d, _print_routh3d),
-                           ("stepper", bench_stepper, _print_stepper),
-                           ("pymunk", bench_pymunk, _print_pymunk),
-                           ("compile", bench_compile, _print_compile)):
-        if what in (key, "all") or (what == "laws" and key == "overhead") or (
-                what == "crosscheck" and key == "pymunk"):
-            if out:
-                print()
-            out[key] = run() if key == "compile" else run(repeat=repeat)
-            show(out[key])
+    for key in WHAT[what]:
+        run, show = runners[key]
+        if out:
+            print()
+        out[key] = run()
+        show(out[key])
     if json_path:
         with open(json_path, "w") as fh:
-            json.dump(out, fh, indent=2)
+            json.dump(out, fh, indent=2, default=_json_default)
     return 0

@@ -127,7 +127,9 @@ def _parser():
     q.set_defaults(func=_cmd_laws)
 
     q = sub.add_parser("bench", help="benchmarks: figures and ratios measured in one run")
-    q.add_argument("what", nargs="?", default="laws", choices=("laws", "routh3d", "stepper", "crosscheck", "compile", "all"))
+    q.add_argument("what", nargs="?", default="laws",
+                   choices=("laws", "routh3d", "rotation3d", "stepper", "crosscheck",
+                            "compile", "pay", "all"))
     q.add_argument("--repeat", type=int, default=7, help="repeats per figure (median)")
     q.add_argument("--json", help="also write the figures to this JSON file")
     q.set_defaults(func=_cmd_bench)

@@ -9,6 +9,7 @@ positive definite Delassus matrix (1/kg), ``v_f = v + W P``, and
 Laws are registered by name in ``LAWS`` (swappable, pooltool-style); kernels are imported
 on first use, so constructing a ``Law`` compiles nothing.
 """
+import math
 from dataclasses import dataclass
 from importlib import import_module
 from types import MappingProxyType
@@ -167,13 +168,26 @@ class BatchImpact:
         return [MODE_NAMES[int(m)][0] for m in self.mode]
 
 
+def _dot(a, b):
+    """Dot product of two short lists, summed left to right."""
+    acc = 0.0
+    for x, y in zip(a, b):
+        acc += x * y
+    return acc
+
+
 def _energy_gain(P, v, v_f, dE):
     scale = 0.5 * np.sum(np.abs(P) * (np.abs(v) + np.abs(v_f)), axis=-1)
     return dE > ENERGY_GAIN_RTOL * scale
 
 
 def _check_contact(v, W):
-    """Validate one contact; return float64 copies with W exactly symmetrised."""
+    """Validate one contact; return float64 copies with W exactly symmetrised.
+
+    Scalar Python arithmetic on the 2 or 3 components (a per-call cost of a few
+    microseconds, not the tens of NumPy's reductions on tiny arrays): finite, symmetric to
+    SYMMETRY_RTOL, and positive definite by a Cholesky factorisation (every pivot > 0);
+    the slow vectorised ``_check_W_values`` runs only to word an error."""
     v = np.array(v, dtype=np.float64)
     W = np.array(W, dtype=np.float64)
     if v.ndim != 1 or v.shape[0] not in (2, 3):
@@ -181,18 +195,33 @@ def _check_contact(v, W):
     d = v.shape[0]
     if W.shape != (d, d):
         raise ValueError(f"W must have shape ({d}, {d}) to match v; got {W.shape}")
-    if not (np.isfinite(v).all() and np.isfinite(W).all()):
+    rows = W.tolist()
+    flat = v.tolist() + rows[0] + rows[1] + (rows[2] if d == 3 else [])
+    if not all(map(math.isfinite, flat)):
         _check_W_values(v[None], W[None])  # raises, saying which
-    WT = W.T
-    if np.abs(W - WT).max() > SYMMETRY_RTOL * np.abs(W).max():
+    asym = max(abs(rows[i][j] - rows[j][i]) for i in range(d) for j in range(i + 1, d))
+    if asym > SYMMETRY_RTOL * max(map(abs, flat[d:])):
         _check_W_values(v[None], W[None])
-    W = 0.5 * (W + WT)
-    try:
-        np.linalg.cholesky(W)
-    except np.linalg.LinAlgError:
+    S = [[0.5 * (rows[i][j] + rows[j][i]) for j in range(d)] for i in range(d)]
+    if not _cholesky_ok(S):
         _check_W_values(v[None], W[None])
-        raise ValueError("W must be positive definite") from None
-    return v, W
+        raise ValueError("W must be positive definite")
+    return v, np.array(S)
+
+
+def _cholesky_ok(S):
+    """True when the symmetric 2x2 or 3x3 ``S`` (nested lists) has a Cholesky
+    factorisation with positive pivots (the positive-definiteness test of LAPACK potrf)."""
+    d = len(S)
+    L = [[0.0] * d for _ in range(d)]
+    for j in range(d):
+        s = S[j][j] - sum(L[j][k] * L[j][k] for k in range(j))
+        if not s > 0.0:
+            return False
+        L[j][j] = math.sqrt(s)
+        for i in range(j + 1, d):
+            L[i][j] = (S[i][j] - sum(L[i][k] * L[j][k] for k in range(j))) / L[j][j]
+    return True
 
 
 def _check_W_values(v, W):
@@ -296,11 +325,14 @@ class Law:
         code = int(kernel(v, W, self.params, P))
         if code < 0:
             raise NoSolutionError(self._failure(code, v, W), code)
-        v_f = v + W @ P
-        dE = float(0.5 * P @ (v + v_f))
+        # v_f = v + W P and dE = P . (v + v_f) / 2, in scalars (same operation order as
+        # NumPy's for these sizes: rows of W times P summed left to right)
+        pl, vl, rows = P.tolist(), v.tolist(), W.tolist()
+        fl = [vl[i] + _dot(rows[i], pl) for i in range(len(vl))]
+        dE = 0.5 * _dot(pl, [a + b for a, b in zip(vl, fl)])
+        scale = 0.5 * _dot([abs(x) for x in pl], [abs(a) + abs(b) for a, b in zip(vl, fl)])
         mode, phases = MODE_NAMES[code]
-        scale = 0.5 * float(np.abs(P) @ (np.abs(v) + np.abs(v_f)))
-        return Impact(P, v_f, mode, phases, dE, dE > ENERGY_GAIN_RTOL * scale, code)
+        return Impact(P, np.array(fl), mode, phases, dE, dE > ENERGY_GAIN_RTOL * scale, code)
 
     def _failure(self, code, v, W):
         what = ("has no solution" if code == MODE_NO_SOLUTION

@@ -101,6 +101,7 @@ import warnings
 
 import numpy as np
 
+from ._setup import Arena, check_law, check_run_args, check_tolerances, pack_laws
 from .errors import NoSolutionError, SimulationError
 from .result import Result
 from .scene import Plane, Scene2D
@@ -130,11 +131,17 @@ TOLERANCES = {
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
 }
 POLICIES = ("simultaneous", "sequential")
+#: first capacity (rows beyond the loop's safety margin) of the event and segment buffers;
+#: small, so a short run allocates little (the Result keeps views of these buffers) ...
+INITIAL_EVENT_ROWS = 256
+#: ... and the size they jump to when first full, so long runs grow only a few times
+GROWN_EVENT_ROWS = 1 << 14
 
 
 def _grow(a, used):
-    """A buffer twice as long holding the first ``used`` rows of ``a``."""
-    out = np.empty((2 * len(a),) + a.shape[1:], dtype=a.dtype)
+    """A buffer at least twice as long (and at least ``GROWN_EVENT_ROWS`` rows) holding the
+    first ``used`` rows of ``a``."""
+    out = np.empty((max(2 * len(a), GROWN_EVENT_ROWS),) + a.shape[1:], dtype=a.dtype)
     out[:used] = a[:used]
     return out
 
@@ -190,25 +197,9 @@ class Simulation:
             raise ValueError("Simulation: the scene has no body")
         if policy not in POLICIES:
             raise ValueError(f"Simulation: policy must be one of {POLICIES}, got {policy!r}")
-        unknown = [k for k in tolerances if k not in TOLERANCES]
-        if unknown:
-            raise TypeError(f"Simulation: unknown keyword {unknown[0]!r}; tolerances are "
-                            + ", ".join(f"{k} ({u})" for k, (_, u, _) in TOLERANCES.items()))
-        tol = {k: v[0] for k, v in TOLERANCES.items()}
-        tol.update(tolerances)
-        for k, v in tol.items():
-            if k == "zeno_speed" and v is None:
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise ValueError(f"Simulation: {k} must be a number ({TOLERANCES[k][1]}), "
-                                 f"got {v!r}")
-            if not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"Simulation: {k} must be finite and >= 0 "
-                                 f"({TOLERANCES[k][1]}), got {v!r}")
-            if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
-                raise ValueError(f"Simulation: {k} must be a positive integer, got {v!r}")
+        tol = check_tolerances("Simulation", TOLERANCES, tolerances)
         self.scene = scene
-        self.law = self._check_law(law, "law")
+        self.law = check_law("Simulation", law, "law")
         self.policy = policy
         self.tolerances = tol
         self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
@@ -217,54 +208,10 @@ class Simulation:
 
     # ------------------------------------------------------------ building
 
-    @staticmethod
-    def _check_law(law, what):
-        from .kernels.common import N_PARAMS
-        ok = hasattr(law, "law_id") and hasattr(law, "params")
-        if ok:
-            p = np.asarray(law.params, dtype=float)
-            ok = p.shape == (N_PARAMS,) and np.all(np.isfinite(p))
-        if not ok:
-            raise ValueError(f"Simulation: {what} must be an rbimpact.Law, got {law!r}")
-        return law
-
     def _pack(self, pair_laws):
-        from .kernels.common import N_PARAMS
         scene = self.scene
         bodies, planes = scene.bodies, scene.planes
         nb, npl = len(bodies), len(planes)
-        laws = [self.law]
-
-        def law_index(law):
-            for k, x in enumerate(laws):
-                if x is law:
-                    return k
-            laws.append(law)
-            return len(laws) - 1
-
-        by_pair, by_body_plane, by_plane = {}, {}, {}
-        for key, law in dict(pair_laws).items():
-            self._check_law(law, f"pair_laws[{key!r}]")
-            if isinstance(key, Plane):
-                self._check_plane(key)
-                by_plane[key.index] = law
-                continue
-            if not (isinstance(key, tuple) and len(key) == 2):
-                raise ValueError(f"Simulation: pair_laws keys are (i, j), (i, plane), (plane, "
-                                 f"i) or a plane; got {key!r}")
-            a, b = key
-            if isinstance(a, Plane):
-                a, b = b, a
-            if isinstance(b, Plane):
-                self._check_plane(b)
-                by_body_plane[(self._check_body(a), b.index)] = law
-            else:
-                i, j = self._check_body(a), self._check_body(b)
-                if i == j:
-                    raise ValueError(f"Simulation: pair_laws key {key!r} pairs a body with "
-                                     f"itself")
-                by_pair[(min(i, j), max(i, j))] = law
-
         verts, bint, bflt = [], np.zeros((nb, 3), np.int64), np.zeros((nb, 5))
         row = 0
         for i, body in enumerate(bodies):
@@ -277,42 +224,24 @@ class Simulation:
         self._verts = np.ascontiguousarray(np.concatenate(verts), dtype=float)
         self._planes = np.array([(p.normal[0], p.normal[1], p.offset) for p in planes],
                                 dtype=float).reshape(npl, 3)
-        bp_law = np.zeros((nb, npl), np.int64)
-        for i in range(nb):
-            for p in range(npl):
-                law = by_body_plane.get((i, p), by_plane.get(p, self.law))
-                bp_law[i, p] = law_index(law)
-        pairs = []
-        for i in range(nb):
-            for j in range(i + 1, nb):
-                if bint[i, 0] == 0 and bint[j, 0] == 0:
-                    pairs.append((i, j, law_index(by_pair.get((i, j), self.law))))
-                elif (i, j) in by_pair or not self.ignore_unsupported_pairs:
-                    raise ValueError(
-                        f"Simulation: bodies {i} ({_shape_name(bodies[i])}) and {j} "
-                        f"({_shape_name(bodies[j])}) could collide, but the 2D stepper only "
-                        f"handles body-body contacts between disks; pass "
-                        f"ignore_unsupported_pairs=True to let such bodies pass through each "
-                        f"other (and give no pair law for them)")
-        self._pairs = np.array(pairs, dtype=np.int64).reshape(len(pairs), 3)
-        self._bp_law = bp_law
-        self._laws = laws
-        self._law_ids = np.array([int(x.law_id) for x in laws], dtype=np.int64)
-        self._law_par = np.array([np.asarray(x.params, dtype=float) for x in laws]
-                                 ).reshape(len(laws), N_PARAMS)
+        table = pack_laws("Simulation", scene, self.law, pair_laws, Plane, bint[:, 0] == 0,
+                          dim="2D", round_name="disks",
+                          ignore_unsupported_pairs=self.ignore_unsupported_pairs)
+        self._pairs = table.pairs
+        self._bp_law = table.bp_law
+        self._laws = table.laws
+        self._law_ids = table.law_ids
+        self._law_par = table.law_par
         self._grav = np.array(scene.gravity, dtype=float)
-
-    def _check_body(self, i):
-        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
-                or not 0 <= int(i) < len(self.scene.bodies):
-            raise ValueError(f"Simulation: {i!r} is not a body index of the scene "
-                             f"(0..{len(self.scene.bodies) - 1})")
-        return int(i)
-
-    def _check_plane(self, plane):
-        if not (0 <= plane.index < len(self.scene.planes)
-                and self.scene.planes[plane.index] is plane):
-            raise ValueError(f"Simulation: {plane!r} is not a plane of this scene")
+        # what every run's Result shares (read-only)
+        self._masses = np.array([b.mass for b in bodies], dtype=float)
+        self._moments = np.array([b.moment for b in bodies], dtype=float)
+        self._masses.flags.writeable = False
+        self._moments.flags.writeable = False
+        self._law_name = getattr(self.law, "name", repr(self.law))
+        self._result_tol = {**self.tolerances, "policy": self.policy}
+        from .kernels import stepper2d
+        self._arena = self._make_arena(stepper2d)     # the run's arrays, reset per run
 
     def _check_initial(self):
         gap_tol = self.tolerances["gap_tol"]
@@ -334,24 +263,11 @@ class Simulation:
 
     # ------------------------------------------------------------ running
 
-    def run(self, t_end, max_events=1_000_000):
-        """Run from t = 0 to ``t_end`` (s) and return a ``Result``.
-
-        ``max_events``: stop after the instant at which the number of logged events
-        reaches it (status "max_events", with a ``RuntimeWarning``).
-        """
-        from .kernels import stepper2d as k
-        if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer,
-                                                              np.floating)) \
-                or not (math.isfinite(t_end) and t_end > 0):
-            raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
-        if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
-                or max_events < 1:
-            raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
+    def _make_arena(self, k):
+        """The arrays of a run (see ``rbimpact.kernels.stepper2d``): tolerances, dynamic
+        state and workspaces, allocated once and reset from a template before each run."""
         tol = self.tolerances
-        nb = len(self.scene.bodies)
-        npl = len(self.scene.planes)
-        npr = len(self._pairs)
+        nb, npl, npr = len(self.scene.bodies), len(self.scene.planes), len(self._pairs)
         tolf = np.zeros(k.N_TF)
         tolf[k.TF_REST_LENGTH] = tol["rest_length"]
         tolf[k.TF_ZENO_SPEED] = -1.0 if tol["zeno_speed"] is None else tol["zeno_speed"]
@@ -362,90 +278,105 @@ class Simulation:
         tolf[k.TF_SIMUL_TOL] = tol["simul_tol"]
         tolf[k.TF_SIMUL_GAP] = tol["simul_gap"]
         tolf[k.TF_SEQ_VTOL] = tol["seq_vtol"]
-        tolf[k.TF_T_END] = float(t_end)
         toli = np.zeros(k.N_TI, np.int64)
         toli[k.TI_TOI_MAXIT] = tol["toi_max_iter"]
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
         toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
         toli[k.TI_STALL] = tol["stall_events"]
         toli[k.TI_POLICY] = POLICIES.index(self.policy)
-        toli[k.TI_MAX_EVENTS] = max_events
-
         st = np.zeros((nb, 9))
         for i, b in enumerate(self.scene.bodies):
             st[i, :6] = (*b.position, b.angle, *b.velocity, b.angular_velocity)
-        tref = np.zeros(nb)
         pm = np.zeros((nb, 4), np.int64)
         pm[:, 1:] = -1
-        tz = np.full(nb, np.inf)
-        zp = np.full(nb, -1, np.int64)
-        ttr = np.full(nb, np.inf)
-        bp_t = np.full((nb, npl), np.inf)
-        bp_off = np.zeros((nb, npl), np.int64)
-        pr_t = np.full(npr, np.inf)
-        pr_off = np.zeros(npr, np.int64)
-        glob = np.zeros(2)
-        cnt = np.zeros(4, np.int64)
+        M = k.MAXC
+        F, I = float, int
+        return Arena([
+            ("tolf", (k.N_TF,), F, tolf), ("toli", (k.N_TI,), I, toli),
+            # dynamic state
+            ("st", (nb, 9), F, st), ("tref", (nb,), F, 0.0), ("pm", (nb, 4), I, pm),
+            ("tz", (nb,), F, np.inf), ("zp", (nb,), I, -1), ("ttr", (nb,), F, np.inf),
+            ("bp_t", (nb, npl), F, np.inf), ("bp_off", (nb, npl), I, 0),
+            ("pr_t", (npr,), F, np.inf), ("pr_off", (npr,), I, 0), ("glob", (2,), F, 0.0),
+            ("cnt", (4,), I, 0),
+            # workspaces
+            ("c_i", (M, k.N_CI), I, 0), ("c_f", (M, k.N_CF), F, 0.0),
+            ("Wb", (2 * M, 2 * M), F, 0.0), ("Pb", (2 * M,), F, 0.0),
+            ("vb", (2 * M,), F, 0.0), ("tb", (2 * M,), F, 0.0), ("comp", (2 * M,), I, 0),
+            ("bmark", (nb,), I, 0), ("v2", (2,), F, 0.0), ("W2", (2, 2), F, 0.0),
+            ("P2", (2,), F, 0.0), ("tmp", (2, 9), F, 0.0), ("err", (8,), F, 0.0)])
+
+    def run(self, t_end, max_events=1_000_000):
+        """Run from t = 0 to ``t_end`` (s) and return a ``Result``.
+
+        ``max_events``: stop after the instant at which the number of logged events
+        reaches it (status "max_events", with a ``RuntimeWarning``).
+
+        The fixed cost of a call is small (tens of microseconds): the scene is packed once
+        when the ``Simulation`` is built and the run's arrays once on its first run; event
+        buffers start small and double as needed.
+        """
+        from .kernels import stepper2d as k
+        t_end, max_events = check_run_args(t_end, max_events)
+        # one set of run arrays per Simulation, taken for the duration of the run (a
+        # concurrent run of the same Simulation from another thread allocates its own)
+        arena = self.__dict__.pop("_arena", None) or self._make_arena(k)
+        try:
+            return self._run(k, arena, t_end, max_events)
+        finally:
+            self._arena = arena
+
+    def _run(self, k, arena, t_end, max_events):
+        (tolf, toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
+         c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err) = arena.reset()
+        tolf[k.TF_T_END] = t_end
+        toli[k.TI_MAX_EVENTS] = max_events
+        nb = st.shape[0]
         me = k.event_margin(toli, nb)
         ms = k.segment_margin(nb)
-        cap_e = me + min(max_events + 16, 1 << 16)
-        cap_s = ms + nb + min(max_events + 16, 1 << 16)
+        cap_e = me + min(max_events + 16, INITIAL_EVENT_ROWS)
+        cap_s = ms + nb + min(max_events + 16, INITIAL_EVENT_ROWS)
         ev_t = np.empty(cap_e)
         ev_i = np.empty((cap_e, 5), np.int64)
         ev_f = np.empty((cap_e, 11))
         seg_t = np.empty(cap_s)
         seg_b = np.empty(cap_s, np.int64)
         seg_s = np.empty((cap_s, 9))
-        M = k.MAXC
-        c_i = np.zeros((M, k.N_CI), np.int64)
-        c_f = np.zeros((M, k.N_CF))
-        Wb = np.zeros((2 * M, 2 * M))
-        Pb = np.zeros(2 * M)
-        vb = np.zeros(2 * M)
-        tb = np.zeros(2 * M)
-        comp = np.zeros(2 * M, np.int64)
-        bmark = np.zeros(nb, np.int64)
-        v2 = np.zeros(2)
-        W2 = np.zeros((2, 2))
-        P2 = np.zeros(2)
-        tmp = np.zeros((2, 9))
-        err = np.zeros(8)
+        run_loop = k.run_loop
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
-        state = (st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt)
-        rc = k.RC_BUFFER_FULL
+        rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
+                      glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb,
+                      tb, comp, bmark, v2, W2, P2, tmp, err)
         while rc == k.RC_BUFFER_FULL:
-            if rc == k.RC_BUFFER_FULL:
-                if cnt[0] + me > len(ev_t):
-                    ev_t, ev_i, ev_f = (_grow(x, int(cnt[0])) for x in (ev_t, ev_i, ev_f))
-                if cnt[1] + ms > len(seg_t):
-                    seg_t, seg_b, seg_s = (_grow(x, int(cnt[1])) for x in (seg_t, seg_b, seg_s))
-            rc = k.run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
-                            c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err)
+            if cnt[0] + me > len(ev_t):
+                ev_t, ev_i, ev_f = (_grow(x, int(cnt[0])) for x in (ev_t, ev_i, ev_f))
+            if cnt[1] + ms > len(seg_t):
+                seg_t, seg_b, seg_s = (_grow(x, int(cnt[1])) for x in (seg_t, seg_b, seg_s))
+            rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
+                          pr_off, glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f,
+                          Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err)
         status = "max_events" if rc == k.RC_MAX_EVENTS else "done"
         result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob,
-                              status, float(t_end))
+                              status, t_end)
         if rc < 0:
             raise self._error(rc, err, result)
         if status == "max_events":
             warnings.warn(f"Simulation.run: max_events={max_events} reached at t = "
-                          f"{result.t_end:.12g} s, before t_end = {float(t_end):g} s; the "
+                          f"{result.t_end:.12g} s, before t_end = {t_end:g} s; the "
                           f"result stops there (status 'max_events')", RuntimeWarning,
-                          stacklevel=2)
+                          stacklevel=3)
         return result
 
     def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status, t_req):
         from .kernels.stepper2d import EVENT_KINDS
         n = int(cnt[0])
         m = int(cnt[1])
-        bodies = self.scene.bodies
         return Result(ev_t[:n], ev_i[:n], ev_f[:n], seg_t[:m], seg_b[:m], seg_s[:m],
                       status=status, policy=self.policy, t_start=0.0, t_end=float(glob[0]),
-                      t_requested=t_req, masses=[b.mass for b in bodies],
-                      moments=[b.moment for b in bodies], gravity=self.scene.gravity,
-                      law=getattr(self.law, "name", repr(self.law)),
-                      tolerances={**self.tolerances, "policy": self.policy},
-                      kinds=EVENT_KINDS)
+                      t_requested=t_req, masses=self._masses, moments=self._moments,
+                      gravity=self.scene.gravity, law=self._law_name,
+                      tolerances=self._result_tol, kinds=EVENT_KINDS)
 
     def _where(self, b):
         b = int(b)

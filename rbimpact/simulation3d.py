@@ -45,11 +45,11 @@ What the stepper does
   the partial result as ``exc.result``; ``max_events`` stops early with status
   "max_events" and a ``RuntimeWarning``.
 """
-import math
 import warnings
 
 import numpy as np
 
+from ._setup import check_law, check_run_args, check_tolerances, pack_laws
 from .errors import NoSolutionError, SimulationError
 from .result3d import EVENT_DTYPE_3D, Result3D
 from .scene3d import Plane3D, Scene3D
@@ -151,27 +151,11 @@ class Simulation3D:
         if policy not in POLICIES:
             raise ValueError(f"Simulation3D: policy must be one of {POLICIES}, got "
                              f"{policy!r}")
-        unknown = [k for k in tolerances if k not in TOLERANCES_3D]
-        if unknown:
-            raise TypeError(f"Simulation3D: unknown keyword {unknown[0]!r}; tolerances are "
-                            + ", ".join(f"{k} ({u})" for k, (_, u, _) in TOLERANCES_3D.items()))
-        tol = {k: v[0] for k, v in TOLERANCES_3D.items()}
-        tol.update(tolerances)
-        for k, v in tol.items():
-            if k == "zeno_speed" and v is None:
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-                raise ValueError(f"Simulation3D: {k} must be a number "
-                                 f"({TOLERANCES_3D[k][1]}), got {v!r}")
-            if not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"Simulation3D: {k} must be finite and >= 0 "
-                                 f"({TOLERANCES_3D[k][1]}), got {v!r}")
-            if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
-                raise ValueError(f"Simulation3D: {k} must be a positive integer, got {v!r}")
+        tol = check_tolerances("Simulation3D", TOLERANCES_3D, tolerances)
         if not tol["rot_tol"] > 0:
             raise ValueError("Simulation3D: rot_tol must be > 0")
         self.scene = scene
-        self.law = self._check_law(law, "law")
+        self.law = check_law("Simulation3D", law, "law")
         self.policy = policy
         self.capture = bool(capture)
         self.tolerances = tol
@@ -181,54 +165,10 @@ class Simulation3D:
 
     # ------------------------------------------------------------ building
 
-    @staticmethod
-    def _check_law(law, what):
-        from .kernels.common import N_PARAMS
-        ok = hasattr(law, "law_id") and hasattr(law, "params")
-        if ok:
-            p = np.asarray(law.params, dtype=float)
-            ok = p.shape == (N_PARAMS,) and np.all(np.isfinite(p))
-        if not ok:
-            raise ValueError(f"Simulation3D: {what} must be an rbimpact.Law, got {law!r}")
-        return law
-
     def _pack(self, pair_laws):
-        from .kernels.common import N_PARAMS
         scene = self.scene
         bodies, planes = scene.bodies, scene.planes
         nb, npl = len(bodies), len(planes)
-        laws = [self.law]
-
-        def law_index(law):
-            for k, x in enumerate(laws):
-                if x is law:
-                    return k
-            laws.append(law)
-            return len(laws) - 1
-
-        by_pair, by_body_plane, by_plane = {}, {}, {}
-        for key, law in dict(pair_laws).items():
-            self._check_law(law, f"pair_laws[{key!r}]")
-            if isinstance(key, Plane3D):
-                self._check_plane(key)
-                by_plane[key.index] = law
-                continue
-            if not (isinstance(key, tuple) and len(key) == 2):
-                raise ValueError(f"Simulation3D: pair_laws keys are (i, j), (i, plane), "
-                                 f"(plane, i) or a plane; got {key!r}")
-            a, b = key
-            if isinstance(a, Plane3D):
-                a, b = b, a
-            if isinstance(b, Plane3D):
-                self._check_plane(b)
-                by_body_plane[(self._check_body(a), b.index)] = law
-            else:
-                i, j = self._check_body(a), self._check_body(b)
-                if i == j:
-                    raise ValueError(f"Simulation3D: pair_laws key {key!r} pairs a body "
-                                     f"with itself")
-                by_pair[(min(i, j), max(i, j))] = law
-
         feats, bint, bflt = [], np.zeros((nb, 5), np.int64), np.zeros((nb, 8))
         self._rot = []
         row = 0
@@ -244,41 +184,15 @@ class Simulation3D:
         self._feats = np.ascontiguousarray(np.concatenate(feats), dtype=float)
         self._planes = np.array([(*p.normal, p.offset) for p in planes],
                                 dtype=float).reshape(npl, 4)
-        bp_law = np.zeros((nb, npl), np.int64)
-        for i in range(nb):
-            for p in range(npl):
-                bp_law[i, p] = law_index(by_body_plane.get((i, p), by_plane.get(p, self.law)))
-        pairs = []
-        for i in range(nb):
-            for j in range(i + 1, nb):
-                if bint[i, 0] == 0 and bint[j, 0] == 0:
-                    pairs.append((i, j, law_index(by_pair.get((i, j), self.law))))
-                elif (i, j) in by_pair or not self.ignore_unsupported_pairs:
-                    raise ValueError(
-                        f"Simulation3D: bodies {i} ({_shape_name(bodies[i])}) and {j} "
-                        f"({_shape_name(bodies[j])}) could collide, but the 3D stepper only "
-                        f"handles body-body contacts between spheres; pass "
-                        f"ignore_unsupported_pairs=True to let such bodies pass through "
-                        f"each other (and give no pair law for them)")
-        self._pairs = np.array(pairs, dtype=np.int64).reshape(len(pairs), 3)
-        self._bp_law = bp_law
-        self._laws = laws
-        self._law_ids = np.array([int(x.law_id) for x in laws], dtype=np.int64)
-        self._law_par = np.array([np.asarray(x.params, dtype=float) for x in laws]
-                                 ).reshape(len(laws), N_PARAMS)
+        table = pack_laws("Simulation3D", scene, self.law, pair_laws, Plane3D,
+                          bint[:, 0] == 0, dim="3D", round_name="spheres",
+                          ignore_unsupported_pairs=self.ignore_unsupported_pairs)
+        self._pairs = table.pairs
+        self._bp_law = table.bp_law
+        self._laws = table.laws
+        self._law_ids = table.law_ids
+        self._law_par = table.law_par
         self._grav = np.array(scene.gravity, dtype=float)
-
-    def _check_body(self, i):
-        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
-                or not 0 <= int(i) < len(self.scene.bodies):
-            raise ValueError(f"Simulation3D: {i!r} is not a body index of the scene "
-                             f"(0..{len(self.scene.bodies) - 1})")
-        return int(i)
-
-    def _check_plane(self, plane):
-        if not (0 <= plane.index < len(self.scene.planes)
-                and self.scene.planes[plane.index] is plane):
-            raise ValueError(f"Simulation3D: {plane!r} is not a plane of this scene")
 
     def _check_initial(self):
         gap_tol = self.tolerances["gap_tol"]
@@ -309,13 +223,7 @@ class Simulation3D:
         from .kernels import stepper3d as k
         from .kernels.flight3d import N_WS
         from .kernels.pivot3d import N_CP, N_FW, N_PW
-        if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer,
-                                                              np.floating)) \
-                or not (math.isfinite(t_end) and t_end > 0):
-            raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
-        if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
-                or max_events < 1:
-            raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
+        t_end, max_events = check_run_args(t_end, max_events)
         tol = self.tolerances
         nb = len(self.scene.bodies)
         npl = len(self.scene.planes)

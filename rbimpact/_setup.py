@@ -1,0 +1,187 @@
+"""Setup shared by ``Simulation`` (2D) and ``Simulation3D``: validation of the keywords and
+of ``run``'s arguments, and the packing of the law table (default law, ``pair_laws``).
+
+Every function takes ``who`` ("Simulation" or "Simulation3D"), the prefix of its error
+messages, so both front ends raise the same errors with their own name.
+"""
+import math
+
+import numpy as np
+
+from .laws import N_PARAMS
+
+__all__ = ["check_tolerances", "check_law", "check_run_args", "pack_laws"]
+
+
+def check_tolerances(who, table, tolerances):
+    """The tolerance dict: ``table`` (keyword -> (default, unit, meaning)) defaults updated
+    with ``tolerances``, each checked (a number, finite, >= 0; iteration limits positive
+    integers; ``zeno_speed`` may be None). Unknown keywords raise ``TypeError``."""
+    unknown = [k for k in tolerances if k not in table]
+    if unknown:
+        raise TypeError(f"{who}: unknown keyword {unknown[0]!r}; tolerances are "
+                        + ", ".join(f"{k} ({u})" for k, (_, u, _) in table.items()))
+    tol = {k: v[0] for k, v in table.items()}
+    tol.update(tolerances)
+    for k, v in tol.items():
+        if k == "zeno_speed" and v is None:
+            continue
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+            raise ValueError(f"{who}: {k} must be a number ({table[k][1]}), got {v!r}")
+        if not (math.isfinite(v) and v >= 0):
+            raise ValueError(f"{who}: {k} must be finite and >= 0 ({table[k][1]}), got {v!r}")
+        if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
+            raise ValueError(f"{who}: {k} must be a positive integer, got {v!r}")
+    return tol
+
+
+def check_law(who, law, what):
+    """``law`` if it looks like an ``rbimpact.Law`` (``law_id`` and finite ``params`` of
+    length N_PARAMS), else ``ValueError`` naming ``what``."""
+    ok = hasattr(law, "law_id") and hasattr(law, "params")
+    if ok:
+        p = np.asarray(law.params, dtype=float)
+        ok = p.shape == (N_PARAMS,) and bool(np.all(np.isfinite(p)))
+    if not ok:
+        raise ValueError(f"{who}: {what} must be an rbimpact.Law, got {law!r}")
+    return law
+
+
+def check_run_args(t_end, max_events):
+    """Validate ``run(t_end, max_events)``; returns ``(float(t_end), int(max_events))``."""
+    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
+    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
+            or max_events < 1:
+        raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
+    return float(t_end), int(max_events)
+
+
+def _check_body(who, scene, i):
+    if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
+            or not 0 <= int(i) < len(scene.bodies):
+        raise ValueError(f"{who}: {i!r} is not a body index of the scene "
+                         f"(0..{len(scene.bodies) - 1})")
+    return int(i)
+
+
+def _check_plane(who, scene, plane):
+    if not (0 <= plane.index < len(scene.planes) and scene.planes[plane.index] is plane):
+        raise ValueError(f"{who}: {plane!r} is not a plane of this scene")
+
+
+class LawTable:
+    """The packed law table of a scene: ``laws`` (list, row 0 the default law),
+    ``law_ids`` int64[nl], ``law_par`` float64[nl, N_PARAMS], ``bp_law`` int64[nb, np]
+    (law row of each body-plane contact) and ``pairs`` int64[npr, 3] (body pairs that can
+    collide: ``(a, b, law row)``)."""
+
+    __slots__ = ("laws", "law_ids", "law_par", "bp_law", "pairs")
+
+
+def pack_laws(who, scene, law, pair_laws, plane_type, round_body, *, dim, round_name,
+              ignore_unsupported_pairs):
+    """Resolve ``pair_laws`` against ``scene`` and pack the law table (``LawTable``).
+
+    ``pair_laws`` keys: ``(i, j)`` (two body indices), ``(i, plane)`` or ``(plane, i)``
+    (a ``plane_type`` of the scene), or a plane alone; the most specific key wins.
+    ``round_body[i]``: body ``i`` can take part in a body-body contact (a disk in 2D, a
+    sphere in 3D, named ``round_name``); another pair of bodies raises ``ValueError``
+    unless ``ignore_unsupported_pairs`` (then it gets no pair, and no pair law may be
+    given for it). A one-body scene has no pair (no pair search runs)."""
+    check_law(who, law, "law")
+    bodies = scene.bodies
+    nb, npl = len(bodies), len(scene.planes)
+    laws = [law]
+
+    def law_index(x):
+        for k, y in enumerate(laws):
+            if y is x:
+                return k
+        laws.append(x)
+        return len(laws) - 1
+
+    by_pair, by_body_plane, by_plane = {}, {}, {}
+    for key, x in dict(pair_laws or {}).items():
+        check_law(who, x, f"pair_laws[{key!r}]")
+        if isinstance(key, plane_type):
+            _check_plane(who, scene, key)
+            by_plane[key.index] = x
+            continue
+        if not (isinstance(key, tuple) and len(key) == 2):
+            raise ValueError(f"{who}: pair_laws keys are (i, j), (i, plane), (plane, i) or a "
+                             f"plane; got {key!r}")
+        a, b = key
+        if isinstance(a, plane_type):
+            a, b = b, a
+        if isinstance(b, plane_type):
+            _check_plane(who, scene, b)
+            by_body_plane[(_check_body(who, scene, a), b.index)] = x
+        else:
+            i, j = _check_body(who, scene, a), _check_body(who, scene, b)
+            if i == j:
+                raise ValueError(f"{who}: pair_laws key {key!r} pairs a body with itself")
+            by_pair[(min(i, j), max(i, j))] = x
+
+    bp_law = np.zeros((nb, npl), np.int64)
+    for i in range(nb):
+        for p in range(npl):
+            bp_law[i, p] = law_index(by_body_plane.get((i, p), by_plane.get(p, law)))
+    pairs = []
+    for i in range(nb):
+        for j in range(i + 1, nb):
+            if round_body[i] and round_body[j]:
+                pairs.append((i, j, law_index(by_pair.get((i, j), law))))
+            elif (i, j) in by_pair or not ignore_unsupported_pairs:
+                raise ValueError(
+                    f"{who}: bodies {i} ({type(bodies[i].shape).__name__}) and {j} "
+                    f"({type(bodies[j].shape).__name__}) could collide, but the {dim} "
+                    f"stepper only handles body-body contacts between {round_name}; pass "
+                    f"ignore_unsupported_pairs=True to let such bodies pass through each "
+                    f"other (and give no pair law for them)")
+    table = LawTable()
+    table.laws = laws
+    table.law_ids = np.array([int(x.law_id) for x in laws], dtype=np.int64)
+    table.law_par = np.array([np.asarray(x.params, dtype=float) for x in laws]
+                             ).reshape(len(laws), N_PARAMS)
+    table.bp_law = bp_law
+    table.pairs = np.array(pairs, dtype=np.int64).reshape(len(pairs), 3)
+    return table
+
+
+class Arena:
+    """The arrays of one run of a compiled event loop, allocated once per simulation: views
+    into one float64 and one int64 buffer, reset before each run from a template by two
+    copies (instead of some forty small allocations per run).
+
+    ``spec``: ``(name, shape, dtype, initial value)`` per array, in the loop's argument
+    order. ``reset()`` returns the views (a tuple, spec order); ``named[name]`` is a view.
+    """
+
+    def __init__(self, spec):
+        sizes = {np.float64: 0, np.int64: 0}
+        layout = []
+        for name, shape, dtype, value in spec:
+            dtype = np.float64 if dtype is float else np.int64
+            size = math.prod(shape)
+            layout.append((name, shape, dtype, value, sizes[dtype], size))
+            sizes[dtype] += size
+        self.fbuf = np.zeros(sizes[np.float64])
+        self.ibuf = np.zeros(sizes[np.int64], np.int64)
+        views, self.named = [], {}
+        for name, shape, dtype, value, start, size in layout:
+            buf = self.fbuf if dtype is np.float64 else self.ibuf
+            view = buf[start:start + size].reshape(shape)
+            if not (isinstance(value, (int, float)) and value == 0):
+                view[...] = value
+            views.append(view)
+            self.named[name] = view
+        self.views = tuple(views)
+        self.fbuf0 = self.fbuf.copy()
+        self.ibuf0 = self.ibuf.copy()
+
+    def reset(self):
+        np.copyto(self.fbuf, self.fbuf0)
+        np.copyto(self.ibuf, self.ibuf0)
+        return self.views
