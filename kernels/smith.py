@@ -38,6 +38,12 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   ``t = -b/a``, F = 0 is a cubic in t bracketed on the physical interval and solved by
   safeguarded Halley (3-4 cubic evaluations), then g is polished in g itself. No scan is
   needed: the root is unique. 10-12 M contacts/s per thread in a plain njit loop.
+  Next to the pole of P_N (root with D < DPOLE_REL W_NN, near-singular W or weak impacts
+  with large slips) t cannot resolve the root (it can lie within an ulp of the pole) and
+  D = W_NN - mu W_NT g cancels: there the equation is solved for D itself
+  (``_phi_2d``/``_pole_solve_2d``, det W compensated), and the cubic's bracket stops at
+  D = DPOLE_REL W_NN. Small branch denominators A, B and the set-valued case use
+  compensated products (``_sub_prod``, ``common.det2c``).
 * 3D, planar motion (``W_T2N = W_T1T2 = 0`` once ``a`` lies along t1): reduced exactly to 2D
   (in-plane uniqueness of ``b(p)`` above).
 * 3D, uniqueness certified (``_unique_certificate``: ``d^T S d > mu |d . W_TT J W_TN|`` for
@@ -50,15 +56,31 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   the grid with a tangent predictor; the first sign change is refined by safeguarded Newton
   on ``p``. Two roots closer than ``SCAN_RATIO`` in ``P_N`` could be skipped (the next one is
   then returned). About 15 grid points, ~60 scalar evaluations.
+* 3D accuracy: W is scaled by a power of two (exact). Near stick (|g| < G_POLISH_3D, large
+  mu) or next to the pole the root is polished by damped Newton in g itself, in the caller's
+  frame with compensated D and N (``_polish_g_3d``), and the final D is compensated for the
+  returned g. The scan's normal equation switches to the stick-slope form next to the pole
+  (``_r_eval``: ``common.schur3`` and a refined W_TT^-1 w). Residual weakness left: roots
+  next to the pole with an ill-conditioned W_TT (cond(W) >~ 1e8) can keep residuals or
+  energy errors of ~eps W_NN / D (a few per 300 of the stability suite's random cases).
 * ``a = 0`` (and ``|a|`` below ``A_ZERO_REL`` times the velocity scale): Smith's direction
   is 0/0 only at ``a = b = 0``; we read it as the set-valued sign (the unit ball), which is
   the limit of Smith's law as ``a -> 0`` from every direction. The result is Coulomb's
   inclusion along the final slip: **stick** (``b = 0``, mode ``MODE_STICK``, impulse
   strictly inside the cone) when ``|W_TT^-1 W_TN| <= mu``; otherwise slip along the unique
   direction ``u`` with ``(s I + mu W_TT) u = W_TN``, ``s > 0``, ``|u| = 1`` (2D:
-  ``u = sign(W_TN)``), ``D > 0`` guaranteed. The literal "``P_T = 0`` at ``a = b = 0``"
-  is rejected: it is not a solution (it gives ``b = W_TN P_N != 0``) and would make the law
-  jump at ``a = 0`` (friction would vanish for an exactly non-sliding contact).
+  ``u = sign(W_TN)``), ``D > 0`` guaranteed. The stick P_N uses the compensated Schur
+  complement (``common.schur3``) and W_TT^-1 W_TN by a refined solve; the slip u comes from
+  the secular system (scaled only by a power of two, so that a tiny or subnormal W_TN or mu
+  neither underflows nor loses digits) refined against its compensated residual, D
+  compensated. The literal "``P_T = 0`` at ``a = b = 0``" is rejected: it is not a solution
+  (it gives ``b = W_TN P_N != 0``) and would make the law jump at ``a = 0`` (friction would
+  vanish for an exactly non-sliding contact).
+* 3D near stick with a tiny initial slip (|a| far below eps c mu |W_TT| / D, the round-off
+  of the b-residual): the b-root is noise there, so the g-polish starts from the linearized
+  stick solution (``_stick_start_3d``) when that has the smaller |E|, and where g cannot
+  resolve b at the scale of |a| at all the stick solution is the answer (it tends to the
+  set-valued stick as a -> 0).
 
 Modes: ``MODE_SEPARATING`` (``v_N >= 0``, P = 0); ``MODE_SLIP`` for every ordinary solution
 (Smith never truly sticks; ``mu = 0`` is frictionless and also ``MODE_SLIP``); ``MODE_STICK``
@@ -76,8 +98,13 @@ import math
 
 from numba import njit
 
+from .cache_guard import guard
+
+# flush stale compiled code before the kernel modules below are imported (cache_guard)
+guard(__name__, __file__)
+
 from .common import (MODE_NO_SOLUTION, MODE_NOT_CONVERGED, MODE_SEPARATING, MODE_SLIP,
-                     MODE_STICK, P_E, P_MU, solve2)
+                     MODE_STICK, P_E, P_MU, det2c, schur3, solve2, two_prod, two_sum)
 
 # ---- named tolerances and limits --------------------------------------------------------------
 # The law is homogeneous of degree 1 in v. The 2D solve uses only velocity ratios; the 3D
@@ -93,15 +120,19 @@ slip; in 3D the vector): the directions g(b) then hold to ~1e-14, and the quadra
 convergence puts the returned root at round-off level."""
 TOL_QUAD = 1e-8
 """3D Newton also stops right after a full step shorter than TOL_QUAD * max(|b|, |a|): by
-quadratic convergence the error left is ~TOL_QUAD^2 (times an O(1) curvature factor)."""
+quadratic convergence the error left is ~TOL_QUAD^2 (times an O(1) curvature factor). Not
+used next to the pole (D < DPOLE_REL W_NN), where the curvature factor is ~W_NN / D."""
 TOL_P = 1e-14
 """3D scan path: relative tolerance on the normal impulse p in the outer root refinement."""
 TOL_HALLEY = 1e-6
 """2D: the Halley iteration (cubic convergence) stops after a step below TOL_HALLEY * t; the
 error left is then ~1e-18 relative, below round-off."""
 G_POLISH_T = 4.0
-"""2D: for a root t = -b/a <= G_POLISH_T (g >= -0.88) the direction g is polished by one
-Newton step in g itself (full relative accuracy when g ~ 0, i.e. near-stick contacts)."""
+"""2D: for a root t = -b/a <= G_POLISH_T (g >= -0.88) the direction g is polished by Newton
+in g itself, usually one step (full relative accuracy when g ~ 0, i.e. near-stick contacts)."""
+MAXIT_POLISH_2D = 8
+"""2D: further Newton steps of the g-polish after the first (``_polish_g_2d_more``; 4-6 from
+an eps-accurate g to a root with |g| ~ 1e-100, quadratic convergence)."""
 MAXIT_2D = 100
 """2D safeguarded Halley limit (typically 3-4 evaluations; the bisection fallback halves
 the bracket, so 100 is never reached for finite input). Also the 3D secular-equation limit."""
@@ -128,22 +159,166 @@ CERT_MAXIT = 8
 """Newton steps maximizing the concave certificate function phi(tau) (stops at phi > 0)."""
 SECULAR_TOL = 1e-15
 """Set-valued 3D slip: relative tolerance on the secular-equation root s."""
+G_POLISH_3D = 1e-2
+"""3D: if |g| < G_POLISH_3D at the root (near stick, large mu), or the root lies next to the
+pole (D < DPOLE_REL W_NN), g is polished by Newton in g itself (``_polish_g_3d``): from b it
+has ~eps / |g| relative error (|a| a + |b| b cancels for b ~ -a), and P_T = -mu P_N g needs
+it relative; above it eps / |g| <= 2e-14."""
+MAXIT_POLISH_3D = 12
+"""3D: damped Newton steps of the g-polish (near stick, quadratic from an ~eps-absolute start:
+1-2; next to the pole from a noisy b-root: a few more)."""
+POLISH_SEP = 64.0
+"""3D: the g-polish runs only if |a| > POLISH_SEP eps (c/D) mu |T| |g|, i.e. one ulp of g moves
+b = a + c N(g)/D by well under |a| (otherwise g cannot represent the root finely enough and
+the b-root is kept; its residual is then weighted by the tiny |a| anyway)."""
+STICK_START_IT = 4
+"""3D near-stick start (``_stick_start_3d``): fixed-point sweeps on D (typically 2-3)."""
+UNSCALED_MAX_EXP = 64
+"""3D: W is scaled by 2^-ex (W_NN -> [0.5, 1)) unless 1 <= W_NN < 2^UNSCALED_MAX_EXP and the
+scaling would push a nonzero off-diagonal entry into the subnormal range (losing its digits)."""
+N_REFINE = 3
+"""Set-valued 3D: iterative-refinement steps of the 2x2 solves (each gains ~eps cond(T))."""
+G_PHI_SIGN = 1e-3
+"""2D pole test: where |g| at D = DPOLE_REL W_NN is below this, the side of the root is decided
+by the D-form Phi (``_phi_2d``) instead of the cubic in t: g from t has eps absolute (eps/|g|
+relative) error, so for mu |W_NT| >> W_NN t no longer resolves D near DPOLE_REL W_NN."""
+DPOLE_REL = 1.0 / 64.0
+"""2D: a root whose D = W_NN - mu W_NT g is below DPOLE_REL * W_NN lies next to the pole of
+P_N(b) (or of a near-pole end of the interval): there D is solved for directly
+(``_pole_solve_2d``), since D from g or t cancels (relative error ~eps W_NN / D); above it
+that error is <= 2 eps / DPOLE_REL ~ 3e-14. Also the threshold below which the branch
+denominators A, B are recomputed compensated."""
 
 
 # ================================================================================================
 # 2D
 # ================================================================================================
+@njit(cache=True, error_model="numpy", inline="always")
+def _sub_prod(x, m, y):
+    """x - m y, compensated (two_prod, two_sum): a few ulps of the result for exact inputs,
+    where the plain formula loses eps |x| / |x - m y| (the denominators D = W_NN - mu W_NT g
+    at g = +-1 next to a pole)."""
+    p, ep = two_prod(m, y)
+    r, er = two_sum(x, -p)
+    return r + (er - ep)
+
+
 @njit(cache=True, error_model="numpy")
 def _set_valued_2d(c, Wnn, wnt, Wtt, mu):
-    """a = 0: Coulomb inclusion along the final slip (limit a -> 0). Returns mode, P_N, P_T."""
-    if wnt > mu * Wtt:                       # normal impulse drives slip forward: g = +1
-        PN = c / (Wnn - mu * wnt)            # > 0: Wnn - mu*wnt <= 0 would contradict det > 0
+    """a = 0: Coulomb inclusion along the final slip (limit a -> 0). Returns mode, P_N, P_T.
+    The denominators (W_NN -+ mu W_NT, det W) are compensated: each can cancel for a
+    near-singular W (det W << W_NN W_TT) and P_N = c / D would carry eps W_NN / D."""
+    # |W_NT| > mu W_TT decides slip; compared as (W_NT, mu) 2^-ex, |W_NT| 2^-ex in [0.5, 1)
+    # (exact), since mu W_TT can round in the subnormal range (tiny mu: 1 ulp there is a
+    # relative 1) and flip the mode (3D: _set_valued_3d makes the same exact decision)
+    ex = math.frexp(wnt)[1] if wnt != 0.0 else 0
+    muw = math.ldexp(mu, -ex) * Wtt
+    wq = math.ldexp(wnt, -ex)
+    if wq > muw:                             # normal impulse drives slip forward: g = +1
+        PN = c / _sub_prod(Wnn, mu, wnt)     # > 0: Wnn - mu*wnt <= 0 would contradict det > 0
         return MODE_SLIP, PN, -mu * PN
-    if wnt < -mu * Wtt:                      # drives it backward: g = -1
-        PN = c / (Wnn + mu * wnt)
+    if wq < -muw:                            # drives it backward: g = -1
+        PN = c / _sub_prod(Wnn, -mu, wnt)
         return MODE_SLIP, PN, mu * PN
-    det = Wnn * Wtt - wnt * wnt              # stick: v_fT = 0, |P_T| < mu P_N
+    det = det2c(Wnn, Wtt, wnt, wnt)          # stick: v_fT = 0, |P_T| < mu P_N
     return MODE_STICK, c * Wtt / det, -c * wnt / det
+
+
+@njit(cache=True, error_model="numpy")
+def _phi_2d(D, k, Wnn, wnt, det, mu):
+    """The 2D root equation in the unknown D = W_NN - mu W_NT g (a > 0, W_NT != 0):
+
+        Phi(D) = D (W_NN (1 + t) + k W_NT) - k mu g det W = W_NN ((1 + t) D + k N(g)),
+
+    g = (W_NN - D) / (mu W_NT), t = sqrt((1 - g)/(1 + g)) = -b/a, N = W_NT - mu W_TT g, using
+    W_NN N = W_NT D - mu g det W. sign(Phi) = sign(F(b)); sign(W_NT) Phi < 0 below the root
+    and > 0 above it. Every term keeps its relative accuracy for D << W_NN (det W
+    compensated), where the t-cubic cancels. Returns (Phi, dPhi/dD, g, t)."""
+    g = (Wnn - D) / (mu * wnt)
+    g = min(max(g, -1.0), 1.0)
+    t = math.sqrt((1.0 - g) / (1.0 + g))
+    L = Wnn * (1.0 + t) + k * wnt
+    phi = D * L - k * mu * g * det
+    # dg/dD = -1/(mu W_NT), dt/dg = -1/(t (1 + g)^2)
+    dphi = L + k * det / wnt + D * Wnn / (mu * wnt * t * (1.0 + g) * (1.0 + g))
+    return phi, dphi, g, t
+
+
+@njit(cache=True, error_model="numpy")
+def _pole_solve_2d(k, Wnn, wnt, det, mu, Dhi):
+    """Root D in (0, Dhi) of Phi (``_phi_2d``), known to lie there (sign(W_NT) Phi(Dhi) >= 0,
+    sign(W_NT) Phi(0+) = -k mu |g_p| det < 0): safeguarded Newton from the Newton step at
+    D = 0, with bisection (geometric across decades) on the bracket. The root is unique
+    (sign(Phi) = sign(F) and F is strictly monotone). Returns (ok, D, g, t)."""
+    sw = 1.0 if wnt > 0.0 else -1.0
+    gp = min(max(Wnn / (mu * wnt), -1.0), 1.0)       # g at the pole (D = 0)
+    tp = math.sqrt((1.0 - gp) / (1.0 + gp))
+    lo = 0.0
+    hi = Dhi
+    D = k * mu * gp * det / (Wnn * (1.0 + tp) + k * wnt + k * det / wnt)
+    if not (D > lo and D < hi):
+        D = 0.5 * hi
+    ok = False
+    for it in range(MAXIT_2D):
+        phi, dphi, g, t = _phi_2d(D, k, Wnn, wnt, det, mu)
+        if phi == 0.0:
+            ok = True
+            break
+        if sw * phi < 0.0:
+            lo = D
+        else:
+            hi = D
+        step = -phi / dphi
+        Dn = D + step
+        inside = Dn > lo and Dn < hi
+        if inside and abs(step) <= TOL_ROOT * D:
+            D = Dn
+            ok = True
+            break
+        if not inside:
+            if lo > 0.0 and hi < 4.0 * lo:
+                Dn = 0.5 * (lo + hi)
+            elif lo > 0.0:
+                Dn = math.sqrt(lo * hi)
+            else:
+                Dn = 1e-8 * hi
+            if hi - lo <= TOL_ROOT * hi:
+                D = Dn
+                ok = True
+                break
+        D = Dn
+    phi, dphi, g, t = _phi_2d(D, k, Wnn, wnt, det, mu)
+    return ok and D > 0.0, D, g, t
+
+
+@njit(cache=True, error_model="numpy")
+def _polish_g_2d_more(g, t, k, Wnn, wnt, Wtt, mu):
+    """Further Newton steps of the 2D g-polish (rare: after a first step that moved g by more
+    than 1e-8 of itself). From g(t) (eps absolute error) a root with |g| << eps (mu |W_NT| or
+    mu W_TT k >> W_NN, e.g. g = 1.4e-100 for mu = 1e100, where t = 1 - 1.4e-100 rounds to 1)
+    is reached quadratically (g -> ~mu W_NT g^2 / |E'|), with the terms linear in g of
+    E(g) = (1 + t) D + k N cancelled analytically,
+
+        g - E/E' = (g t'(g) D(g) - (1 + t) W_NN - k W_NT) / E',
+
+    since g - E/E' in floating point keeps only ~eps |g| absolute accuracy. Same acceptance
+    rule as the first step (small moves only). Returns (g, t)."""
+    for ip in range(MAXIT_POLISH_2D):
+        if not (g > -1.0 + 1e-3 and g < 1.0):
+            break
+        tg = math.sqrt((1.0 - g) / (1.0 + g))
+        Dg = Wnn - mu * wnt * g
+        dtg = -1.0 / (tg * (1.0 + g) * (1.0 + g))
+        dE = Dg * dtg - (1.0 + tg) * mu * wnt - k * mu * Wtt
+        gn = (g * dtg * Dg - (1.0 + tg) * Wnn - k * wnt) / dE
+        if not (abs(gn - g) <= 1e-6 * (abs(g) + 1e-300) or abs(gn - g) <= 1e-12):
+            break
+        small = abs(gn - g) <= 1e-8 * abs(gn)
+        g = gn
+        t = math.sqrt((1.0 - g) / (1.0 + g))
+        if small:
+            break
+    return g, t
 
 
 @njit(cache=True, error_model="numpy")
@@ -174,6 +349,11 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
         return mode, PN, sg * PT, sg * (a + wnt * PN + Wtt * PT)
     A = Wnn + mu * wnt
     B = Wnn - mu * wnt
+    dthr = DPOLE_REL * Wnn
+    if abs(A) < dthr:                        # cancels: compensated (sign and P_N = c / A)
+        A = _sub_prod(Wnn, -mu, wnt)
+    if abs(B) < dthr:
+        B = _sub_prod(Wnn, mu, wnt)
     C1 = wnt + mu * Wtt
     C2 = wnt - mu * Wtt
     if B > 0.0:
@@ -189,14 +369,41 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
     lo = 0.0
     hi = math.inf
     tb = 0.0
+    tth = 0.0
+    pole = B <= 0.0 or A < 0.0
+    if pole:
+        # The interval ends at a pole of P_N (D = 0). If the root's D is below dthr, the cubic
+        # cannot resolve it (t within ulps of the pole, D = (A t^2 + B)/(1 + t^2) cancels):
+        # solve for D itself. Otherwise the bracket stops at D = dthr, away from the pole.
+        # The sign test uses the cubic q at t(dthr) (sign q = sign Phi, and q is accurate
+        # there, away from the pole); a wrong sign where the root sits at dthr itself only
+        # picks the other, equally valid, solver. If g(dthr) is tiny (mu |W_NT| >> W_NN),
+        # t(dthr) rounds to ~1 (g from t has eps absolute error: q could even be evaluated
+        # on the wrong side of the root) and Phi(dthr) itself decides (its g is exact there).
+        gth = min(max((Wnn - dthr) / (mu * wnt), -1.0), 1.0)
+        tth = math.sqrt((1.0 - gth) / (1.0 + gth))
+        det = 0.0
+        if abs(gth) < G_PHI_SIGN:
+            det = det2c(Wnn, Wtt, wnt, wnt)
+            qth = _phi_2d(dthr, k, Wnn, wnt, det, mu)[0]
+        else:
+            qth = c0 + tth * (c1 + tth * (c2 + tth * c3))
+        if qth * wnt >= 0.0:
+            if det == 0.0:
+                det = det2c(Wnn, Wtt, wnt, wnt)
+            ok, D, g, t = _pole_solve_2d(k, Wnn, wnt, det, mu, dthr)
+            if not ok:
+                return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
+            PN = c / D
+            return MODE_SLIP, PN, -sg * mu * PN * g, -sg * a * t
     if A > 0.0:
         if B <= 0.0:
-            lo = math.sqrt(-B / A)           # pole; q(lo) < 0
+            lo = tth                         # D = dthr, between the pole and the root
         tb = -(1.0 + k * C1 / A)
         if tb > lo:
             lo = tb
     elif A < 0.0:
-        hi = math.sqrt(B / -A)               # pole; q(hi) > 0
+        hi = tth                             # D = dthr; q(hi) > 0
     # initial guess from the asymptotes (k -> inf)
     t = 1.0
     if C1 > 0.0 and C2 < 0.0:
@@ -246,6 +453,8 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
         # E(g) = (1 + t(g)) D(g) + k N(g), t(g) = sqrt((1 - g)/(1 + g)), N = W_NT - mu W_TT g
         # (E = 0 is F = 0 times D/a), from g(t) with 1 - t^2 = (1 - t)(1 + t).
         g = (1.0 - t) * (1.0 + t) / (1.0 + t * t)
+        # Usually one step; more (_polish_g_2d_more) only if it moved g by more than 1e-8 of
+        # itself (a root with |g| << eps, e.g. 1.4e-100 for mu = 1e100).
         if g > -1.0 + 1e-3 and g < 1.0:
             tg = math.sqrt((1.0 - g) / (1.0 + g))
             Dg = Wnn - mu * wnt * g
@@ -253,12 +462,19 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
             dE = -Dg / (tg * (1.0 + g) * (1.0 + g)) - (1.0 + tg) * mu * wnt - k * mu * Wtt
             gn = g - E / dE
             if abs(gn - g) <= 1e-6 * (abs(g) + 1e-300) or abs(gn - g) <= 1e-12:
+                more = abs(gn - g) > 1e-8 * abs(gn)    # else quadratic: next step < eps
                 g = gn
                 t = math.sqrt((1.0 - g) / (1.0 + g))
+                if more:
+                    g, t = _polish_g_2d_more(g, t, k, Wnn, wnt, Wtt, mu)
     else:
         u2 = 1.0 / (t * t)
         g = (u2 - 1.0) / (u2 + 1.0)
     D = Wnn - mu * wnt * g
+    if D < dthr and not pole:
+        # near an end where A or B is small (g -> -1 or 1): the sum of positive terms keeps
+        # full relative accuracy where Wnn - mu wnt g cancels
+        D = (A * t * t + B) / (1.0 + t * t) if t < math.inf else A
     if not (D > 0.0):                        # cannot happen: t stays in the physical bracket
         return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
     PN = c / D
@@ -271,7 +487,9 @@ def smith_2d_scalar(vN, vt, Wnn, Wnt, Wtt, e, mu):
 
     Scalars only (no arrays), so a caller's loop pays no reference counting for the call.
     The 2D solve is homogeneous in the velocities (it uses c/a and c/B only), so no
-    rescaling is needed."""
+    rescaling is needed. (W is not rescaled either: extreme masses, W_NN ~ 1e-200, can
+    underflow det W; rescaling by a power of two here cost ~10% of the 2D kernel's time.)
+    |P_T| = fl(fl(mu P_N) |g|) <= fl(mu P_N) holds by monotone rounding."""
     if vN >= 0.0:
         return MODE_SEPARATING, 0.0, 0.0
     c = -(1.0 + e) * vN
@@ -410,7 +628,9 @@ def _newton_full_3d(b1, b2, al, c, Wnn, w1, w2, t11, t12, t22, mu, maxit):
             return False, b1, b2
         b1, b2 = n1, n2
         F1, F2, J11, J12, J21, J22, f = G1, G2, K11, K12, K21, K22, fn
-        if t == 1.0 and nd <= TOL_QUAD * scale:
+        if t == 1.0 and nd <= TOL_QUAD * scale and Dn >= DPOLE_REL * Wnn:
+            # (not next to the pole: there the quadratic-convergence constant ~ W_NN / D
+            # is too large for this shortcut; iterate to TOL_ROOT)
             return True, b1, b2
     return False, b1, b2
 
@@ -498,28 +718,73 @@ def _solve_inner_3d(b1, b2, al, p, w1, w2, t11, t12, t22, mu):
     return ok, b1, b2, g1, g2, J11, J12, J21, J22
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _res_comp(r, t1, y1, t2, y2):
+    """r - t1 y1 - t2 y2, compensated (two_prod / two_sum): the residual of an iterative
+    refinement step must be accurate where it cancels."""
+    p1, e1 = two_prod(t1, y1)
+    p2, e2 = two_prod(t2, y2)
+    q, eq = two_sum(p1, p2)
+    d, ed = two_sum(r, -q)
+    return d + (ed - eq - e1 - e2)
+
+
+@njit(cache=True, error_model="numpy")
+def _solve2_refined(a00, a01, a11, b0, b1):
+    """Solve the SPD 2x2 system [[a00, a01], [a01, a11]] x = b: Cramer's rule with a
+    compensated determinant, plus N_REFINE steps of iterative refinement with a compensated
+    residual, so that x is right to ~eps relative for cond up to ~1e11 (Cramer's rule alone
+    loses eps cond: the set-valued stick needs v_fT = P_N (w - T x) ~ 0 and
+    P_N (W_NN - w.x) = c with P_N from the exact Schur complement)."""
+    det = det2c(a00, a11, a01, a01)
+    x0 = (a11 * b0 - a01 * b1) / det
+    x1 = (a00 * b1 - a01 * b0) / det
+    for it in range(N_REFINE):
+        r0 = _res_comp(b0, a00, x0, a01, x1)
+        r1 = _res_comp(b1, a01, x0, a11, x1)
+        x0 += (a11 * r0 - a01 * r1) / det
+        x1 += (a00 * r1 - a01 * r0) / det
+    return x0, x1
+
+
 @njit(cache=True, error_model="numpy")
 def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     """a = 0 in 3D: stick if |T^-1 w| <= mu, else slip along the unique u with
     (s I + mu T) u = w, s > 0, |u| = 1. Returns (mode, P_N, k1, k2, f) with
-    P_T = -f P_N (k1, k2): stick (T^-1 w, 1), slip (u, mu)."""
-    y1, y2 = solve2(t11, t12, t22, w1, w2)   # T^-1 w
-    if math.hypot(y1, y2) <= mu:              # (hypot: no underflow for tiny mu)
-        PN = c / (Wnn - (w1 * y1 + w2 * y2))  # c M_NN (Schur complement > 0)
-        return MODE_STICK, PN, y1, y2, 1.0
-    # secular equation in the scaled unknowns (w/|w|, s/|w|, m = mu/|w| <= 1/lambda_min(T)):
-    # f(s) = 1/|y(s)| - 1 = 0, y(s) = (s I + m T)^-1 w/|w|; f increasing, f(0) < 0 <= f(1).
-    # Safeguarded Newton; f' = |y|^-3 y.(s I + m T)^-1 y.
+    P_T = -f P_N (k1, k2): stick (T^-1 w, 1), slip (u, mu).
+
+    The stick test and the secular system are homogeneous of degree 1 in (w, mu, sigma):
+    they are solved for w and mu scaled by the power of two 2^-ex, |w| 2^-ex in [0.5, 1)
+    (exact). Unscaled, a tiny coupling (|w| ~ 1e-195, mu ~ 1e-219) under- or overflows:
+    det(sigma I + mu T) ~ |w|^2 underflows to 0 and the iteration never converged, and a
+    subnormal w or mu loses its digits in T^-1 w and in the stick test."""
     nw = math.hypot(w1, w2)
-    e1 = w1 / nw
-    e2 = w2 / nw
-    m = mu / nw
+    if nw == 0.0:                             # T^-1 w = 0: stick (friction not needed)
+        return MODE_STICK, c / Wnn, 0.0, 0.0, 1.0
+    ex = math.frexp(nw)[1]
+    q1 = math.ldexp(w1, -ex)                  # w 2^-ex, |q| in [0.5, 1): exact unless a
+    q2 = math.ldexp(w2, -ex)                  # component drops below 2^-1022 |q| (moot)
+    muq = math.ldexp(mu, -ex)                 # mu 2^-ex (may be +inf: then stick)
+    y1, y2 = _solve2_refined(t11, t12, t22, q1, q2)   # T^-1 w 2^-ex
+    if math.hypot(y1, y2) <= muq:
+        # c M_NN: the Schur complement W_NN - w.T^-1 w = det W / det T, compensated (by
+        # Cramer's rule it cancels for near-singular W and can even come out negative)
+        PN = c / schur3(Wnn, w1, w2, t11, t12, t22)
+        return MODE_STICK, PN, math.ldexp(y1, ex), math.ldexp(y2, ex), 1.0
+    # secular equation in the scaled unknown s = sigma/|w| (m = mu/|w| <= 1/lambda_min(T)):
+    # f(s) = 1/|u(s)| - 1 = 0, u(s) = (s I + m T)^-1 w/|w|; f increasing, f(0) < 0 <= f(1).
+    # Safeguarded Newton; f' = |u|^-3 u.(s I + m T)^-1 u.
+    nq = math.hypot(q1, q2)
+    m = muq / nq
     lo = 0.0
     hi = 1.0
     s = 0.5
     ok = False
     for it in range(MAXIT_2D):
-        u1, u2 = solve2(s + m * t11, m * t12, s + m * t22, e1, e2)
+        # u(sigma) from the (power-of-two scaled, so exact) refined solve: the root must be
+        # that of the exact system (the normalized one is off by eps cond(T), which moves |u|
+        # next to the pole)
+        u1, u2 = _solve_secular_u(s * nq, muq, q1, q2, t11, t12, t22)
         ny = math.sqrt(u1 * u1 + u2 * u2)
         f = 1.0 / ny - 1.0
         if f == 0.0:
@@ -529,6 +794,7 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
             lo = s
         else:
             hi = s
+        # (s I + m T) u = e is the same system scaled by 1/|w|: f' = |u|^-3 u.(s I + m T)^-1 u
         z1, z2 = solve2(s + m * t11, m * t12, s + m * t22, u1, u2)
         df = (u1 * z1 + u2 * z2) / (ny * ny * ny)
         step = -f / df
@@ -547,12 +813,74 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
         s = sn
     if not ok:
         return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0, 0.0
-    u1, u2 = solve2(s + m * t11, m * t12, s + m * t22, e1, e2)
-    ny = math.hypot(u1, u2)
-    u1 /= ny
-    u2 /= ny
-    PN = c / (Wnn - mu * (w1 * u1 + w2 * u2))  # D > 0 proved: Wnn > w.T^-1 w > mu w.u
+    # u from the unscaled system (sigma I + mu T) u = w, sigma = s |w|, refined against its
+    # exact residual and not renormalized (|u| = 1 to the secular tolerance): next to the
+    # pole (D << W_NN) both v_fN = v_N + P_N (W_NN - mu w.u) and the energy,
+    # dE = -P_N^2 mu u.(w - mu T u) / 2 at e = 1, hinge on that residual, which the scaled
+    # and normalized u leaves at eps cond(T).
+    sig = s * nq                              # sigma 2^-ex
+    u1, u2 = _solve_secular_u(sig, muq, q1, q2, t11, t12, t22)
+    # D = W_NN - mu w.u > 0, compensated for this u (P_N D = c holds for the returned
+    # impulse; unscaled: where mu w.u underflows it is below eps W_NN). The identity
+    # D = (W_NN - w.T^-1 w) + sigma mu + sigma^2 u.T^-1 u (all terms positive; schur3
+    # compensated) is the fallback.
+    D = _sub_mu_dot(Wnn, mu, w1, u1, w2, u2)
+    if not (D > 0.0):
+        z1, z2 = _solve2_refined(t11, t12, t22, u1, u2)
+        D = schur3(Wnn, w1, w2, t11, t12, t22) + math.ldexp(
+            sig * muq + sig * sig * (u1 * z1 + u2 * z2), 2 * ex)
+    PN = c / D
     return MODE_SLIP, PN, u1, u2, mu
+
+
+@njit(cache=True, error_model="numpy")
+def _sub_mu_dot(x, mu, w1, u1, w2, u2):
+    """x - mu (w1 u1 + w2 u2), compensated (double-double dot product, then the product with
+    mu): a few ulps of the result for exact inputs."""
+    p1, e1 = two_prod(w1, u1)
+    p2, e2 = two_prod(w2, u2)
+    d, ed = two_sum(p1, p2)
+    lo = ed + (e1 + e2)
+    q, eq = two_prod(mu, d)
+    eq += mu * lo
+    r, er = two_sum(x, -q)
+    return r + (er - eq)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _res_secular(w, sig, mu, ta, ua, tb, ub):
+    """w - sig ua - mu ta ua - mu tb ub, compensated (mu t formed exactly as q + eq)."""
+    p1, e1 = two_prod(sig, ua)
+    q, eq = two_prod(mu, ta)
+    p2, e2 = two_prod(q, ua)
+    e2 += eq * ua
+    q, eq = two_prod(mu, tb)
+    p3, e3 = two_prod(q, ub)
+    e3 += eq * ub
+    r, er1 = two_sum(w, -p1)
+    r, er2 = two_sum(r, -p2)
+    r, er3 = two_sum(r, -p3)
+    return r + ((er1 + er2 + er3) - (e1 + e2 + e3))
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_secular_u(sig, mu, w1, w2, t11, t12, t22):
+    """Solve (sig I + mu T) u = w: Cramer's rule with a compensated determinant, then
+    N_REFINE steps of iterative refinement against the compensated residual of the
+    unrounded matrix (each step gains a factor ~eps cond; 3 reach round-off for cond
+    up to ~1e11)."""
+    a00 = sig + mu * t11
+    a01 = mu * t12
+    a11 = sig + mu * t22
+    det = det2c(a00, a11, a01, a01)
+    u1 = (a11 * w1 - a01 * w2) / det
+    u2 = (a00 * w2 - a01 * w1) / det
+    for it in range(N_REFINE):
+        r1 = _res_secular(w1, sig, mu, t11, u1, t12, u2)
+        r2 = _res_secular(w2, sig, mu, t22, u2, t12, u1)
+        u1 += (a11 * r1 - a01 * r2) / det
+        u2 += (a00 * r2 - a01 * r1) / det
+    return u1, u2
 
 
 @njit(cache=True, error_model="numpy")
@@ -605,8 +933,9 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     """Smith 3D on scalars (upper triangle of W): returns ``(mode, P_N, P_T1, P_T2)``.
 
     Same contract as ``smith_3d``; scalars only, so a caller's loop pays no reference
-    counting for the call. W is divided by W_NN (the law is homogeneous of degree -1 in W)
-    so that no intermediate over- or underflows for extreme masses."""
+    counting for the call. W is scaled by the power of two 2^-ex nearest 1/W_NN (the law
+    is homogeneous of degree -1 in W; the scaling is exact) so that no intermediate over- or
+    underflows for extreme masses."""
     if vN >= 0.0:
         return MODE_SEPARATING, 0.0, 0.0, 0.0
     c = -(1.0 + e) * vN
@@ -615,32 +944,75 @@ def smith_3d_scalar(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
     if mu == 0.0:                            # frictionless fast path
         return MODE_SLIP, c / Wnn, 0.0, 0.0
-    iw = 1.0 / Wnn
-    W01 *= iw
-    W02 *= iw
-    T11 *= iw
-    T12 *= iw
-    T22 *= iw
-    # SPD check (W symmetric, upper triangle read): Schur complement of W_NN = 1 is SPD
-    s11 = T11 - W01 * W01
-    s12 = T12 - W01 * W02
-    s22 = T22 - W02 * W02
+    # exact scaling by a power of two (W_NN -> m in [0.5, 1)): an inexact division would
+    # perturb W by eps relative per entry, i.e. det W by eps cond(W)
+    m, ex = math.frexp(Wnn)
+    if ex > 0 and ex <= UNSCALED_MAX_EXP:
+        # scaling down would round a tiny coupling into the subnormal range (W_TN = 5e-323
+        # with W_NN = 100 became 0, turning a set-valued slip into a stick): keep W as is
+        # (W_NN < 2^UNSCALED_MAX_EXP is still far from over- or underflow)
+        tiny = math.ldexp(1.0, ex - 1022)
+        if ((W01 != 0.0 and abs(W01) < tiny) or (W02 != 0.0 and abs(W02) < tiny)
+                or (T12 != 0.0 and abs(T12) < tiny)):
+            m = Wnn
+            ex = 0
+    if ex > -1000 and ex < 1000:             # 2^-ex is a normal number: multiply (exact)
+        sc = math.ldexp(1.0, -ex)
+        W01 *= sc
+        W02 *= sc
+        T11 *= sc
+        T12 *= sc
+        T22 *= sc
+    else:
+        W01 = math.ldexp(W01, -ex)
+        W02 = math.ldexp(W02, -ex)
+        T11 = math.ldexp(T11, -ex)
+        T12 = math.ldexp(T12, -ex)
+        T22 = math.ldexp(T22, -ex)
+    # SPD check (W symmetric, upper triangle read): the Schur complement of W_NN is SPD
+    s11 = T11 - W01 * (W01 / m)
+    s12 = T12 - W01 * (W02 / m)
+    s22 = T22 - W02 * (W02 / m)
     if not (s11 > 0.0 and s11 * s22 - s12 * s12 > 0.0 and s22 < math.inf
             and abs(s12) < math.inf):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
-    mode, PN, P1, P2, s = _smith_3d_core(vN, a1, a2, 1.0, W01, W02, T11, T12, T22, e, mu)
-    fac = s * iw                             # P = P' s / W_NN (P' for normalized v and W)
-    PN *= fac
-    P1 *= fac
-    P2 *= fac
+    mode, PN, P1, P2, s = _smith_3d_core(vN, a1, a2, m, W01, W02, T11, T12, T22, e, mu)
+    tiny = mu * PN < 1e-290                  # P_T' = -mu P_N' g formed near/below subnormal
+    # P = P' s 2^-ex (P' for the normalized v and W)
+    if ex > -1000 and ex < 1000:
+        sc = math.ldexp(s, -ex)
+        PN *= sc
+        P1 *= sc
+        P2 *= sc
+    else:
+        PN = math.ldexp(PN * s, -ex)
+        P1 = math.ldexp(P1 * s, -ex)
+        P2 = math.ldexp(P2 * s, -ex)
     if mode < 0 or not (PN < math.inf and abs(P1) < math.inf and abs(P2) < math.inf):
         return min(mode, MODE_NOT_CONVERGED), 0.0, 0.0, 0.0
+    cone = mu * PN
+    if tiny and math.hypot(P1, P2) > cone:
+        # round-off: for a tiny mu, P_T = -mu P_N g is formed in the normalized units in the
+        # subnormal range (one ulp is a large relative error) and then scaled: pull it back
+        # into the cone (|P_T| <= mu P_N is part of the law), by ulps where subnormal. Its
+        # direction keeps only the few bits of the subnormal P_T' (mu < ~1e-290 only).
+        # (Elsewhere the cone holds to round-off: no hypot on the hot path.)
+        r = cone / math.hypot(P1, P2)
+        P1 *= r
+        P2 *= r
+        for it in range(8):
+            if not (math.hypot(P1, P2) > cone):
+                break
+            if abs(P1) >= abs(P2):
+                P1 -= math.copysign(5e-324, P1)
+            else:
+                P2 -= math.copysign(5e-324, P2)
     return mode, PN, P1, P2
 
 
 @njit(cache=True, error_model="numpy")
 def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
-    """3D solve on validated input (v_N < 0, mu > 0, W SPD with W_NN = 1). Velocities are
+    """3D solve on validated input (v_N < 0, mu > 0, W SPD with W_NN in [0.5, 1)). Velocities are
     divided by s = max(|v_N|, |v_T|); returns (mode, P_N', P_T1', P_T2', s) with P' the
     impulse for the normalized velocities (P = P' s)."""
     al2 = a1 * a1 + a2 * a2
@@ -670,6 +1042,24 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         if m2d < 0:
             return m2d, 0.0, 0.0, 0.0, s
         return m2d, PN2, cs * PT2, sn * PT2, s
+    Tn = abs(T11) + abs(T22) + 2.0 * abs(T12)
+    if aln * Wnn < POLISH_SEP * 2.2e-16 * cn * mu * Tn:
+        # (cheap pre-test, |g| <= 1, D >= W_NN for the stick-like roots it is meant for)
+        # a slip so small that one ulp of a near-stick g moves b by more than |a|: every
+        # b- or p-based residual is round-off noise (the scan once found a spurious sign
+        # change of R at P_N ~ 1e-77 for mu |W_TN| = 1e92 W_NN), and a is in effect 0. If
+        # the linearized stick solution exists, is near stick and cannot be resolved
+        # further (the polish gate below fails), it is the answer (the set-valued stick
+        # as a -> 0).
+        ao1 = cs * aln
+        ao2 = sn * aln
+        oks, h1, h2 = _stick_start_3d(Wnn, ao1, ao2, aln, cn, Wnn, W01, W02, T11, T12, T22,
+                                      mu)
+        if oks and h1 * h1 + h2 * h2 < G_POLISH_3D * G_POLISH_3D:
+            D = _sub_mu_dot(Wnn, mu, W01, h1, W02, h2)
+            if aln * D <= POLISH_SEP * cn * mu * Tn * (abs(h1) + abs(h2)) * 2.2e-16:
+                PN = cn / D
+                return MODE_SLIP, PN, -mu * (PN * h1), -mu * (PN * h2), s
     cert = _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu)
     ok = False
     b1 = 0.0
@@ -682,26 +1072,227 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
             ok, b1, b2 = _newton_full_3d(b2d, 0.0, aln, cn, Wnn, w1, w2, t11, t12, t22, mu,
                                          MAXIT_NEWTON_3D)
     if not ok:
-        # scan path (also the fallback); W rotated consistently for the energy bound
-        mode, PN, b1, b2 = _scan_3d_frame(vn, aln, cn, Wnn, w1, w2, t11, t12, t22, mu)
+        # scan path (also the fallback). Its normal equation next to the pole uses the stick
+        # slope and z = W_TT^-1 w, formed in the caller's frame (scaled by a power of two
+        # only, hence exact; the rotated W is off by eps |W|, i.e. eps cond W in det W), z
+        # then rotated like w.
+        sch = schur3(Wnn, W01, W02, T11, T12, T22)
+        zo1, zo2 = _solve2_refined(T11, T12, T22, W01, W02)
+        zr1 = cs * zo1 + sn * zo2
+        zr2 = -sn * zo1 + cs * zo2
+        ao1 = cs * aln
+        ao2 = sn * aln
+        ya1, ya2 = _solve2_refined(T11, T12, T22, ao1, ao2)
+        # energy K = v.W^-1 v = a.T^-1 a + (v_N - z.a)^2 / schur (positive terms)
+        dv = vn - (zo1 * ao1 + zo2 * ao2)
+        K = (ao1 * ya1 + ao2 * ya2) + dv * dv / sch
+        mode, PN, b1, b2 = _scan_core(aln, cn, Wnn, w1, w2, t11, t12, t22, mu, 1.0 / sch, K,
+                                      sch, zr1, zr2)
         if mode < 0:
             return mode, 0.0, 0.0, 0.0, s
-        # polish on the full residual (keeps the same root: tiny steps only)
+        # polish on the full residual (keeps the same root: tiny steps only). It makes the
+        # impulse self-consistent (P_N = c / D(g), v_fT = b): the root of the Smith
+        # equations for W perturbed by round-off, which the residual checks measure
         ok2, c1, c2 = _newton_full_3d(b1, b2, aln, cn, Wnn, w1, w2, t11, t12, t22, mu, 3)
         if ok2 and (c1 - b1) ** 2 + (c2 - b2) ** 2 <= 1e-12 * (b1 * b1 + b2 * b2 + aln * aln):
             b1, b2 = c1, c2
     g1, g2, B11, B12, B21, B22 = _g3(b1, b2, aln, aln * aln)
-    gn = math.sqrt(g1 * g1 + g2 * g2)
-    if gn > 1.0:                             # round-off guard: keep |P_T| <= mu P_N
-        g1 /= gn
-        g2 /= gn
-    D = Wnn - mu * (w1 * g1 + w2 * g2)
-    if not (D > 0.0):                        # cannot happen (Newton keeps D > 0; D = c/p)
-        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0, s
-    PN = cn / D
     k1 = cs * g1 - sn * g2                   # g back in the caller's tangent basis
     k2 = sn * g1 + cs * g2
+    ao1 = cs * aln
+    ao2 = sn * aln
+    Dg = Wnn - mu * (w1 * g1 + w2 * g2)
+    near = g1 * g1 + g2 * g2 < G_POLISH_3D * G_POLISH_3D
+    oks = False
+    h1 = k1
+    h2 = k2
+    if near:
+        # near stick the b-root itself can be noise: its residual carries eps c mu |T| / D
+        # absolute (g from b has eps absolute error), which can swamp a tiny initial slip
+        # (b came out ~1e6 |a| for mu = 1e8, T ~ 1e-6, |a| = 1e-20 |v_N|, and g off by 1e86
+        # for mu = 1e100): the linearized stick solution has no such floor
+        oks, h1, h2 = _stick_start_3d(Dg, ao1, ao2, aln, cn, Wnn, W01, W02, T11, T12, T22,
+                                      mu)
+        if oks:
+            Dg = Wnn - mu * (W01 * h1 + W02 * h2)
+        else:
+            h1 = k1
+            h2 = k2
+    if ((near or Dg < DPOLE_REL * Wnn)
+            and aln * abs(Dg) > POLISH_SEP * cn * mu * (abs(t11) + abs(t22) + 2.0 * abs(t12))
+            * (abs(h1) + abs(h2)) * 2.2e-16):
+        # near stick (b ~ -a, large mu: g from b has ~eps absolute, eps/|g| relative error,
+        # and P_T = -mu P_N g needs it relative) or next to the pole (D = W_NN - mu w.g
+        # << W_NN: the b-residual is lost to cancellation): Newton in g itself, in the
+        # caller's frame with compensated D and N (see _polish_g_3d), from whichever of the
+        # b-root and the stick start has the smaller |E|. Only where float g resolves b at
+        # the scale of |a| (POLISH_SEP): else |E| is round-off noise.
+        if oks:
+            E1, E2, J11, J12, J21, J22, D1 = _eg_3d(k1, k2, ao1, ao2, aln, cn, Wnn, W01, W02,
+                                                    T11, T12, T22, mu)
+            F1, F2, J11, J12, J21, J22, D2 = _eg_3d(h1, h2, ao1, ao2, aln, cn, Wnn, W01, W02,
+                                                    T11, T12, T22, mu)
+            if D1 > 0.0 and E1 * E1 + E2 * E2 <= F1 * F1 + F2 * F2:
+                h1 = k1
+                h2 = k2
+        k1, k2 = _polish_g_3d(h1, h2, ao1, ao2, aln, cn, Wnn, W01, W02, T11, T12, T22, mu)
+    elif oks:
+        # near stick, and g cannot resolve b at the scale of |a| (a tiny initial slip
+        # against eps c mu |T| / D): both the b-root and E are noise there; the impulse is
+        # stick-like and fixed by g to ~|g| relative, which the stick solution gives
+        k1 = h1
+        k2 = h2
+    gn = math.sqrt(k1 * k1 + k2 * k2)
+    if gn > 1.0:                             # round-off guard: keep |P_T| <= mu P_N
+        k1 /= gn
+        k2 /= gn
+    # D for this g, compensated, in the caller's frame (exactly scaled W): P_N D = c, i.e.
+    # v_fN = -e v_N, holds for the returned impulse to round-off even next to the pole
+    D = _sub_mu_dot(Wnn, mu, W01, k1, W02, k2)
+    if D > 0.0:
+        PN = cn / D
+    else:
+        # g unphysical (D <= 0): the root was lost to round-off (extreme ratios, e.g. a weak
+        # impact with |a| ~ 1e8 |v_N| and mu |W_TN| >> W_NN). Falling back on the scan's P_N
+        # with this g gave v_fN wrong by orders of magnitude: report failure instead.
+        return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0, s
     return mode, PN, -mu * (PN * k1), -mu * (PN * k2), s
+
+
+@njit(cache=True, error_model="numpy")
+def _eg_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
+    """E(g) = g(a, b(g)) - g and its Jacobian (general a, caller's frame), with
+    b(g) = a + c N(g) / D(g), D = W_NN - mu w.g, N = w - mu T g both compensated
+    (_sub_mu_dot: exact to round-off for the float g, where they cancel next to the pole).
+    Jacobian B (c mu / D)(H w^T - T) - I, H = N / D, B = dg/db. Returns (E1, E2, J11, J12,
+    J21, J22, D); D <= 0: not physical."""
+    D = _sub_mu_dot(Wnn, mu, W01, g1, W02, g2)
+    if not (D > 0.0):
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, D
+    iD = 1.0 / D
+    H1 = _sub_mu_dot(W01, mu, T11, g1, T12, g2) * iD
+    H2 = _sub_mu_dot(W02, mu, T12, g1, T22, g2) * iD
+    b1 = a1 + c * H1
+    b2 = a2 + c * H2
+    nb = math.sqrt(b1 * b1 + b2 * b2)
+    iq = 1.0 / (na * na + nb * nb)
+    gb1 = (na * a1 + nb * b1) * iq
+    gb2 = (na * a2 + nb * b2) * iq
+    if nb > 0.0:
+        inb = 1.0 / nb
+        B11 = (nb + b1 * b1 * inb) * iq - 2.0 * gb1 * b1 * iq
+        B12 = (b1 * b2 * inb) * iq - 2.0 * gb1 * b2 * iq
+        B21 = (b1 * b2 * inb) * iq - 2.0 * gb2 * b1 * iq
+        B22 = (nb + b2 * b2 * inb) * iq - 2.0 * gb2 * b2 * iq
+    else:
+        B11 = 0.0
+        B12 = 0.0
+        B21 = 0.0
+        B22 = 0.0
+    k = c * mu * iD
+    A11 = k * (H1 * W01 - T11)
+    A12 = k * (H1 * W02 - T12)
+    A21 = k * (H2 * W01 - T12)
+    A22 = k * (H2 * W02 - T22)
+    J11 = B11 * A11 + B12 * A21 - 1.0
+    J12 = B11 * A12 + B12 * A22
+    J21 = B21 * A11 + B22 * A21
+    J22 = B21 * A12 + B22 * A22 - 1.0
+    return gb1 - g1, gb2 - g2, J11, J12, J21, J22, D
+
+
+@njit(cache=True, error_model="numpy")
+def _stick_start_3d(D, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
+    """Linearized near-stick root g (caller's frame). Near stick, b = -a + d with |d| << |a|,
+    and g = (|a| a + |b| b)/(|a|^2 + |b|^2) = (I + u u^T) d / (2 |a|) + O(|d|^2/|a|^2),
+    u = a/|a|. With d = 2 a + c N(g)/D, N = w - mu T g, times D = W_NN - mu w.g:
+
+        (2 |a| D (I - u u^T / 2) + c mu T + 2 mu a w^T) g = 2 W_NN a + c w,
+
+    linear in g but for the D of the first term, taken from the previous sweep (from the
+    given D; STICK_START_IT sweeps). That term is the small one (2 |a| D << c mu |T| near
+    stick), so the sweeps contract fast, while D's dependence on g (strong next to the pole,
+    mu |w| >> W_NN) sits in the exact linear terms. The solution is right to O(|g|)
+    relative, independently of the noise of the b-root (eps c mu |T| / D absolute, which
+    can exceed |a| by orders of magnitude); as a -> 0 it tends to the set-valued stick.
+    Returns (ok, g1, g2); ok requires |g| < 1 and D(g) > 0."""
+    u1 = a1 / na
+    u2 = a2 / na
+    Dh = D if D > 0.0 else Wnn
+    h1 = 0.0
+    h2 = 0.0
+    cm = c * mu
+    m1 = 2.0 * mu * a1
+    m2 = 2.0 * mu * a2
+    for it in range(STICK_START_IT):
+        q = 2.0 * na * Dh
+        h1, h2 = _lin2(q * (1.0 - 0.5 * u1 * u1) + cm * T11 + m1 * W01,
+                       -0.5 * q * u1 * u2 + cm * T12 + m1 * W02,
+                       -0.5 * q * u1 * u2 + cm * T12 + m2 * W01,
+                       q * (1.0 - 0.5 * u2 * u2) + cm * T22 + m2 * W02,
+                       2.0 * Wnn * a1 + c * W01, 2.0 * Wnn * a2 + c * W02)
+        if not (h1 * h1 + h2 * h2 < 1.0):
+            return False, 0.0, 0.0
+        Dn = _sub_mu_dot(Wnn, mu, W01, h1, W02, h2)
+        if not (Dn > 0.0):
+            return False, 0.0, 0.0
+        if abs(Dn - Dh) <= 1e-15 * Dn:
+            break
+        Dh = Dn
+    return True, h1, h2
+
+
+@njit(cache=True, error_model="numpy")
+def _polish_g_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
+    """Damped Newton on the root equation written in g, E(g) = g(a, b(g)) - g (``_eg_3d``),
+    from the g of the b-solution, in the caller's frame (W scaled by a power of two only:
+    exact, where the rotated frame perturbs W by eps |W|, i.e. the energy by eps W_NN / D
+    next to the pole).
+
+    Why in g: near stick (mu large, |g| ~ 1/mu, b ~ -a) g(a, b) cancels to ~eps absolute,
+    but the Jacobian is ~mu c |T| / (D |a|), so a step leaves ~eps |g| relative error in g,
+    where the b-iteration leaves eps / |g|. Next to the pole (D << W_NN) D(g(b)) loses
+    eps W_NN / D and the b-residual is noise, while E(g) with D, N compensated stays exact
+    to round-off for the float g. Merit |E|^2 with Armijo backtracking keeping D > 0; stops
+    at a step below TOL_ROOT |g| or after MAXIT_POLISH_3D steps. Returns the input g
+    unless |E| decreased (a failed polish never makes the result worse)."""
+    E1, E2, J11, J12, J21, J22, D = _eg_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12,
+                                           T22, mu)
+    if not (D > 0.0):
+        return g1, g2
+    f0 = E1 * E1 + E2 * E2
+    f = f0
+    h1 = g1
+    h2 = g2
+    for it in range(MAXIT_POLISH_3D):
+        if f == 0.0:
+            break
+        d1, d2 = _lin2(J11, J12, J21, J22, -E1, -E2)
+        nd = d1 * d1 + d2 * d2
+        if not (nd < math.inf):
+            break
+        t = 1.0
+        accepted = False
+        for ls in range(MAX_LINESEARCH):
+            n1 = h1 + t * d1
+            n2 = h2 + t * d2
+            F1, F2, K11, K12, K21, K22, Dn = _eg_3d(n1, n2, a1, a2, na, c, Wnn, W01, W02,
+                                                    T11, T12, T22, mu)
+            if Dn > 0.0:
+                fn = F1 * F1 + F2 * F2
+                if fn <= (1.0 - ARMIJO * t) * f:
+                    accepted = True
+                    break
+            t *= 0.5
+        if not accepted:
+            break
+        h1, h2 = n1, n2
+        E1, E2, J11, J12, J21, J22, f = F1, F2, K11, K12, K21, K22, fn
+        if nd * t * t <= TOL_ROOT * TOL_ROOT * (h1 * h1 + h2 * h2):
+            break
+    if f < f0:
+        return h1, h2
+    return g1, g2
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -720,24 +1311,24 @@ def smith_3d(v, W, params, P_out):
     return mode
 
 
-@njit(cache=True, error_model="numpy")
-def _scan_3d_frame(vn, al, c, Wnn, w1, w2, t11, t12, t22, mu):
-    """Scan path in the rotated frame (builds no array: the energy bound uses cofactors)."""
-    # K = v^T W^-1 v and M_NN = (W^-1)_NN via cofactors of the rotated W
-    c00 = t11 * t22 - t12 * t12
-    c01 = w2 * t12 - w1 * t22
-    c02 = w1 * t12 - t11 * w2
-    c11 = Wnn * t22 - w2 * w2
-    det = Wnn * c00 + w1 * c01 + w2 * c02
-    # v = (vn, al, 0)
-    K = (c00 * vn * vn + 2.0 * c01 * vn * al + c11 * al * al) / det
-    mnn = c00 / det
-    return _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K)
+@njit(cache=True, error_model="numpy", inline="always")
+def _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2):
+    """R(p) = v_fN(p) + e v_N = p D - c at the tangential solution b(p) (rotated frame).
+    With P_T = W_TT^-1 (b - a - p w) from the tangential equation, also
+    R = p sch + z.(b - a) - c (sch = W_NN - w.z, z = W_TT^-1 w): next to the pole
+    (D < DPOLE_REL W_NN) that form keeps its accuracy (sch compensated, b accurate) where
+    p (W_NN - mu w.g) carries eps W_NN / D relative error."""
+    D = Wnn - mu * (w1 * g1 + w2 * g2)
+    if D < DPOLE_REL * Wnn:
+        return p * sch + (z1 * (b1 - al) + z2 * b2) - c
+    return p * D - c
 
 
 @njit(cache=True, error_model="numpy")
-def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
+def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K, sch, z1, z2):
     """Smallest-P_N root via R(p) = p D(g(b(p))) - c: geometric scan + safeguarded Newton.
+    ``mnn = (W^-1)_NN``, ``K = v.W^-1 v`` (energy bound), ``sch`` the stick slope and
+    ``z = W_TT^-1 w`` (rotated frame) for the near-pole form of R (``_r_eval``).
 
     Returns (mode, P_N, b1, b2) in the rotated, normalized frame."""
     wn = math.sqrt(w1 * w1 + w2 * w2)
@@ -766,7 +1357,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
                                                                  t11, t12, t22, mu)
         if not ok:
             return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-        R = p * (Wnn - mu * (w1 * g1 + w2 * g2)) - c
+        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2)
         if R >= 0.0:
             found = True
             break
@@ -803,7 +1394,10 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
         gg = _g3(b1, b2, al, al * al)
         dg1 = gg[2] * db1 + gg[3] * db2
         dg2 = gg[4] * db1 + gg[5] * db2
-        dR = D - p * mu * (w1 * dg1 + w2 * dg2)
+        if D < DPOLE_REL * Wnn:
+            dR = sch + z1 * db1 + z2 * db2   # near the pole: derivative of the _r_eval form
+        else:
+            dR = D - p * mu * (w1 * dg1 + w2 * dg2)
         step = -R / dR
         pn = p + step
         if pn > pl and pn < ph and abs(step) <= TOL_P * p:
@@ -828,7 +1422,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K):
                                                                  t11, t12, t22, mu)
         if not ok:
             return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-        R = p * (Wnn - mu * (w1 * g1 + w2 * g2)) - c
+        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2)
         if R == 0.0:
             return MODE_SLIP, p, b1, b2
         if R > 0.0:

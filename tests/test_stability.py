@@ -20,28 +20,8 @@ LABELS = [lab for lab, _, _ in S.LAW_VARIANTS]
 #: (kind, law/scene, case, dim) of quick-matrix cells that FAIL because of a kernel weakness
 #: reported to the owners (reproducers in the xfail tests below). Any other FAIL is new.
 KNOWN_FAILING = {
-    ("law", "kane_levinson", "thin_rod_I=1e-8", 2),      # Cramer's rule: stick residual
-    ("law", "brach", "thin_rod_I=1e-8", 2),              # same (shares K&L's 2D solve)
-    ("law", "smith", "mu=1e6", 3),                       # b-tolerance, P_T error ~ mu 1e-14
-    ("law", "routh-poisson", "thin_rod_I=1e-8", 2),      # stick slope a - b^2/c cancels
-    ("law", "routh-energetic", "cond(W)=1e12", 2),
-    ("law", "routh-poisson", "cond(W)=1e12", 2),
-    ("law", "routh-energetic", "cond(W)=1e12", 3),
-    ("law", "routh-poisson", "cond(W)=1e12", 3),
-    ("law", "smith", "random", 2),
-    ("law", "routh-energetic", "random", 2),
-    ("law", "routh-poisson", "random", 2),
-    ("law", "chatterjee_ruina", "random", 2),
-    ("law", "kane_levinson", "random", 3),                # cofactor determinant <= 0
-    ("law", "brach", "random", 3),
-    ("law", "smith", "random", 3),
-    ("law", "chatterjee_ruina", "random", 3),
-    ("law", "routh-energetic", "random", 3),              # false jam (stick slope)
-    ("law", "routh-poisson", "random", 3),
-    ("law", "routh-newton", "random", 3),
-    ("stepper", "routh-energetic", "zeno_e=0.99", 2),     # Zeno jump flies through floor
-    ("stepper", "routh-energetic", "zeno_e=0.99", 3),
-    ("stepper", "routh-energetic", "box_lands_flat_sequential", 2),   # snap creates energy
+    ("law", "smith", "random", 3),                        # roots next to the pole of P_N
+    ("stepper", "routh-energetic", "box_lands_flat_sequential", 2),   # 2D has no pivot contact
 }
 
 
@@ -140,33 +120,12 @@ _SET = dict(deadline=None, derandomize=True, database=None,
 _NOSHRINK = dict(_SET, phases=(Phase.explicit, Phase.generate))
 
 #: (law variant, dim) -> reason, for the properties a kernel weakness breaks
-_COFACTOR = ("3D stick trial and SPD test by cofactors (_scalar3.solve3s/det3s) are not "
-             "backward stable: at cond(W) ~ 1e11-1e12 the determinant changes sign and the "
-             "stick residual reaches 1e-7 s (brach: v_fT = (8849, -8588) m/s for target 0 "
-             "in resolve('brach', [-6583.9, 0, 0], W of cond 6.7e11, e=-3.3e-58, "
-             "mu=54525, e_t=-0.25)); use an LDL^T/Cholesky solve")
-XFAIL_MODERATE = {
-    ("smith", 3): "smith 3D loses accuracy for large mu: Newton stops on the step in b "
-                  "(TOL_ROOT), but P_T = -mu P_N g(b) with g ~ 1/mu: residual 5.8e-12 at "
-                  "mu = 1e5 in resolve('smith', [-1, 0, -0.1], W of cond ~10, e=0, mu=1e5)",
-}
+XFAIL_MODERATE = {}
 XFAIL_STIFF = {
-    ("kane_levinson", 3): _COFACTOR,
-    ("brach", 3): _COFACTOR,
-    ("chatterjee_ruina", 3): _COFACTOR,
-    ("routh-energetic", 3): "stick slope W_NN - W_TN.W_TT^-1 W_TN by Cramer's rule cancels: "
-                            "energy gain 1.9e-8 E_scale (> 1e-12 + 100 tol) at cond 1e12",
-    ("routh-newton", 3): "P_T recovered as W_TT^-1 (v_T - v_T0 - W_TN p): tol-level velocity "
-                         "errors amplified by ||W_TT^-1||: self-convergence residual 1.5e-7 "
-                         "> 100 tol",
-    ("routh-poisson", 2): "stick slope W_NN - W_TN^2/W_TT cancels at cond 1e8-1e12: "
-                          "residual ~eps cond(W) above RESID_RTOL",
-    ("routh-poisson", 3): "stick slope by Cramer's rule cancels at cond 1e8-1e12: residual "
-                          "above 100 tol",
-    ("smith", 2): "root next to the pole of P_N(b) at cond 1e8-1e12: NOT_CONVERGED or a "
-                  "residual above RESID_RTOL (see test_smith_2d_root_next_to_pole)",
-    ("smith", 3): "large mu and cond >= 1e8: Newton stops on the step in b while "
-                  "P_T = -mu P_N g(b) needs g to 1/mu relative accuracy",
+    ("smith", 3): "roots next to the pole of P_N with an ill-conditioned W_TT (cond(W) "
+                  "above ~1e8) keep residual or energy errors ~eps W_NN/D, e.g. residual "
+                  "1.5e-9 in resolve('smith', [-3.604e-10, 0.0, -1.0], [[0.1354, -0.1879, "
+                  "-0.2011], [-0.1879, 0.3906, 0.4502], [-0.2011, 0.4502, 0.5242]], e=1, mu=1)",
 }
 # The stiff-regime cells above fail or pass depending on the examples drawn near the
 # boundary of the weakness (the kernels' results change bit-wise with compilation flags),
@@ -223,11 +182,9 @@ def test_smith_2d_pole_crossing():
     assert imp.P[0] > 0 and _gain_ok([-1.0, 1.0], W_THIN_ROD, imp)
 
 
-@pytest.mark.xfail(strict=True, reason="smith 2D: with a near-singular W (det 4.6e-11) the "
-                   "root lies 1.2e-17 above the pole t_p = sqrt(-B/A) (exact P_N = 8.197e9, "
-                   "D = 6.2e-19 while W_NN = 8.7e-3): the bracket collapses onto the pole and "
-                   "the kernel returns NOT_CONVERGED, which its docstring excludes in 2D")
 def test_smith_2d_root_next_to_pole():
+    """Regression (fixed: next to the pole Smith 2D solves for D itself): the bracket
+    collapsed onto the pole (det W = 4.6e-11) and the kernel returned NOT_CONVERGED."""
     resolve("smith", [-3.517878566115149e-09, -2.2180756715305785],
             [[0.008713034641120995, -0.0929360942974978],
              [-0.0929360942974978, 0.9912869654044664]],
@@ -247,11 +204,9 @@ def test_smith_3d_tiny_slip_stall():
     resolve("smith", [-1.0, 1e-10, 0.0], S.W3_SWERVE, e=0.5, mu=1000.0)
 
 
-@pytest.mark.xfail(strict=True, reason="smith 3D: Newton stops when the step in b is below "
-                   "TOL_ROOT max(|a|, |b|), but P_T = -mu P_N g(b) with g ~ 1/mu near stick, "
-                   "so P_T is only accurate to ~mu 1e-14: relative error 1.8e-9 at mu = 1e6 "
-                   "on the swerve W (residual 1.06e-10 > RESID_RTOL)")
 def test_smith_3d_large_mu_accuracy():
+    """Regression (fixed: near stick Smith 3D converges on g, not on b): P_T was only
+    accurate to ~mu 1e-14 (residual 1.06e-10 at mu = 1e6)."""
     v = np.array([-4.0, -2.0, 1.0])
     imp = resolve("smith", v, S.W3_SWERVE, e=1.0, mu=1e6)
     res, tol = S.law_residual("smith", v, S.W3_SWERVE, dict(e=1.0, mu=1e6), imp.P,
@@ -259,67 +214,54 @@ def test_smith_3d_large_mu_accuracy():
     assert res <= tol
 
 
-_SPD_REJECTED = pytest.mark.xfail(
-    strict=True, reason="3D K&L, Brach, C&R test positive definiteness by a cofactor "
-    "determinant (_scalar3.det3s), which cancels: an SPD W with cond 5.6e9 (Cholesky "
-    "succeeds) gets det = -7.9e-6 and NoSolutionError")
-
-
-@pytest.mark.parametrize("law", [pytest.param(x, marks=_SPD_REJECTED) for x in
-                                 ("kane_levinson", "brach", "chatterjee_ruina")] + ["smith"])
+@pytest.mark.parametrize("law", ["kane_levinson", "brach", "chatterjee_ruina", "smith"])
 def test_3d_spd_rejected(law):
-    """(Smith 3D was fixed during this work: regression test.)"""
+    """Regression (fixed: common.spd3_solve; Smith by its own scaling): an SPD W of cond
+    5.6e9 whose cofactor determinant came out negative is accepted."""
     W = [[5373.253418896723, 2793.1580554897914, 12198.128893487266],
          [2793.1580554897914, 1451.956825583143, 6340.907357175057],
          [12198.128893487266, 6340.907357175057, 27691.66801277434]]
     resolve(law, [-1036.9590984213548, 0.08664642602372336, 0.0], W, e=0.86, mu=5.36)
 
 
-@pytest.mark.xfail(strict=True, reason="routh 3D: stick slope W_NN - W_TN.z with z = "
-                   "W_TT^-1 W_TN by Cramer's rule is -2.9e-5 (true 3.3e-5): a false "
-                   "Painleve jam, NoSolutionError for an SPD W whose stick is stable")
 def test_routh_3d_false_jam():
+    """Regression (fixed: the stick slope is common.schur3, compensated): Cramer's rule
+    gave -2.9e-5 (true 3.3e-5), a false Painleve jam."""
     W = [[5373.253418896723, 2793.1580554897914, 12198.128893487266],
          [2793.1580554897914, 1451.956825583143, 6340.907357175057],
          [12198.128893487266, 6340.907357175057, 27691.66801277434]]
     resolve("routh", [-1036.9590984213548, 0.08664642602372336, 0.0], W, e=0.86, mu=5.36)
 
 
-@pytest.mark.xfail(strict=True, reason="routh 3D: P_T recovered as W_TT^-1 (v_T - v_T0 - "
-                   "W_TN p) amplifies the tol-level velocity error by ||W_TT^-1|| (1e6): "
-                   "|P_T| = 667 mu P_N, outside the friction cone")
 def test_routh_3d_cone():
+    """Regression (fixed: P_T is integrated with the slip, dP_T/dp = -mu u): recovering
+    it through W_TT^-1 put |P_T| at 667 mu P_N."""
     W = [[1.0, -0.5, 5e-4], [-0.5, 1.0, 0.0], [5e-4, 0.0, 1e-6]]
     imp = resolve("routh", [-1.0, 1e-9, 0.0], W, e=0.5, mu=1e-9)
     assert np.linalg.norm(imp.P[1:]) <= 1e-9 * imp.P[0] * (1 + 1e-6)
 
 
-@pytest.mark.xfail(strict=True, reason="routh 2D: the stick slope a - b^2/c cancels for "
-                   "cond(W) = 1e12 and the energetic law creates energy, dE/E_scale = "
-                   "+1.4e-9; a compensated det(W) (Dekker two-product) gives kappa = det/c "
-                   "to an ulp")
 def test_routh_2d_energy_cond_1e12():
+    """Regression (fixed: compensated slopes, Kahan FMA stick slope): the energetic law
+    created energy, dE/E_scale = +1.4e-9, at cond(W) = 1e12."""
     v = [-1.0, 0.5]
     W = [[2.0135933458543687e-05, -0.004487262751694798],
          [-0.004487262751694798, 0.9999798640675412]]
     assert _gain_ok(v, W, resolve("routh", v, W, e=1.0, mu=0.3))
 
 
-@pytest.mark.xfail(strict=True, reason="kane_levinson 2D (and Brach): the stick trial by "
-                   "Cramer's rule (common.solve2) is not backward stable: v_fT = 4.5e-10 s "
-                   "for the thin rod (cond 1e8) instead of round-off")
 def test_kane_levinson_2d_stick_residual():
+    """Regression (fixed: the 2D stick trial uses Kahan's FMA determinants, common.det2k):
+    Cramer's rule left v_fT = 4.5e-10 s for the thin rod (cond 1e8)."""
     v = np.array([-1.0, 1.0])
     imp = resolve("kane_levinson", v, W_THIN_ROD, e=0.0, mu=5.0)
     s = np.linalg.norm(v) + np.linalg.norm(W_THIN_ROD, 2) * np.linalg.norm(imp.P)
     assert imp.mode == "stick" and abs(imp.v_f[1]) <= S.RESID_RTOL * s
 
 
-@pytest.mark.xfail(strict=True, reason="brach 3D (and K&L, C&R): the stick target solved "
-                   "by cofactors (_scalar3.solve3s) at cond(W) = 6.7e11 misses v_fT = 0 by "
-                   "(8849, -8588) m/s, 1.9e-7 of s = |v| + ||W|| |P|; Cholesky would give "
-                   "~1e-16 s")
 def test_brach_3d_stick_cofactor_solve():
+    """Regression (fixed: common.spd3_solve, compensated cofactors and one refinement
+    step): the cofactor solve missed v_fT = 0 by 1.9e-7 s at cond(W) = 6.7e11."""
     v = np.array([-6583.876388369971, 0.0, 0.0])
     W = np.array([[1.5224270311101227, 2.0461907181712737, -1.985885176336621],
                   [2.0461907181712737, 2.7501458986920353, -2.6690933183829935],
@@ -339,11 +281,9 @@ def test_smith_3d_energy_cond_1e12():
     assert _gain_ok(v, W, resolve("smith", v, W, e=1.0, mu=5.0))
 
 
-@pytest.mark.xfail(strict=True, reason="smith 3D, set-valued stick (|v_T| below "
-                   "A_ZERO_REL |v_N|): P_N = c / (W_NN - w.W_TT^-1 w) with the Schur "
-                   "complement by Cramer's rule, which cancels at cond(W) = 3.1e10: P_N = "
-                   "-983 N s, dE = +0.0033 E_scale")
 def test_smith_3d_set_valued_schur():
+    """Regression (fixed: common.schur3): the Schur complement by Cramer's rule cancelled
+    at cond(W) = 3.1e10, giving P_N = -983 N s."""
     v = np.array([-515.1831931990838, 1.4846866820938272e-93, 3.463512756076037e-196])
     W = np.array([[3668340.860681912, -3624150.5111939665, -6954111.172863282],
                   [-3624150.5111939665, 3580492.498268053, 6870339.078092478],
@@ -373,23 +313,36 @@ def _scene(case, dim):
 
 
 @pytest.mark.xfail(strict=True, reason="stepper 2D: sequential flat landing of a 0.2 x 0.1 "
-                   "box (routh e=0.5 mu=0.3): after a corner impact the Zeno test uses "
-                   "E_ex = E_rot + m g (h_c - h_face) with h_c < h_face (the face of the two "
-                   "lowest corners is above the centre of mass), so accumulation is declared "
-                   "at t = 0.48785 s and the snap stands the box on its short side: dE = "
-                   "+0.039 J")
+                   "box (routh e=0.5 mu=0.3) ends in the documented SimulationError 'impacts "
+                   "accumulate at a single contact point': the box pivots down on one corner "
+                   "and the 2D stepper has no integrated pivot contact (3D has pivot3d). No "
+                   "energy is created (the snap onto the short side that created +0.039 J is "
+                   "fixed)")
 def test_stepper_flat_box_sequential_2d():
     row = S.run_scene(_scene("box_lands_flat_sequential", 2), quick=True)
     assert row.status == "OK", row.note
 
 
-@pytest.mark.xfail(strict=True, reason="stepper 2D and 3D: the Zeno jump flies the ball "
-                   "freely from the last impact to t_inf, through the floor by 4 h/(1-e)^2: "
-                   "3.9e-6 m at e = 0.99 (h <= rest_length = 1e-10 m)")
 @pytest.mark.parametrize("dim", [2, 3])
 def test_stepper_zeno_penetration(dim):
+    """Regression (fixed: during the Zeno jump the body is held on the plane): it flew
+    freely to t_inf and dipped 4 h/(1-e)^2 = 3.9e-6 m below the floor at e = 0.99."""
     row = S.run_scene(_scene("zeno_e=0.99", dim), quick=True)
     assert row.residual <= row.tol, row.note
+
+
+@pytest.mark.xfail(strict=True, reason="stepper 3D: frictional break shot (routh e=0.95 "
+                   "mu=0.2, mass ratio 1e6, no gravity): the ball-wall impact at t = 1.2853 s "
+                   "records P = (2.7466, 0.1195, 0.1175) for v_i = (-1.4085, ~0, 0.5966), i.e. "
+                   "a tangential impulse rotated away from the slip direction, and dE = "
+                   "+0.022 J; resolve('routh', v_i, diag(1, 3.5, 3.5), e=0.95, mu=0.2) gives "
+                   "the correct stick impulse (2.7466, 0, -0.1705): the stepper's contact "
+                   "data (W or lever arm) for that impact is suspect")
+def test_stepper_break_shot_3d_energy():
+    case = next(c for c in S.stepper_cases() if c.case == "break_mass_ratio=1e6"
+                and c.dim == 3 and c.name == "routh-energetic")
+    row = S.run_scene(case, quick=True)
+    assert row.status == "OK", row.note
 
 
 @pytest.mark.parametrize("dim", [2, 3])
