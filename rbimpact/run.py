@@ -179,10 +179,10 @@ def _summary(name, sc, result, t_end, warm, cold, out, plot, failed=False):
     ]
     if warm is not None:
         lines.append(
-            f"run time: {_fmt_time(warm)} warm"
-            + (f" (first call {_fmt_time(cold)}, about {_fmt_time(max(cold - warm, 0.0))} of "
-               f"it compiling or loading compiled code)" if cold is not None
-               else " (single run, includes compilation)"))
+            f"run time: {_fmt_time(warm)} warm (first call {_fmt_time(cold)}, about "
+            f"{_fmt_time(max(cold - warm, 0.0))} of it compiling or loading compiled code)"
+            if cold is not None else
+            f"run time: {_fmt_time(warm)} (single run, includes any compilation)")
     lines += _reference_lines(sc, events)
     if out:
         (result.to_json if str(out).endswith(".json") else result.to_csv)(out)
