@@ -26,6 +26,11 @@ def segment_margin(maxc, nb):
     return 6 * nb + 4 * maxc + 16
 
 
+# the same margins for the Python front ends (no dispatch; also under NUMBA_DISABLE_JIT)
+event_margin_py = getattr(event_margin, "py_func", event_margin)
+segment_margin_py = getattr(segment_margin, "py_func", segment_margin)
+
+
 @njit(cache=True, inline="always")
 def has_room(cnt, margin_e, margin_s, cap_e, cap_s):
     """Do ``margin_e`` more events and ``margin_s`` more segments fit (``cnt[0]``, ``cnt[1]``

@@ -124,8 +124,13 @@ STIFF_STEP = 2.0       # near a ray that attracts the slip angle (dF/dphi < 0) a
                        #   circles v_T = 0 until MAX_STEPS (MODE_NOT_CONVERGED).
 LOCK_REL = 1.0         # ray lock-on: when v_T is within LOCK_REL * tol * |v0| (m/s, distance
                        #   |v_T| |phi - phi*|) of an invariant ray phi* that attracts the slip
-                       #   (dF/dphi + lambda < 0), the rest of the slip is that straight ray.
-                       #   Makes stiff approaches (dF/dphi >> |lambda|) cheap and exact.
+                       #   angle faster than |v_T| changes (dF/dphi < -|lambda|), the rest of
+                       #   the slip is that straight ray. Makes stiff approaches
+                       #   (dF/dphi << -|lambda|) cheap and exact; slower ones are integrated.
+LOCK_ACCEPT = 4.0      # the ray found by Newton on F (``_ray_near``) is taken only if it lies
+                       #   within LOCK_ACCEPT * LOCK_REL * tol |v0| of v_T (same distance):
+                       #   where F is flat to round-off (W_TT isotropic and W_TN = 0: every
+                       #   direction is invariant) Newton's step F/dF is noise over noise.
 MAX_STEPS = 20000      # step attempts (accepted + rejected) before MODE_NOT_CONVERGED
 H0_FRAC = 1.0          # first step = H0_FRAC * tol^(1/5) * min(|v_N0|/W_NN, |v_T0|/|dv_T/dp|) (N s)
 SAFETY = 0.9           # step-size controller (-): h_new = h * clip(fac, FAC_MIN, FAC_MAX) with
@@ -880,9 +885,12 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             dF = _ray_dF(u1, u2, w1, w2, c00, c01, c11, mu)
             hstiff = STIFF_STEP * r / (-dF) if dF < 0.0 else np.inf
             lam = u1 * f1 + u2 * f2
-            if dF + lam < 0.0 and dF < 0.0 and abs(xc) <= lock * (-dF):
-                u1, u2, lam, dF = _ray_near(u1, u2, w1, w2, c00, c01, c11, mu)
-                if lam != 0.0 and dF + lam < 0.0:
+            if dF < -abs(lam) and abs(xc) <= lock * (-dF):
+                v1, v2, lam_s, dF_s = _ray_near(u1, u2, w1, w2, c00, c01, c11, mu)
+                near = u1 * v1 + u2 * v2 > 0.0 and r * abs(u1 * v2 - u2 * v1) <= (
+                    LOCK_ACCEPT * lock)
+                if near and lam_s != 0.0 and dF_s < -abs(lam_s):
+                    u1, u2, lam, dF = v1, v2, lam_s, dF_s
                     status = 4
                     break
 

@@ -219,12 +219,12 @@ N_ERR = 20          # err: t, a, b, xyz, x1, x2, x3, |v_T|, v (3), W (6 upper en
 
 def event_margin(toli, nb):
     """Free event rows the loop needs before it handles one more instant (evbuf)."""
-    return int(evbuf.event_margin.py_func(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
+    return int(evbuf.event_margin_py(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
 
 
 def segment_margin(nb):
     """Free segment rows the loop needs before it handles one more instant (evbuf)."""
-    return int(evbuf.segment_margin.py_func(MAXC, nb))
+    return int(evbuf.segment_margin_py(MAXC, nb))
 
 
 # ------------------------------------------------------------------ small helpers

@@ -214,6 +214,30 @@ def test_sphere(rest, d):
         assert P[2] == pytest.approx(0.0, abs=1e-12)
 
 
+@pytest.mark.parametrize('rest', KINDS)
+def test_sphere_3d_isotropic_rounding(rest):
+    """Sphere on a wall with the rounding a stepper leaves in W (W_T1T2 ~ 1e-32, W_TT one
+    ulp off 3.5) and a slip along T2 with a 1e-16 component along T1: every slip direction
+    is invariant (F(phi) = 0 up to rounding), so the impulse must oppose the slip. Regression:
+    the ray lock-on took Newton's noise-over-noise ray at 45 degrees off the slip and gave
+    P_T = (0.119, 0.117), +0.022 J (stepper 3D break shot, t = 1.2853 s)."""
+    rng = np.random.default_rng(6)
+    for k in range(200):
+        vt = rng.uniform(0.01, 2.0) * np.array([rng.normal() * 1e-15, 1.0])
+        v = np.array([-rng.uniform(0.1, 3.0), *vt])
+        c = 3.5 * (1.0 - rng.integers(0, 3) * 2.0 ** -53)
+        W = np.array([[1.0, 0.0, 0.0], [0.0, c, rng.normal() * 1e-31],
+                      [0.0, 0.0, c]])
+        W[2, 1] = W[1, 2]
+        e, mu = 0.95, rng.uniform(0.05, 0.5)
+        mode, P, vf, dE = run(v, W, e, mu, rest, kernel=routh_3d)
+        pn = -(1.0 + e) * v[0]                 # W_TN = 0: normal decoupled, every kind
+        pt = min(mu * pn, np.hypot(*vt) / c)   # slides straight, then sticks
+        np.testing.assert_allclose(P, [pn, *(-pt * vt / np.hypot(*vt))], rtol=1e-9,
+                                   atol=1e-12)
+        assert dE < 0
+
+
 def test_swerve_3d():
     v, W = np.array(SWERVE_V), np.array(SWERVE_W)
     mode, P, vf, dE = run(v, W, 0.2, 0.2, REST_ENERGETIC, tol=1e-10, kernel=routh_3d)

@@ -331,14 +331,13 @@ def test_stepper_zeno_penetration(dim):
     assert row.residual <= row.tol, row.note
 
 
-@pytest.mark.xfail(strict=True, reason="stepper 3D: frictional break shot (routh e=0.95 "
-                   "mu=0.2, mass ratio 1e6, no gravity): the ball-wall impact at t = 1.2853 s "
-                   "records P = (2.7466, 0.1195, 0.1175) for v_i = (-1.4085, ~0, 0.5966), i.e. "
-                   "a tangential impulse rotated away from the slip direction, and dE = "
-                   "+0.022 J; resolve('routh', v_i, diag(1, 3.5, 3.5), e=0.95, mu=0.2) gives "
-                   "the correct stick impulse (2.7466, 0, -0.1705): the stepper's contact "
-                   "data (W or lever arm) for that impact is suspect")
 def test_stepper_break_shot_3d_energy():
+    """Regression (fixed in Routh 3D's ray lock-on): the ball-wall impact at t = 1.2853 s of
+    the frictional break shot (routh e=0.95 mu=0.2, mass ratio 1e6, no gravity) has a
+    sphere's W_TT = 3.5 I up to rounding (W_T1T2 = 4.5e-32), where F(phi) = 0 for every slip
+    angle; the lock-on took Newton's noise-over-noise ray 45 degrees off the slip and
+    recorded P = (2.7466, 0.1195, 0.1175) with dE = +0.022 J instead of the stick impulse
+    (2.7466, 0, -0.1705)."""
     case = next(c for c in S.stepper_cases() if c.case == "break_mass_ratio=1e6"
                 and c.dim == 3 and c.name == "routh-energetic")
     row = S.run_scene(case, quick=True)
