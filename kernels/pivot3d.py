@@ -630,9 +630,11 @@ def pivot_eval(pw, cp, fw, s, out):
     return PI_OK
 
 
-@njit(cache=True)
-def _slip_growth(y, cp, fw, k):
-    """u . a_c (m/s^2): acceleration of contact k's slip along its friction direction u."""
+@njit(cache=True, inline="always")
+def contact_accel(y, fw, k):
+    """Acceleration (m/s^2, world) of the material point at contact k of the body in state
+    ``y`` under the forces in ``fw`` (``pivot_forces``): ``a_cm + alpha x r + w x (w x s)``,
+    with ``w x (w x s) = w (w.s) - s |w|^2``."""
     ro = FW_R1 + 3 * k
     so = FW_S1 + 3 * k
     rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]
@@ -644,6 +646,13 @@ def _slip_growth(y, cp, fw, k):
     ax = fw[FW_A] + aly * rz - alz * ry + wx * ws - sx * w2
     ay = fw[FW_A + 1] + alz * rx - alx * rz + wy * ws - sy * w2
     az = fw[FW_A + 2] + alx * ry - aly * rx + wz * ws - sz * w2
+    return ax, ay, az
+
+
+@njit(cache=True)
+def _slip_growth(y, cp, fw, k):
+    """u . a_c (m/s^2): acceleration of contact k's slip along its friction direction u."""
+    ax, ay, az = contact_accel(y, fw, k)
     ux, uy, uz = _slipdir(fw, cp, k)
     return ux * ax + uy * ay + uz * az
 

@@ -89,15 +89,15 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
-from .common import P_E, P_MU
+from .common import P_E, P_MU, spd3_solve
 from .dispatch import resolve_3d
 from .flight3d import RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
     qrot, qrot_inv
-from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N,
-                      CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL,
-                      FW_F1, FW_LAM, FW_MARG, FW_R1, FW_S1, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP,
-                      PI_OK, PI_TOO_MANY_STEPS, PV_OK, pivot_eval, pivot_forces,
-                      pivot_next_event, pivot_start)
+from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
+                      CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
+                      FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
+                      PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, contact_accel, pivot_eval,
+                      pivot_forces, pivot_next_event, pivot_start)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 
@@ -772,17 +772,7 @@ def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
     if rc != PV_OK:
         return 0.0, -math.inf, -1.0
     nx, ny, nz = pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2]
-    ro = FW_R1 + 3 * k
-    so = FW_S1 + 3 * k
-    rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]
-    sx, sy, sz = fw[so], fw[so + 1], fw[so + 2]
-    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
-    alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
-    ws = wx * sx + wy * sy + wz * sz
-    w2 = wx * wx + wy * wy + wz * wz
-    ax = fw[FW_A] + aly * rz - alz * ry + wx * ws - sx * w2
-    ay = fw[FW_A + 1] + alz * rx - alx * rz + wy * ws - sy * w2
-    az = fw[FW_A + 2] + alx * ry - aly * rx + wz * ws - sz * w2
+    ax, ay, az = contact_accel(st[i], fw, k)
     an = ax * nx + ay * ny + az * nz
     ax -= an * nx
     ay -= an * ny
@@ -883,17 +873,8 @@ def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
     w11 += b0 * ib0 + b1 * ib1 + b2 * ib2
     w12 += b0 * id0 + b1 * id1 + b2 * id2
     w22 += d0 * id0 + d1 * id1 + d2 * id2
-    # solve the symmetric 3x3 system by cofactors
-    c00 = w11 * w22 - w12 * w12
-    c01 = w02 * w12 - w01 * w22
-    c02 = w01 * w12 - w02 * w11
-    c11 = w00 * w22 - w02 * w02
-    c12 = w01 * w02 - w00 * w12
-    c22 = w00 * w11 - w01 * w01
-    det = w00 * c00 + w01 * c01 + w02 * c02
-    p0 = -(c00 * v0 + c01 * v1 + c02 * v2) / det
-    p1 = -(c01 * v0 + c11 * v1 + c12 * v2) / det
-    p2 = -(c02 * v0 + c12 * v1 + c22 * v2) / det
+    # W P = -v, backward stable (a single body's W is SPD: ok is always True here)
+    _spd, p0, p1, p2 = spd3_solve(w00, w01, w02, w11, w12, w22, -v0, -v1, -v2)
     jx = p0 * c_f[cw, CF_N] + p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
     jy = p0 * c_f[cw, CF_N + 1] + p1 * c_f[cw, CF_T1 + 1] + p2 * c_f[cw, CF_T2 + 1]
     jz = p0 * c_f[cw, CF_N + 2] + p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
