@@ -108,10 +108,12 @@ def _axpy_dd(a, m, b):
 TOL_DEFAULT = 1e-10   # relative tolerance used when params[P_TOL] is <= 0 or not finite (-)
 TOL_MIN = 1e-14       # params[P_TOL] is clipped to [TOL_MIN, TOL_MAX]: below ~1e-14 the
 TOL_MAX = 1e-2        #   target is below round-off; above 1e-2 the result is meaningless (-)
-SING_VT_PER_TOL = 1.0  # singular zone: |v_T| < max(SING_VT_PER_TOL * tol, SING_VT_MIN) * |v0|
-SING_VT_MIN = 1e-14    #   (relative to the velocity scale |v0|, m/s per m/s). Inside it the
-                       #   approach to v_T = 0 is finished on a straight line; the error this
-                       #   makes in v is O(threshold), i.e. O(tol |v0|).
+SING_VT_PER_TOL = 1.0  # singular zone: |v_T| < max(SING_VT_PER_TOL tol / zs, SING_VT_MIN) |v0|
+SING_VT_MIN = 1e-14    #   (m/s per m/s of the velocity scale |v0|), zs = max(1, |W_TT^-1 W_TN|).
+                       #   Inside it the approach to v_T = 0 is finished on a straight line.
+                       #   An error dv_T in where the slip ends moves v_N by z . dv_T
+                       #   (v_N = v_N0 + kappa p + z . (v_T - v_T0) on every path), hence the
+                       #   1/zs: the error this makes in v is O(tol |v0|) (ray lock-on: same).
 SING_STEP_FRAC = 0.9   # while |v_T| decreases, a step may cover at most this fraction of the
                        #   impulse |v_T| / (-d|v_T|/dp) predicted to reach v_T = 0 (-), so
                        #   that no stage crosses the singularity; |v_T| then shrinks
@@ -122,13 +124,13 @@ STIFF_STEP = 2.0       # near a ray that attracts the slip angle (dF/dphi < 0) a
                        #   amplification |R(-2)| = 0.17. Without it the error control accepts
                        #   unstable steps when |v_T| ~ 10 tol |v0| and the discrete slip
                        #   circles v_T = 0 until MAX_STEPS (MODE_NOT_CONVERGED).
-LOCK_REL = 1.0         # ray lock-on: when v_T is within LOCK_REL * tol * |v0| (m/s, distance
+LOCK_REL = 1.0         # ray lock-on: when v_T is within LOCK_REL * tol * |v0| / zs (m/s, distance
                        #   |v_T| |phi - phi*|) of an invariant ray phi* that attracts the slip
                        #   angle faster than |v_T| changes (dF/dphi < -|lambda|), the rest of
                        #   the slip is that straight ray. Makes stiff approaches
                        #   (dF/dphi << -|lambda|) cheap and exact; slower ones are integrated.
 LOCK_ACCEPT = 4.0      # the ray found by Newton on F (``_ray_near``) is taken only if it lies
-                       #   within LOCK_ACCEPT * LOCK_REL * tol |v0| of v_T (same distance):
+                       #   within LOCK_ACCEPT * LOCK_REL * tol |v0| / zs of v_T (same distance):
                        #   where F is flat to round-off (W_TT isotropic and W_TN = 0: every
                        #   direction is invariant) Newton's step F/dF is noise over noise.
 MAX_STEPS = 20000      # step attempts (accepted + rejected) before MODE_NOT_CONVERGED
@@ -684,8 +686,9 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     z2 = det2c(c00, w2, c01, w1) / detC
     kap = schur3(a, w1, w2, c00, c01, c11)         # 1/(W^-1)_NN = det W / det C > 0
     stick_ok = z1 * z1 + z2 * z2 <= mu * mu
-    thr = max(SING_VT_PER_TOL * tol, SING_VT_MIN) * vscale
-    lock = LOCK_REL * tol * vscale
+    zs = max(1.0, math.sqrt(z1 * z1 + z2 * z2))  # dv_N / dv_T at fixed p (SING_VT_*)
+    thr = max(SING_VT_PER_TOL * tol / zs, SING_VT_MIN) * vscale
+    lock = LOCK_REL * tol * vscale / zs
     sc_x = 1.0 / (tol * vscale)                    # error weights: v_T (m/s) ...
     sc_w = a / (tol * vscale * vscale)             # ... and Wk (J), with p scale |v0|/W_NN
 

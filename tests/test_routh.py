@@ -238,6 +238,23 @@ def test_sphere_3d_isotropic_rounding(rest):
         assert dE < 0
 
 
+@pytest.mark.parametrize('rest', KINDS)
+def test_3d_singular_zone_scaled_by_coupling(rest):
+    """cond(W) = 1.7e11 with |W_TT^-1 W_TN| = 250: the slip passes within 3e-10 m/s of
+    v_T = 0 and turns onto the diverging ray. A straight finish to v_T = 0 from |v_T| <
+    tol |v0| moved v_N by z . dv_T (250 x) and gave v_f wrong by 7e-7 m/s at tol 1e-10
+    (mode SLIP_REVERSE instead of SLIP); the singular zone is now tol |v0| / |z|."""
+    v = np.array([-3.467927918643644, 6.221335059243053e-08, 0.0])
+    W = np.array([[0.9999994641253892, 2.7694850813660985e-06, -0.0007320291344433221],
+                  [2.7694850813660985e-06, 0.999985686861328, 0.0037832428069885164],
+                  [-0.0007320291344433221, 0.0037832428069885164, 1.4849019231910016e-05]])
+    _, _, ref, _ = run(v, W, 0.85, 1.0, rest, tol=1e-14, kernel=routh_3d)
+    for tol in (1e-6, 1e-8, 1e-10, 1e-12):
+        mode, P, vf, dE = run(v, W, 0.85, 1.0, rest, tol=tol, kernel=routh_3d)
+        assert mode == MODE_SLIP or tol > 1e-8
+        assert np.linalg.norm(vf - ref) <= 10 * tol * np.linalg.norm(v)
+
+
 def test_swerve_3d():
     v, W = np.array(SWERVE_V), np.array(SWERVE_W)
     mode, P, vf, dE = run(v, W, 0.2, 0.2, REST_ENERGETIC, tol=1e-10, kernel=routh_3d)
