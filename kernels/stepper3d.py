@@ -199,6 +199,11 @@ SLIP_ACC_TOL = 1e-9
 #: integrated contact: angular scan steps over the tangent plane when looking for the
 #: consistent direction in which a contact starts to slip
 N_SLIP_SCAN = 72
+#: integrated contact: when no stick/slip state is consistent, a sliding contact whose slip
+#: is at most STICK_RESCUE slip_eps (its direction is still blending, pivot3d.SLIP_BLEND)
+#: sticks -- its slip removed by an impulse (dissipative, at most m STICK_RESCUE slip_eps)
+#: -- and the state is checked again (dimensionless)
+STICK_RESCUE = 10.0
 #: a face holds the friction moment when the pressure centre stays inside it by this
 #: fraction of the face's half extent (dimensionless round-off allowance)
 FACE_RTOL = 1e-12
@@ -932,6 +937,31 @@ def _pv_zero_normals(st, i, bflt, pv, Ii):
 
 
 @njit(cache=True)
+def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
+    """Stick the sliding integrated contact of body i with the smallest slip speed, if that
+    speed is at most ``vmax`` (m/s), by the impulse removing its slip (``_pv_unslip``).
+    Returns whether a contact was stuck."""
+    kmin = -1
+    cmin = vmax
+    for k in range(int(pv[i, CP_K])):
+        if pv[i, CP_S1 + k] != 0.0:
+            continue
+        _pv_frame(c_f, cw, st, i, pv, k)
+        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        c = math.sqrt(v1 * v1 + v2 * v2)
+        if c <= cmin:
+            cmin = c
+            kmin = k
+    if kmin < 0:
+        return False
+    _pv_unslip(st, i, bflt, pv, kmin, c_f, cw, Ii)
+    pv[i, CP_S1 + kmin] = 1.0
+    for j in range(3):
+        pv[i, CP_U1 + 3 * kmin + j] = 0.0
+    return True
+
+
+@njit(cache=True)
 def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     """Make the integrated contacts of body i consistent: contacts whose normal force
     would be negative are dropped (most negative first), sticking contacts outside their
@@ -980,6 +1010,9 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
                     pivot_forces(st[i], pv[i], fw)
                     if _pv_slide(st, i, pv, k, fw):
                         moved = True
+            if not moved and _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii,
+                                               STICK_RESCUE * pv[i, CP_EPS]):
+                continue
             if not moved:
                 # sticking is outside the cone and no slip direction is consistent
                 _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1],

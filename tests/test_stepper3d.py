@@ -281,7 +281,10 @@ def test_closed_form_precession_matches_the_integrator():
 # ------------------------------------------------------------------ the die
 
 
-@pytest.mark.parametrize("seed", range(6))
+# seed 1027: on an edge with one corner sticking and the other sliding at 1.06 slip_eps,
+# neither stick nor slip of the first was consistent (the run ended in an error); the slow
+# slip now sticks (STICK_RESCUE) and both corners stick, well inside their cones
+@pytest.mark.parametrize("seed", [*range(6), 1027])
 def test_the_die_always_ends_at_rest_with_one_face_up(seed):
     sc = scenarios.get("die_toss", seed=seed)
     r = sc.simulate()
