@@ -69,104 +69,39 @@ def det3s(a, b, c, d, e, f):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def solve3s(a, b, c, d, e, f, b0, b1, b2):
-    """Solve the symmetric system [[a, b, c], [b, d, e], [c, e, f]] x = (b0, b1, b2) by
-    cofactors. Scalars in and out (the 3D law cores take W by its upper triangle)."""
+def _cofactors3(a, b, c, d, e, f):
+    """Cofactors of the symmetric [[a, b, c], [b, d, e], [c, e, f]] (its adjugate, also
+    symmetric) and the determinant by the first row, in plain arithmetic:
+    ``(c00, c01, c02, c11, c12, c22, det)``."""
     c00 = d * f - e * e
     c01 = c * e - b * f
     c02 = b * e - c * d
     c11 = a * f - c * c
     c12 = b * c - a * e
     c22 = a * d - b * b
-    det = a * c00 + b * c01 + c * c02
+    return c00, c01, c02, c11, c12, c22, a * c00 + b * c01 + c * c02
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def solve3s(a, b, c, d, e, f, b0, b1, b2):
+    """Solve the symmetric system [[a, b, c], [b, d, e], [c, e, f]] x = (b0, b1, b2) by
+    cofactors. Scalars in and out (the 3D law cores take W by its upper triangle)."""
+    c00, c01, c02, c11, c12, c22, det = _cofactors3(a, b, c, d, e, f)
     x0 = (c00 * b0 + c01 * b1 + c02 * b2) / det
     x1 = (c01 * b0 + c11 * b1 + c12 * b2) / det
     x2 = (c02 * b0 + c12 * b1 + c22 * b2) / det
     return x0, x1, x2
 
 
-# ---- error-free transformations (compensated determinants) -----------------------------------
-# Dekker/Knuth: two_sum and two_prod return (s, err) with s + err == a + b (a * b) exactly
-# (barring overflow; two_prod's Veltkamp split needs |a|, |b| < 2**996). They let the stick
-# slopes W_NN - W_TN W_TT^-1 W_TN = det(W) / det(W_TT) be computed to a few ulps with W taken
-# as exact, instead of losing eps cond(W) to cancellation. Ref: Ogita, Rump & Oishi, SIAM J.
-# Sci. Comput. 26:1955 (2005).
-_SPLIT = 134217729.0     # 2**27 + 1 (Veltkamp split of a float64)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def two_sum(a, b):
-    """(s, err): s = fl(a + b) and s + err == a + b exactly."""
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def two_prod(a, b):
-    """(p, err): p = fl(a * b) and p + err == a * b exactly (no underflow)."""
-    p = a * b
-    t = _SPLIT * a
-    ah = t - (t - a)
-    al = a - ah
-    t = _SPLIT * b
-    bh = t - (t - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _det2dd(a, d, b, c):
-    """a d - b c as an unevaluated double-double (hi, lo), |error| <~ eps^2 (|a d| + |b c|)."""
-    p1, e1 = two_prod(a, d)
-    p2, e2 = two_prod(b, c)
-    s, es = two_sum(p1, -p2)
-    lo = es + (e1 - e2)
-    hi = s + lo
-    return hi, lo - (hi - s)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def det2c(a, d, b, c):
-    """a d - b c, compensated: correct to a few ulps of the result for exact inputs."""
-    hi, lo = _det2dd(a, d, b, c)
-    return hi + lo
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def det3sc(a, b, c, d, e, f):
-    """Determinant of the symmetric [[a, b, c], [b, d, e], [c, e, f]], compensated (cofactor
-    expansion in double-double): a few ulps of the result plus eps^2 sum |terms|, where
-    ``det3s`` loses eps cond."""
-    h0, l0 = _det2dd(d, f, e, e)            # c00 = d f - e^2
-    h1, l1 = _det2dd(c, e, b, f)            # c01 = c e - b f
-    h2, l2 = _det2dd(b, e, c, d)            # c02 = b e - c d
-    p0, q0 = two_prod(a, h0)
-    p1, q1 = two_prod(b, h1)
-    p2, q2 = two_prod(c, h2)
-    s, r1 = two_sum(p0, p1)
-    s, r2 = two_sum(s, p2)
-    return s + ((r1 + r2) + (q0 + q1 + q2) + (a * l0 + b * l1 + c * l2))
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def schur2(a, b, c):
-    """Stick slope a - b^2 / c of the SPD [[a, b], [b, c]] (= det / c), compensated."""
-    return det2c(a, c, b, b) / c
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def schur3(a, b, c, d, e, f):
-    """Normal stick slope W_NN - W_TN . W_TT^-1 W_TN = det(W) / det(W_TT) of the symmetric
-    W = [[a, b, c], [b, d, e], [c, e, f]] (normal first), compensated."""
-    return det3sc(a, b, c, d, e, f) / det2c(d, f, e, e)
-
-
-# ---- fused multiply-add: FMA-based error-free transformations and backward-stable solves -----
-# With a hardware FMA the error of a product is one instruction, fma(a, b, -a b), instead of
-# the ~17 flops of the Veltkamp split above: the compensated 2x2/3x3 solves below cost about
-# as much as the plain cofactor formulas. (Without a hardware FMA, LLVM calls the C
-# library's correctly rounded fma: same results, slower.)
+# ---- error-free transformations (FMA) and compensated determinants --------------------------
+# two_sum and two_prod return (s, err) with s + err == a + b (a * b) exactly (Knuth; the
+# product's error is one fused multiply-add, fma(a, b, -a b), barring over- and underflow).
+# They let the stick slopes W_NN - W_TN W_TT^-1 W_TN = det(W) / det(W_TT) and the residuals
+# of refined solves be computed to a few ulps with W taken as exact, instead of losing
+# eps cond(W) to cancellation. Ref: Ogita, Rump & Oishi, SIAM J. Sci. Comput. 26:1955 (2005).
+# With a hardware FMA the compensated 2x2/3x3 solves below cost about as much as the plain
+# cofactor formulas. (Without one, LLVM calls the C library's correctly rounded fma: same
+# results, slower.)
 def fma(a, b, c):
     """a * b + c with a single rounding. Called from compiled code this is the LLVM
     ``llvm.fma.f64`` intrinsic (one instruction); called from Python (e.g. the stability
@@ -190,6 +125,21 @@ def _fma_overload(a, b, c):
     def impl(a, b, c):
         return _fma_f64(a, b, c)
     return impl
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def two_sum(a, b):
+    """(s, err): s = fl(a + b) and s + err == a + b exactly (Knuth, 6 flops)."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def two_prod(a, b):
+    """(p, err): p = fl(a * b) and p + err == a * b exactly (FMA; barring underflow of err)."""
+    p = a * b
+    return p, fma(a, b, -p)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -224,6 +174,18 @@ def _dd_dot3(h0, l0, r0, h1, l1, r1, h2, l2, r2):
     return s + ((t1 + t2) + q + (l0 * r0 + l1 * r1 + l2 * r2))
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def schur3(a, b, c, d, e, f):
+    """Normal stick slope W_NN - W_TN . W_TT^-1 W_TN = det(W) / det(W_TT) of the symmetric
+    W = [[a, b, c], [b, d, e], [c, e, f]] (normal first), compensated: det W by cofactors in
+    double-double and Dot2 (FMA; a few ulps plus 3 eps^2 sum |terms|, where ``det3s`` loses
+    eps cond), det W_TT by Kahan's ``det2k`` (2 ulps)."""
+    h00, l00 = _dd_det2(d, f, e, e)
+    h01, l01 = _dd_det2(c, e, b, f)
+    h02, l02 = _dd_det2(b, e, c, d)
+    return _dd_dot3(h00, l00, a, h01, l01, b, h02, l02, c) / det2k(d, f, e, e)
+
+
 SPD3_FAST = 16.0
 """``spd3_solve`` takes its plain cofactor path when ``W_00 W_11 W_22 <= SPD3_FAST det W``
 (dimensionless; Hadamard: the ratio is >= 1 for SPD W and bounds the cancellation of every
@@ -247,13 +209,7 @@ def spd3_solve(a, b, c, d, e, f, r0, r1, r2):
     iterative refinement, so every SPD W up to cond ~1e15 is accepted, an indefinite one
     rejected, and x is correct to a few ulps normwise up to cond ~1e14. Either way the
     residual is ~eps (|r| + |W| |x|) row by row (componentwise backward stable)."""
-    c00 = d * f - e * e
-    c01 = c * e - b * f
-    c02 = b * e - c * d
-    c11 = a * f - c * c
-    c12 = b * c - a * e
-    c22 = a * d - b * b
-    det = a * c00 + b * c01 + c * c02
+    c00, c01, c02, c11, c12, c22, det = _cofactors3(a, b, c, d, e, f)
     if (a > 0.0 and c00 > 0.0 and c11 > 0.0 and c22 > 0.0
             and a * d * f <= SPD3_FAST * det):
         idet = 1.0 / det
@@ -265,8 +221,9 @@ def spd3_solve(a, b, c, d, e, f, r0, r1, r2):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _resid4(r, w0, w1, w2, x0, x1, x2):
-    """r - (w0 x0 + w1 x1 + w2 x2) as if in twice the working precision (Dot2, FMA)."""
+def sub_dot3(r, w0, w1, w2, x0, x1, x2):
+    """r - (w0 x0 + w1 x1 + w2 x2) as if in twice the working precision (Dot2 with FMA):
+    error <~ eps |result| + 4 eps^2 (|r| + sum |w_i x_i|)."""
     p0 = w0 * x0
     p1 = w1 * x1
     p2 = w2 * x2
@@ -302,9 +259,9 @@ def _spd3_solve_dd(a, b, c, d, e, f, r0, r1, r2):
     x1 = _dd_dot3(h01, l01, r0, h11, l11, r1, h12, l12, r2) / det
     x2 = _dd_dot3(h02, l02, r0, h12, l12, r1, h22, l22, r2) / det
     # one step of iterative refinement
-    g0 = _resid4(r0, a, b, c, x0, x1, x2)
-    g1 = _resid4(r1, b, d, e, x0, x1, x2)
-    g2 = _resid4(r2, c, e, f, x0, x1, x2)
+    g0 = sub_dot3(r0, a, b, c, x0, x1, x2)
+    g1 = sub_dot3(r1, b, d, e, x0, x1, x2)
+    g2 = sub_dot3(r2, c, e, f, x0, x1, x2)
     y0 = x0 + _dd_dot3(h00, l00, g0, h01, l01, g1, h02, l02, g2) / det
     y1 = x1 + _dd_dot3(h01, l01, g0, h11, l11, g1, h12, l12, g2) / det
     y2 = x2 + _dd_dot3(h02, l02, g0, h12, l12, g1, h22, l22, g2) / det

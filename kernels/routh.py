@@ -79,7 +79,7 @@ from .common import (
     REST_ENERGETIC, REST_POISSON, REST_NEWTON,
     MODE_SEPARATING, MODE_STICK, MODE_SLIP, MODE_SLIP_STICK, MODE_SLIP_REVERSE,
     MODE_NO_SOLUTION, MODE_NOT_CONVERGED,
-    det2c, det2k, schur3, solve2, two_sum,
+    det2k, schur3, solve2, two_sum,
 )
 from .common import fma as _fma
 
@@ -673,7 +673,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         return MODE_SEPARATING, 0.0, 0.0, 0.0
     ok, rest = _check_params(e, mu, r)
     vscale = math.sqrt(vN0 * vN0 + x01 * x01 + x02 * x02)
-    detC = det2c(c00, c11, c01, c01)
+    detC = det2k(c00, c11, c01, c01)
     finite = vscale + abs(a) + abs(w1) + abs(w2) + abs(c00) + abs(c01) + abs(c11) < np.inf
     if not ok or not finite or not (a > 0.0) or not (c00 > 0.0) or not (detC > 0.0):
         return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
@@ -682,8 +682,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     if not (tol > 0.0 and tol < np.inf):
         tol = TOL_DEFAULT
     tol = min(max(tol, TOL_MIN), TOL_MAX)
-    z1 = det2c(c11, w1, c01, w2) / detC            # z = C^-1 w, compensated Cramer
-    z2 = det2c(c00, w2, c01, w1) / detC
+    z1 = det2k(c11, w1, c01, w2) / detC            # z = C^-1 w, compensated Cramer
+    z2 = det2k(c00, w2, c01, w1) / detC
     kap = schur3(a, w1, w2, c00, c01, c11)         # 1/(W^-1)_NN = det W / det C > 0
     stick_ok = z1 * z1 + z2 * z2 <= mu * mu
     zs = max(1.0, math.sqrt(z1 * z1 + z2 * z2))  # dv_N / dv_T at fixed p (SING_VT_*)

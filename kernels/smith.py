@@ -43,7 +43,7 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   D = W_NN - mu W_NT g cancels: there the equation is solved for D itself
   (``_phi_2d``/``_pole_solve_2d``, det W compensated), and the cubic's bracket stops at
   D = DPOLE_REL W_NN. Small branch denominators A, B and the set-valued case use
-  compensated products (``_sub_prod``, ``common.det2c``).
+  compensated products (``_sub_prod``, ``common.det2k``).
 * 3D, planar motion (``W_T2N = W_T1T2 = 0`` once ``a`` lies along t1): reduced exactly to 2D
   (in-plane uniqueness of ``b(p)`` above).
 * 3D, uniqueness certified (``_unique_certificate``: ``d^T S d > mu |d . W_TT J W_TN|`` for
@@ -56,13 +56,21 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   the grid with a tangent predictor; the first sign change is refined by safeguarded Newton
   on ``p``. Two roots closer than ``SCAN_RATIO`` in ``P_N`` could be skipped (the next one is
   then returned). About 15 grid points, ~60 scalar evaluations.
-* 3D accuracy: W is scaled by a power of two (exact). Near stick (|g| < G_POLISH_3D, large
-  mu) or next to the pole the root is polished by damped Newton in g itself, in the caller's
-  frame with compensated D and N (``_polish_g_3d``), and the final D is compensated for the
-  returned g. The scan's normal equation switches to the stick-slope form next to the pole
-  (``_r_eval``: ``common.schur3`` and a refined W_TT^-1 w). Residual weakness left: roots
-  next to the pole with an ill-conditioned W_TT (cond(W) >~ 1e8) can keep residuals or
-  energy errors of ~eps W_NN / D (a few per 300 of the stability suite's random cases).
+* 3D accuracy: W is scaled by a power of two (exact). The scan's normal equation switches to
+  the stick-slope form next to the pole (``_r_eval``: ``common.schur3`` and a refined
+  W_TT^-1 w). Next to the pole (D < DPOLE_REL W_NN) or for an ill-conditioned W (away from
+  stick) the root is polished in the caller's frame by Newton in (P_N, d = a + b)
+  (``_caller_polish_3d``), with the residuals of v_fN = -e v_N and v_fT = b evaluated in
+  Dot2 for the returned float impulse. There g (|g| ~ 1 ulp moves D = W_NN - mu w.g by
+  eps mu |w|) and the rotated frame (W off by eps |W|) each cost P up to eps cond(W) or
+  eps W_NN / D relative, while (P_N, d) resolves P to round-off (before, 5 of the stability
+  suite's 300 random cases returned impulses off by up to a factor 3000). Near
+  stick (|g| < G_POLISH_3D, large mu) away from the pole the root is polished by damped
+  Newton in g itself, in the caller's frame with compensated D and N (``_polish_g_3d``), and
+  the final D is compensated for the returned g. Weakness left: the scan's R(p) is
+  evaluated in the rotated frame, so for mu |W_TN| >~ 1e5 W_NN with cond(W) >~ 1e8 it can
+  report a spurious sign change far from the root, which the polish then cannot reach
+  (residual ~1e-8 or worse: 2 in 6000 of the stiff property's draws).
 * ``a = 0`` (and ``|a|`` below ``A_ZERO_REL`` times the velocity scale): Smith's direction
   is 0/0 only at ``a = b = 0``; we read it as the set-valued sign (the unit ball), which is
   the limit of Smith's law as ``a -> 0`` from every direction. The result is Coulomb's
@@ -80,7 +88,8 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   of the b-residual): the b-root is noise there, so the g-polish starts from the linearized
   stick solution (``_stick_start_3d``) when that has the smaller |E|, and where g cannot
   resolve b at the scale of |a| at all the stick solution is the answer (it tends to the
-  set-valued stick as a -> 0).
+  set-valued stick as a -> 0), with the impulse ``W^-1 (c, b - a)`` from the linearized
+  slip b (``_stick_impulse_3d``, forward accurate).
 
 Modes: ``MODE_SEPARATING`` (``v_N >= 0``, P = 0); ``MODE_SLIP`` for every ordinary solution
 (Smith never truly sticks; ``mu = 0`` is frictionless and also ``MODE_SLIP``); ``MODE_STICK``
@@ -104,7 +113,8 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from .common import (MODE_NO_SOLUTION, MODE_NOT_CONVERGED, MODE_SEPARATING, MODE_SLIP,
-                     MODE_STICK, P_E, P_MU, det2c, schur3, solve2, two_prod, two_sum)
+                     MODE_STICK, P_E, P_MU, det2k, det3s, schur3, solve2, spd3_solve, sub_dot3,
+                     two_prod, two_sum)
 
 # ---- named tolerances and limits --------------------------------------------------------------
 # The law is homogeneous of degree 1 in v. The 2D solve uses only velocity ratios; the 3D
@@ -178,6 +188,18 @@ UNSCALED_MAX_EXP = 64
 scaling would push a nonzero off-diagonal entry into the subnormal range (losing its digits)."""
 N_REFINE = 3
 """Set-valued 3D: iterative-refinement steps of the 2x2 solves (each gains ~eps cond(T))."""
+MAXIT_POLE = 8
+"""3D caller-frame polish (``_caller_polish_3d``): Newton step limit; typically 2-3 from the
+solver's root, each gaining a factor ~eps cond(W)."""
+POLE_ACCEPT = 1e-14
+"""3D caller-frame polish: if the line search stalls (round-off), the root is still accepted
+when its residuals |F0|, |r| (velocities) are below POLE_ACCEPT times the size of their terms
+(~|v| + |W| |P|): a backward error of 1e-14 relative to the velocity scale of v_f = v + W P,
+against the stability suite's 1e-12."""
+ILLCOND_POLISH = 1e3
+"""3D: the caller-frame polish also runs (away from stick) when (trace W)^3 > ILLCOND_POLISH
+det W, a cheap bound cond(W) <= (trace W)^3 / det W: the rotated frame (W off by eps |W|)
+can then move the root by eps ILLCOND_POLISH ~ 2e-13 relative or more."""
 G_PHI_SIGN = 1e-3
 """2D pole test: where |g| at D = DPOLE_REL W_NN is below this, the side of the root is decided
 by the D-form Phi (``_phi_2d``) instead of the cubic in t: g from t has eps absolute (eps/|g|
@@ -220,7 +242,7 @@ def _set_valued_2d(c, Wnn, wnt, Wtt, mu):
     if wq < -muw:                            # drives it backward: g = -1
         PN = c / _sub_prod(Wnn, -mu, wnt)
         return MODE_SLIP, PN, mu * PN
-    det = det2c(Wnn, Wtt, wnt, wnt)          # stick: v_fT = 0, |P_T| < mu P_N
+    det = det2k(Wnn, Wtt, wnt, wnt)          # stick: v_fT = 0, |P_T| < mu P_N
     return MODE_STICK, c * Wtt / det, -c * wnt / det
 
 
@@ -384,13 +406,13 @@ def _solve_2d(vn, a_in, Wnn, Wnt, Wtt, e, mu):
         tth = math.sqrt((1.0 - gth) / (1.0 + gth))
         det = 0.0
         if abs(gth) < G_PHI_SIGN:
-            det = det2c(Wnn, Wtt, wnt, wnt)
+            det = det2k(Wnn, Wtt, wnt, wnt)
             qth = _phi_2d(dthr, k, Wnn, wnt, det, mu)[0]
         else:
             qth = c0 + tth * (c1 + tth * (c2 + tth * c3))
         if qth * wnt >= 0.0:
             if det == 0.0:
-                det = det2c(Wnn, Wtt, wnt, wnt)
+                det = det2k(Wnn, Wtt, wnt, wnt)
             ok, D, g, t = _pole_solve_2d(k, Wnn, wnt, det, mu, dthr)
             if not ok:
                 return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
@@ -736,7 +758,7 @@ def _solve2_refined(a00, a01, a11, b0, b1):
     residual, so that x is right to ~eps relative for cond up to ~1e11 (Cramer's rule alone
     loses eps cond: the set-valued stick needs v_fT = P_N (w - T x) ~ 0 and
     P_N (W_NN - w.x) = c with P_N from the exact Schur complement)."""
-    det = det2c(a00, a11, a01, a01)
+    det = det2k(a00, a11, a01, a01)
     x0 = (a11 * b0 - a01 * b1) / det
     x1 = (a00 * b1 - a01 * b0) / det
     for it in range(N_REFINE):
@@ -872,7 +894,7 @@ def _solve_secular_u(sig, mu, w1, w2, t11, t12, t22):
     a00 = sig + mu * t11
     a01 = mu * t12
     a11 = sig + mu * t22
-    det = det2c(a00, a11, a01, a01)
+    det = det2k(a00, a11, a01, a01)
     u1 = (a11 * w1 - a01 * w2) / det
     u2 = (a00 * w2 - a01 * w1) / det
     for it in range(N_REFINE):
@@ -1058,12 +1080,20 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         if oks and h1 * h1 + h2 * h2 < G_POLISH_3D * G_POLISH_3D:
             D = _sub_mu_dot(Wnn, mu, W01, h1, W02, h2)
             if aln * D <= POLISH_SEP * cn * mu * Tn * (abs(h1) + abs(h2)) * 2.2e-16:
+                okp, PN, P1, P2 = _stick_impulse_3d(h1, h2, ao1, ao2, aln, cn, Wnn, W01, W02,
+                                                    T11, T12, T22, mu)
+                if okp:
+                    return MODE_SLIP, PN, P1, P2, s
                 PN = cn / D
                 return MODE_SLIP, PN, -mu * (PN * h1), -mu * (PN * h2), s
     cert = _unique_certificate(Wnn, w1, w2, t11, t12, t22, mu)
     ok = False
     b1 = 0.0
     b2 = 0.0
+    PN = 0.0                                 # P_N of the scan path (0: not taken)
+    sch = 0.0                                # stick slope and z = W_TT^-1 w (caller's frame)
+    zo1 = 0.0
+    zo2 = 0.0
     mode = MODE_SLIP
     if cert:
         # start: Smith 2D in the plane of (n, a) (exact when the motion is planar)
@@ -1103,6 +1133,24 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     ao2 = sn * aln
     Dg = Wnn - mu * (w1 * g1 + w2 * g2)
     near = g1 * g1 + g2 * g2 < G_POLISH_3D * G_POLISH_3D
+    if (Dg < DPOLE_REL * Wnn or cn < DPOLE_REL * Wnn * PN
+            or (not near and (Wnn + T11 + T22) ** 3 > ILLCOND_POLISH * det3s(
+                Wnn, W01, W02, T11, T12, T22))):
+        # next to the pole (D from this g, or from the scan's P_N = c / D, which the stick-slope
+        # form of R keeps accurate) or W ill-conditioned: Newton in (P_N, d = a + b) in the
+        # caller's frame, from the solver's root
+        if not (sch > 0.0):
+            sch = schur3(Wnn, W01, W02, T11, T12, T22)
+            zo1, zo2 = _solve2_refined(T11, T12, T22, W01, W02)
+        okp, PNp, h1, h2 = _caller_polish_3d(PN, cs * b1 - sn * b2, sn * b1 + cs * b2, ao1,
+                                             ao2, aln, cn, Wnn, W01, W02, T11, T12, T22, mu,
+                                             sch, zo1, zo2)
+        if okp:
+            gn = math.sqrt(h1 * h1 + h2 * h2)
+            if gn > 1.0:                     # round-off guard: keep |P_T| <= mu P_N
+                h1 /= gn
+                h2 /= gn
+            return mode, PNp, -mu * (PNp * h1), -mu * (PNp * h2), s
     oks = False
     h1 = k1
     h2 = k2
@@ -1140,6 +1188,10 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         # near stick, and g cannot resolve b at the scale of |a| (a tiny initial slip
         # against eps c mu |T| / D): both the b-root and E are noise there; the impulse is
         # stick-like and fixed by g to ~|g| relative, which the stick solution gives
+        okp, PNp, P1, P2 = _stick_impulse_3d(h1, h2, ao1, ao2, aln, cn, Wnn, W01, W02, T11,
+                                             T12, T22, mu)
+        if okp:
+            return mode, PNp, P1, P2, s
         k1 = h1
         k2 = h2
     gn = math.sqrt(k1 * k1 + k2 * k2)
@@ -1159,6 +1211,26 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
     return mode, PN, -mu * (PN * k1), -mu * (PN * k2), s
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _g_jac(b1, b2, a1, a2, na):
+    """Smith's direction g(a, b) = (|a| a + |b| b) / (|a|^2 + |b|^2) for a general a
+    (``na = |a| > 0``, caller's frame) and its Jacobian B = dg/db (row-major; 0 at b = 0).
+    Returns (g1, g2, B11, B12, B21, B22)."""
+    nb = math.sqrt(b1 * b1 + b2 * b2)
+    iq = 1.0 / (na * na + nb * nb)
+    g1 = (na * a1 + nb * b1) * iq
+    g2 = (na * a2 + nb * b2) * iq
+    if nb > 0.0:
+        # B = (|b| I + b b^T / |b|) / Q - 2 g b^T / Q,  Q = |a|^2 + |b|^2
+        inb = 1.0 / nb
+        B11 = (nb + b1 * b1 * inb) * iq - 2.0 * g1 * b1 * iq
+        B12 = (b1 * b2 * inb) * iq - 2.0 * g1 * b2 * iq
+        B21 = (b1 * b2 * inb) * iq - 2.0 * g2 * b1 * iq
+        B22 = (nb + b2 * b2 * inb) * iq - 2.0 * g2 * b2 * iq
+        return g1, g2, B11, B12, B21, B22
+    return g1, g2, 0.0, 0.0, 0.0, 0.0
+
+
 @njit(cache=True, error_model="numpy")
 def _eg_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
     """E(g) = g(a, b(g)) - g and its Jacobian (general a, caller's frame), with
@@ -1172,23 +1244,7 @@ def _eg_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
     iD = 1.0 / D
     H1 = _sub_mu_dot(W01, mu, T11, g1, T12, g2) * iD
     H2 = _sub_mu_dot(W02, mu, T12, g1, T22, g2) * iD
-    b1 = a1 + c * H1
-    b2 = a2 + c * H2
-    nb = math.sqrt(b1 * b1 + b2 * b2)
-    iq = 1.0 / (na * na + nb * nb)
-    gb1 = (na * a1 + nb * b1) * iq
-    gb2 = (na * a2 + nb * b2) * iq
-    if nb > 0.0:
-        inb = 1.0 / nb
-        B11 = (nb + b1 * b1 * inb) * iq - 2.0 * gb1 * b1 * iq
-        B12 = (b1 * b2 * inb) * iq - 2.0 * gb1 * b2 * iq
-        B21 = (b1 * b2 * inb) * iq - 2.0 * gb2 * b1 * iq
-        B22 = (nb + b2 * b2 * inb) * iq - 2.0 * gb2 * b2 * iq
-    else:
-        B11 = 0.0
-        B12 = 0.0
-        B21 = 0.0
-        B22 = 0.0
+    gb1, gb2, B11, B12, B21, B22 = _g_jac(a1 + c * H1, a2 + c * H2, a1, a2, na)
     k = c * mu * iD
     A11 = k * (H1 * W01 - T11)
     A12 = k * (H1 * W02 - T12)
@@ -1293,6 +1349,147 @@ def _polish_g_3d(g1, g2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
     if f < f0:
         return h1, h2
     return g1, g2
+
+
+@njit(cache=True, error_model="numpy")
+def _caller_eval_3d(p, d1, d2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
+    """Residuals of the Smith equations at (P_N, d) = (p, d1, d2), d = a + b (b = v_fT),
+    caller's frame, exactly scaled W, for the impulse as returned, ``P = (p, -mu p g)``:
+    ``F0 = W_N.P - c`` (``v_fN + e v_N``) and ``r = (b - a) - W_T P`` (``b - v_fT``), in
+    Dot2 (exact to round-off for the float P, where their terms, ~|W| |P| >> |v| next to the
+    pole, cancel). g(a, b) is formed from d, ``g = (|a| d + (|b| - |a|) b) / Q``,
+    ``|b| - |a| = (b - a).d / (|a| + |b|)``: relative accuracy near stick (b ~ -a, |g| << 1),
+    where |a| a + |b| b cancels. Returns (g1, g2, B11, B12, B21, B22, F0, r1, r2, |terms|),
+    B = dg/db."""
+    b1 = d1 - a1
+    b2 = d2 - a2
+    s1, e1 = two_sum(d1, -2.0 * a1)          # b - a, exact as s + e
+    s2, e2 = two_sum(d2, -2.0 * a2)
+    nb = math.sqrt(b1 * b1 + b2 * b2)
+    dn = (s1 * d1 + s2 * d2) / (na + nb)     # |b| - |a|
+    iq = 1.0 / (na * na + nb * nb)
+    g1 = (na * d1 + dn * b1) * iq
+    g2 = (na * d2 + dn * b2) * iq
+    h1, h2, B11, B12, B21, B22 = _g_jac(b1, b2, a1, a2, na)
+    P1 = -mu * (p * g1)                      # as returned (_smith_3d_core)
+    P2 = -mu * (p * g2)
+    F0 = -sub_dot3(c, Wnn, W01, W02, p, P1, P2)
+    r1 = sub_dot3(s1, W01, T11, T12, p, P1, P2) + e1
+    r2 = sub_dot3(s2, W02, T12, T22, p, P1, P2) + e2
+    size = (c + abs(s1) + abs(s2) + (Wnn + abs(W01) + abs(W02)) * p
+            + (abs(W01) + abs(W02) + abs(T11) + 2.0 * abs(T12) + abs(T22))
+            * (abs(P1) + abs(P2)))
+    return g1, g2, B11, B12, B21, B22, F0, r1, r2, size
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _polish_step(F0, r1, r2, K11, K12, K21, K22, n1, n2, den, z1, z2):
+    """Newton correction (dP_N, dd) of ``_caller_polish_3d`` for residuals (F0, r), with the
+    Jacobian factors K, n = K^-1 N and den = sch + z.n of the point it was formed at."""
+    u1, u2 = _lin2(K11, K12, K21, K22, r1, r2)
+    dp = ((z1 * u1 + z2 * u2) - (F0 + (z1 * r1 + z2 * r2))) / den
+    return dp, n1 * dp - u1, n2 * dp - u2
+
+
+@njit(cache=True, error_model="numpy")
+def _caller_polish_3d(p, b1, b2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu, sch, z1,
+                      z2):
+    """Newton on the Smith equations in the unknowns (P_N, d), d = a + b (b = v_fT), in the
+    caller's frame (W scaled by a power of two only, hence exact), from the solver's root
+    (P_N, b) = (p, b1, b2).
+
+    For roots next to the pole of P_N (D = W_NN - mu w.g << W_NN) or an ill-conditioned W,
+    where the solver's root, in the rotated frame (W off by eps |W|: P by eps cond(W)) with
+    P_N = c / D(g) (D cancels: eps W_NN / D relative), is off by far more than round-off.
+    The unknowns are well scaled there (d rather than b keeps g, hence P_T, relatively
+    accurate near stick), and the equations linear in P_N: P = (P_N, -mu P_N g) with
+    ``F0 = W_N.P - c = 0``, ``r = (b - a) - W_T P = 0`` evaluated exactly
+    (``_caller_eval_3d``). The step uses the normal equation in its stick-slope form
+    ``F0 + z.r = P_N sch + z.(b - a) - c`` (``sch = W_NN - w.z``, ``z = W_TT^-1 w``, from the
+    caller; no cancelling D in the Jacobian): with ``K = I + mu P_N T B`` (B = dg/db),
+    ``dP_N = (z.K^-1 r - F0 - z.r) / (sch + z.K^-1 N)``, ``dd = K^-1 (N dP_N - r)``,
+    ``N = W_T P / P_N`` (``_polish_step``). ``p <= 0``: start from ``P_N = (c - z.(b - a)) /
+    sch`` (= [W^-1 (v_f - v)]_N).
+
+    Damping by Deuflhard's natural monotonicity test (the residuals' scales differ by the
+    huge mu P_N |T| |B| next to the pole and for large mu, so a residual-norm merit rejects
+    good steps): a step t is accepted when the simplified correction at the trial point,
+    with the same Jacobian, is below (1 - t/4) times the full correction, measured relative
+    to P_N and |d|. Stops after a correction below TOL_ROOT (then applied) or, if the
+    damping stalls, at residuals below POLE_ACCEPT times their terms. Returns
+    (ok, P_N, g1, g2)."""
+    if not (p > 0.0):
+        p = (c - (z1 * (b1 - a1) + z2 * (b2 - a2))) / sch
+        if not (p > 0.0 and p < math.inf):
+            return False, 0.0, 0.0, 0.0
+    d1 = a1 + b1
+    d2 = a2 + b2
+    g1, g2, B11, B12, B21, B22, F0, r1, r2, size = _caller_eval_3d(
+        p, d1, d2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu)
+    for it in range(MAXIT_POLE):
+        k = mu * p
+        K11 = 1.0 + k * (T11 * B11 + T12 * B21)
+        K12 = k * (T11 * B12 + T12 * B22)
+        K21 = k * (T12 * B11 + T22 * B21)
+        K22 = 1.0 + k * (T12 * B12 + T22 * B22)
+        ip = 1.0 / p
+        n1, n2 = _lin2(K11, K12, K21, K22, (d1 - 2.0 * a1 - r1) * ip,
+                       (d2 - 2.0 * a2 - r2) * ip)
+        den = sch + (z1 * n1 + z2 * n2)
+        dp, s1, s2 = _polish_step(F0, r1, r2, K11, K12, K21, K22, n1, n2, den, z1, z2)
+        # correction size relative to P_N and |d| (|d| floored at eps |a|: d = 0 is stick)
+        isd = 1.0 / max(d1 * d1 + d2 * d2, 4.9e-32 * na * na)
+        nu = (dp * ip) ** 2 + (s1 * s1 + s2 * s2) * isd
+        if not (nu < math.inf):
+            break
+        if nu <= TOL_ROOT * TOL_ROOT:
+            g1, g2, B11, B12, B21, B22, F0, r1, r2, size = _caller_eval_3d(
+                p + dp, d1 + s1, d2 + s2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu)
+            return p + dp > 0.0, p + dp, g1, g2
+        t = 1.0
+        accepted = False
+        for ls in range(MAX_LINESEARCH):
+            pn = p + t * dp
+            if pn > 0.0:
+                m1 = d1 + t * s1
+                m2 = d2 + t * s2
+                h1, h2, C11, C12, C21, C22, G0, q1, q2, sn = _caller_eval_3d(
+                    pn, m1, m2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu)
+                ep, e1, e2 = _polish_step(G0, q1, q2, K11, K12, K21, K22, n1, n2, den, z1,
+                                          z2)
+                if (ep * ip) ** 2 + (e1 * e1 + e2 * e2) * isd <= (1.0 - 0.25 * t) ** 2 * nu:
+                    accepted = True
+                    break
+            t *= 0.5
+        if not accepted:
+            break
+        p, d1, d2 = pn, m1, m2
+        g1, g2, B11, B12, B21, B22, F0, r1, r2, size = (h1, h2, C11, C12, C21, C22, G0, q1,
+                                                        q2, sn)
+    if F0 * F0 + r1 * r1 + r2 * r2 <= (POLE_ACCEPT * size) ** 2:
+        return True, p, g1, g2
+    return False, 0.0, 0.0, 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _stick_impulse_3d(h1, h2, a1, a2, na, c, Wnn, W01, W02, T11, T12, T22, mu):
+    """Impulse of a near-stick root whose slip b = -a + d cannot be resolved by a float g at
+    the scale of |a| (tiny initial slip): from the linearized root h (``_stick_start_3d``),
+    ``d = 2 |a| (I - u u^T / 2) h`` (u = a/|a|) and ``P = W^-1 (c, b - a)`` by
+    ``common.spd3_solve`` (forward accurate up to cond(W) ~1e14). The alternative
+    ``P_N = c / D(h)``, ``P_T = -mu P_N h`` fixes P only to the accuracy of h in D and in the
+    direction of P_T: next to the pole that cost P a relative 4e-11 and the energy check
+    (an elastic impact, which conserves energy at stick). Returns (ok, P_N, P_T1, P_T2); ok
+    requires P inside the friction cone."""
+    u1 = a1 / na
+    u2 = a2 / na
+    hu = 0.5 * (u1 * h1 + u2 * h2)
+    d1 = 2.0 * na * (h1 - hu * u1)
+    d2 = 2.0 * na * (h2 - hu * u2)
+    ok, PN, P1, P2 = spd3_solve(Wnn, W01, W02, T11, T12, T22, c, d1 - 2.0 * a1,
+                                d2 - 2.0 * a2)
+    ok = ok and PN > 0.0 and PN < math.inf and math.hypot(P1, P2) <= mu * PN
+    return ok, PN, P1, P2
 
 
 @njit(cache=True, inline="always", error_model="numpy")

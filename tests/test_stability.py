@@ -20,7 +20,6 @@ LABELS = [lab for lab, _, _ in S.LAW_VARIANTS]
 #: (kind, law/scene, case, dim) of quick-matrix cells that FAIL because of a kernel weakness
 #: reported to the owners (reproducers in the xfail tests below). Any other FAIL is new.
 KNOWN_FAILING = {
-    ("law", "smith", "random", 3),                        # roots next to the pole of P_N
     ("stepper", "routh-energetic", "box_lands_flat_sequential", 2),   # 2D has no pivot contact
 }
 
@@ -121,15 +120,10 @@ _NOSHRINK = dict(_SET, phases=(Phase.explicit, Phase.generate))
 
 #: (law variant, dim) -> reason, for the properties a kernel weakness breaks
 XFAIL_MODERATE = {}
-XFAIL_STIFF = {
-    ("smith", 3): "roots next to the pole of P_N with an ill-conditioned W_TT (cond(W) "
-                  "above ~1e8) keep residual or energy errors ~eps W_NN/D, e.g. residual "
-                  "1.5e-9 in resolve('smith', [-3.604e-10, 0.0, -1.0], [[0.1354, -0.1879, "
-                  "-0.2011], [-0.1879, 0.3906, 0.4502], [-0.2011, 0.4502, 0.5242]], e=1, mu=1)",
-}
-# The stiff-regime cells above fail or pass depending on the examples drawn near the
-# boundary of the weakness (the kernels' results change bit-wise with compilation flags),
-# so they are recorded as known failures without requiring them to fail.
+XFAIL_STIFF = {}
+# (none at present.) A stiff-regime cell listed there fails or passes depending on the
+# examples drawn near the boundary of the weakness (the kernels' results change bit-wise
+# with compilation flags), so it is recorded as a known failure without requiring it to fail.
 STIFF_STRICT = False
 
 
