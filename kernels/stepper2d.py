@@ -24,8 +24,12 @@ Scene arrays (constant during a run)
 Dynamic state (kept between calls)
 ----------------------------------
 ``st`` float64[nb, 9] state rows at ``tref`` (see ``flight2d``); ``pm`` int64[nb, 4]
-persistent contact (mode ``PM_*``, plane, face vertex 0, face vertex 1); ``tz``/``zp``
-pending accumulation (Zeno) point and its plane; ``ttr`` next persistent-mode transition;
+persistent contact (mode ``PM_*``, plane, face vertex 0, face vertex 1; ``PM_PIVOT``:
+mode, plane, held vertex, contact status ``0`` sticking / ``+-1`` sliding along ``+-t``;
+in flight ``pm[i, 3] == REL_TANGENT`` marks a body just released tangentially from vertex
+``pm[i, 2]`` on plane ``pm[i, 1]``, see ``_released_toi``); ``tz``/``zp`` pending
+accumulation (Zeno) point and its plane (``PM_PIVOT``: ``zp`` holds the pivot event due at
+``ttr``, ``pivot2d.PE_* + 8 index``); ``ttr`` next persistent-mode transition;
 ``bp_t``/``bp_off`` next impact time of each body-plane pair / pair disabled after a
 perforating impact; ``pr_t``/``pr_off`` the same for disk pairs; ``glob[0]`` the current
 time; ``cnt`` = (events logged, segments logged, consecutive events at one instant).
@@ -35,7 +39,9 @@ Output buffers
 Events: ``ev_t`` (s), ``ev_i`` (kind ``EV_*``, a, b, mode, cluster size) and ``ev_f``
 (point xy, normal xy, v_i (N, T), v_f (N, T), P (N, T), dE). ``b`` is a body index or
 ``-1 - plane`` for a plane. Segments: ``seg_t``, ``seg_b``, ``seg_s``: body ``seg_b`` moves
-from ``seg_t`` with state row ``seg_s`` (exact piecewise-quadratic trajectories).
+from ``seg_t`` with state row ``seg_s`` (exact piecewise-quadratic trajectories; an
+integrated pivot phase is recorded as the velocity-interpolating pieces of ``pivot2d``,
+within its stated energy and position tolerances of the integrated motion).
 
 Accumulation (Zeno)
 -------------------
@@ -52,6 +58,27 @@ dips below the plane; ``st`` keeps the free-flight row, so that the "contact" ev
 reports the accumulated impulse ``m v (1 + e) / (1 - e)`` and the energy removed. An
 impact of another contact before ``t_inf`` cancels the jump: the body continues from its
 held state (the unfinished normal energy, below the threshold, is dropped).
+
+Integrated pivot contact (``PM_PIVOT``, ``kernels/pivot2d.py``)
+--------------------------------------------------------------
+When, after the impacts of an instant, a vertex of a polygon (or a rod end) touches a
+plane pushing the body with a normal speed ``v_N`` such that ``v_N^2 < 2 |g''| rest_length``
+(or ``zeno_speed^2``) while its free-flight gap accelerates into the plane (``g'' < 0``),
+and the body is not accumulating onto a face, its impacts would accumulate at that corner
+while the body turns about it. Instead, its tiny normal velocity is removed by a normal
+impulse (and, when its slip is below the accumulation speed too and ``mu > 0``, its slip by
+an impulse ``W P = -v``: both never add energy, ``dE = -v . W^-1 v / 2``), and the body moves
+with that vertex held on the plane, sticking or sliding under Coulomb friction (event
+"pivot", mode 2 sticking, 1 sliding; ``ERR_PAINLEVE`` when sliding has no solution). The
+motion is integrated (``pivot2d``) in passes of at most ``PIECE_BUDGET`` recorded pieces
+until: the normal force vanishes (event "release": free flight; the flight search of the
+released vertex starts past its third-order tangency, ``_released_toi``); the sticking
+force reaches the friction cone ("slide", slip opposite to it, when consistent); the slip
+vanishes ("stick" after a slip-removing impulse of the integration's round-off, or "slide"
+the other way); another vertex reaches a plane: an impact, resolved by the pair law with
+the held vertex in its cluster (it is resolved too if the impact drives it into the plane),
+after which the rules above apply again (a face landing below the accumulation energy
+settles onto the face as before).
 """
 import math
 
@@ -75,7 +102,11 @@ from . import evbuf
 from .common import P_E, P_MU
 from .dispatch import resolve_2d
 from .flight2d import fly_into, fly_row
-from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED,
+from .pivot2d import (CP_D, CP_GN, CP_GT, CP_I, CP_L, CP_M, CP_MU, CP_NX, CP_NY, CP_PX,
+                      CP_PY, CP_RAD, CP_SIG, N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
+                      PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_YA,
+                      pivot_advance, pivot_forces, pivot_reduce)
+from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
                     disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
 
 INF = math.inf
@@ -90,6 +121,8 @@ PM_FLIGHT = 0
 PM_SLIDE = 1
 PM_ROLL = 2
 PM_REST = 3
+PM_PIVOT = 4         # integrated one-vertex contact (kernels/pivot2d.py)
+REL_TANGENT = -2     # pm[i, 3] of a body just released tangentially (see _released_toi)
 
 # event kinds (ev_i[:, 0]); a persistent mode m is logged as kind m + 1
 EV_IMPACT = 0
@@ -98,7 +131,9 @@ EV_SLIDE = 2
 EV_ROLL = 3
 EV_REST = 4
 EV_RELEASE = 5
-EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release")
+EV_PIVOT = 6
+EV_STICK = 7
+EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "pivot", "stick")
 
 # policies
 POL_SIMULTANEOUS = 0
@@ -140,12 +175,16 @@ ERR_ELLIPSE_SLIDE = -9
 ERR_STALL = -10
 ERR_TOO_MANY = -11
 ERR_JOINT_E = -12
+ERR_PAINLEVE = -13   # a held vertex would slide with no solution (Painleve), see pivot2d
+ERR_PIVOT_STEPS = -14  # the pivot integrator exceeded its step limit
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
 #: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
 #: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
 #: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
 SNAP_RTOL = 1e-12
+# the pivot integrator's scratch is the joint solve's workspace Wb (2 MAXC x 2 MAXC)
+assert (2 * MAXC) ** 2 >= N_W
 N_CF = 13            # columns of the contact workspace c_f
 N_CI = 6             # columns of the contact workspace c_i
 
@@ -163,12 +202,13 @@ CF_VIN, CF_VIT, CF_PN, CF_PT, CF_VCMN = 8, 9, 10, 11, 12
 
 def event_margin(toli, nb):
     """Free event rows the loop needs before it handles one more instant (evbuf)."""
-    return int(evbuf.event_margin.py_func(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
+    return int(evbuf.event_margin_py(int(toli[TI_SEQ_MAXSTEPS]), MAXC, nb))
 
 
 def segment_margin(nb):
-    """Free segment rows the loop needs before it handles one more instant (evbuf)."""
-    return int(evbuf.segment_margin.py_func(MAXC, nb))
+    """Free segment rows the loop needs before it handles one more instant (evbuf), plus
+    the pieces of one integrated pivot pass (``pivot2d.PIECE_BUDGET``)."""
+    return int(evbuf.segment_margin_py(MAXC, nb)) + PIECE_BUDGET
 
 
 # ------------------------------------------------------------------ small helpers
@@ -424,6 +464,12 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
     ea = bflt[i, 3]
     eb = bflt[i, 4]
     row = st[i]
+    if pm[i, 0] == PM_PIVOT:
+        # integrated contact: its impacts are events of the integration (ttr)
+        for p in range(planes.shape[0]):
+            bp_t[i, p] = INF
+        return 0
+    rel = pm[i, 0] == PM_FLIGHT and pm[i, 3] == REL_TANGENT
     if tz[i] < INF:
         _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
         row = tmp[0]
@@ -437,10 +483,14 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
         d = planes[p, 2]
         best = INF
         for k in range(nv):
-            s, code = plane_feature_toi(kind, row, verts[v0 + k, 0], verts[v0 + k, 1], rad,
-                                        ea, eb, nx, ny, d, t_now, S, tolf[TF_TOI_RTOL],
-                                        tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
-                                        toli[TI_TOI_MAXIT])
+            if rel and p == pm[i, 1] and k == pm[i, 2]:
+                s, code = _released_toi(row, verts[v0 + k, 0], verts[v0 + k, 1], rad, nx,
+                                        ny, d, t_now, S, tolf, toli, tmp[1])
+            else:
+                s, code = plane_feature_toi(kind, row, verts[v0 + k, 0], verts[v0 + k, 1],
+                                            rad, ea, eb, nx, ny, d, t_now, S,
+                                            tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                                            tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
             if code == TOI_MISSED:
                 _set_err(err, t_now, i, -1 - p, st[i, 0], st[i, 1], k, 0.0, 0.0)
                 return ERR_MISSED
@@ -450,7 +500,41 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
             if s < best:
                 best = s
         bp_t[i, p] = t_now + best
+    if rel:
+        pm[i, 3] = -1
     return 0
+
+
+@njit(cache=True, _nrt=False)
+def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
+    """Next impact (s after t0, code) of the vertex p (radius rad) of a body released from
+    the plane (n, d) at t0 with its normal force vanishing: its free-flight gap starts at a
+    third-order tangency, ``g(0) = g'(0) = g''(0) = 0`` (to round-off), where conservative
+    advancement cannot leave zero. In flight ``g(s) = n.x(s) - d - rad + rho(s)`` with
+    ``n.x`` exactly quadratic and ``rho(s) = n . R(angle0 + w s) p``, so
+    ``g(s) >= g3 s^3 / 6 - M4 s^4 / 24`` (``g3 = -w^3 n.J R p``, ``M4 = w^4 |p|``) up to the
+    round-off terms: the gap is positive on ``(0, s0]``, ``s0 = 2 g3 / M4`` (there the bound
+    is ``g3 s0^3 / 12 > 0``), and the search starts at ``s0``. When ``g3 <= 0`` (no
+    separation at third order) the ordinary search runs from 0."""
+    c = math.cos(row[2])
+    sn = math.sin(row[2])
+    rx = c * px - sn * py
+    ry = sn * px + c * py
+    w = row[5]
+    g3 = -w * w * w * (ny * rx - nx * ry)
+    M4 = w * w * w * w * math.hypot(px, py)
+    s0 = 0.0
+    src = row
+    if g3 > 0.0 and M4 > 0.0:
+        s0 = 2.0 * g3 / M4
+        if s0 >= S:
+            return INF, TOI_OK
+        fly_into(row, s0, tmp)
+        src = tmp
+    s, code = plane_feature_toi(FEAT_VERTEX, src, px, py, rad, 0.0, 0.0, nx, ny, d, t0 + s0,
+                                S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    return s0 + s, code
 
 
 @njit(cache=True, _nrt=False)
@@ -852,6 +936,240 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
     return 0
 
 
+# ------------------------------------------------------------------ integrated pivot contact
+
+
+@njit(cache=True, _nrt=False)
+def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
+    """Contact parameters (``pivot2d.CP_*``) of body i held by vertex pm[i, 2] on plane
+    pm[i, 1] with contact status pm[i, 3], into w."""
+    p = pm[i, 1]
+    v0 = bint[i, 1]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    rad = bflt[i, 2]
+    w[CP_M] = bflt[i, 0]
+    w[CP_I] = bflt[i, 1]
+    w[CP_GN] = nx * grav[0] + ny * grav[1]
+    w[CP_GT] = ny * grav[0] - nx * grav[1]
+    w[CP_NX] = nx
+    w[CP_NY] = ny
+    w[CP_D] = planes[p, 2]
+    w[CP_RAD] = rad
+    w[CP_PX] = verts[v0 + pm[i, 2], 0]
+    w[CP_PY] = verts[v0 + pm[i, 2], 1]
+    w[CP_MU] = law_par[bp_law[i, p], P_MU]
+    w[CP_SIG] = float(pm[i, 3])
+    L = 0.0
+    for k in range(bint[i, 2]):
+        L = max(L, math.hypot(verts[v0 + k, 0], verts[v0 + k, 1]))
+    w[CP_L] = L + rad
+
+
+@njit(cache=True, _nrt=False)
+def _pv_state(i, st, w):
+    """Contact force and accelerations of body i (held, parameters in w) at its state:
+    (code, lam (N), f (N), slip acceleration (m/s^2))."""
+    y = w[W_YA:W_YA + 4]
+    pivot_reduce(w, st[i], y)
+    code, lam, f, ud, wd = pivot_forces(w, y[0], y[1], y[2], y[3])
+    return code, lam, f, ud + wd * w[CP_RAD]
+
+
+@njit(cache=True, _nrt=False)
+def _pv_contact(i, st, bint, bflt, verts, planes, pm):
+    """Held contact of body i: (px, py, rx, ry, v_N, v_T) at its current state."""
+    p = pm[i, 1]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, 1] + pm[i, 2], nx, ny)
+    ux, uy = _point_vel(st, i, rx, ry)
+    return px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
+
+
+@njit(cache=True, _nrt=False)
+def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
+    """Impulse at the contact arm r (normal n) removing the contact velocity (vN, vT)
+    (``W P = -v``; ``with_t`` False: only vN, ``P_N = -vN / W_NN``). Never adds energy:
+    ``dE = -v . W^-1 v / 2``. Returns (P_N, P_T)."""
+    wnn, wnt, wtt = _w_body(bflt[i, 0], bflt[i, 1], rx, ry, nx, ny)
+    if with_t:
+        det = wnn * wtt - wnt * wnt
+        PN = -(wtt * vN - wnt * vT) / det
+        PT = -(wnn * vT - wnt * vN) / det
+    else:
+        PN = -vN / wnn
+        PT = 0.0
+    jx = PN * nx + PT * ny
+    jy = PN * ny - PT * nx
+    st[i, 3] += jx / bflt[i, 0]
+    st[i, 4] += jy / bflt[i, 0]
+    st[i, 5] += (rx * jy - ry * jx) / bflt[i, 1]
+    return PN, PT
+
+
+@njit(cache=True, _nrt=False)
+def _pv_choose(i, st, w, pm):
+    """Stick or slide for a held contact of body i with no slip (pm[i, 3] == 0 on entry):
+    stick when the sticking force is in the friction cone with lam >= 0, else slide
+    opposite to it when that slip grows (consistent). Returns 0 (pm[i, 3] set), 1 (no
+    consistent contact: lam < 0) or ERR_PAINLEVE."""
+    if w[CP_MU] == 0.0:
+        # frictionless: the slip direction does not enter the forces
+        pm[i, 3] = 1
+        w[CP_SIG] = 1.0
+        code, lam, f, aT = _pv_state(i, st, w)
+        if code != PV_OK:
+            return ERR_PAINLEVE
+        return 1 if lam < 0.0 else 0
+    w[CP_SIG] = 0.0
+    code, lam, f, aT = _pv_state(i, st, w)
+    if lam >= 0.0 and abs(f) <= w[CP_MU] * lam:
+        pm[i, 3] = 0
+        return 0
+    sig = -1.0 if f > 0.0 else 1.0
+    w[CP_SIG] = sig
+    code, lam2, f2, aT2 = _pv_state(i, st, w)
+    if code != PV_OK:
+        return ERR_PAINLEVE
+    if lam2 < 0.0 or sig * aT2 < 0.0:
+        return 1
+    pm[i, 3] = int(sig)
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
+                 zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
+    """Body i (in flight at t) keeps vertex k (body-relative) on plane p: remove its tiny
+    normal velocity (and a slip below the accumulation speed) by impulses, choose stick or
+    slide, and schedule an integration pass at t (event "pivot"). Returns 0, 1 (no
+    persistent contact is consistent) or an error code."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    gn = nx * grav[0] + ny * grav[1]
+    if not gn < 0.0:
+        return 1
+    pm[i, 0] = PM_PIVOT
+    pm[i, 1] = p
+    pm[i, 2] = k
+    pm[i, 3] = 0
+    e0 = _energy(st, bflt, grav, i)
+    px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+    _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+    mu = w[CP_MU]
+    vz = math.sqrt(_vz2(tolf, -gn))
+    if mu > 0.0 and abs(viT) <= vz:
+        PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, True)
+        rc = _pv_choose(i, st, w, pm)
+    else:
+        PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, False)
+        px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+        pm[i, 3] = 1 if vT >= 0.0 else -1
+        if vT == 0.0:
+            rc = _pv_choose(i, st, w, pm)
+        else:
+            w[CP_SIG] = float(pm[i, 3])
+            code, lam, f, aT = _pv_state(i, st, w)
+            rc = ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
+    if rc != 0:
+        pm[i, 0] = PM_FLIGHT
+        if rc == ERR_PAINLEVE:
+            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], mu, viT, 0.0)
+        return rc
+    tz[i] = INF
+    ttr[i] = t
+    zp[i] = PE_NONE
+    px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, 2 if pm[i, 3] == 0 else 1, 0, px, py,
+         nx, ny, viN, viT, vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
+                pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err):
+    """One integration pass of body i held from t (``pivot2d.pivot_advance``): records its
+    pieces, leaves st[i] at the pass end and schedules the next pass or event there."""
+    _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+    S = tolf[TF_T_END] - t
+    p = pm[i, 1]
+    s, kind, idx, code = pivot_advance(w, st[i], verts, bint[i, 1], bint[i, 2], planes,
+                                       bp_off[i], p, pm[i, 2], t, S, tolf[TF_TOI_RTOL],
+                                       tolf[TF_TOI_ATOL], seg_t, seg_b, seg_s, cnt, i)
+    if code != PI_OK:
+        _set_err(err, t + s, i, -1 - p, st[i, 0], st[i, 1], w[CP_MU], float(code),
+                 float(pm[i, 3]))
+        return ERR_PIVOT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
+    tref[i] = t + s
+    zp[i] = kind + 8 * idx
+    ttr[i] = INF if (kind == PE_NONE and s >= S) else t + s
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
+                 bp_t, pm, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
+                 err):
+    """The event due at t of body i in integrated pivot contact (st[i] is its state at t),
+    then the next pass. Returns (rc, action): action 0 a pass ran (its pieces are
+    recorded), 1 the body was released to flight (log its segment, recompute), 2 an impact
+    at t is pending (bp_t, left to the impact step)."""
+    code = zp[i]
+    kind = code % 8
+    idx = code // 8
+    ttr[i] = INF
+    p = pm[i, 1]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    if kind == PE_GAP:
+        bp_t[i, idx // bint[i, 2]] = t
+        return 0, 2
+    _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+    px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+    if kind == PE_LIFT:
+        pm[i, 0] = PM_FLIGHT
+        pm[i, 3] = REL_TANGENT
+        st[i, 6] = grav[0]
+        st[i, 7] = grav[1]
+        st[i, 8] = 0.0
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, px, py, nx, ny, viN, viT,
+             viN, viT, 0.0, 0.0, 0.0)
+        return 0, 1
+    if kind == PE_SLIP:
+        # the sticking force reached its cone: slip opposite to it, if that slip grows
+        old = pm[i, 3]
+        rc = _pv_choose(i, st, w, pm)
+        if rc == ERR_PAINLEVE:
+            _set_err(err, t, i, -1 - p, px, py, w[CP_MU], viT, 0.0)
+            return rc, 0
+        if rc == 1:
+            pm[i, 3] = old      # lam < 0 either way: the lift-off event follows
+        if pm[i, 3] != old:
+            _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - p, 1, 0, px, py, nx, ny, viN,
+                 viT, viN, viT, 0.0, 0.0, 0.0)
+    elif kind == PE_STOP:
+        # the slip vanished: remove its round-off (and any normal velocity), then stick or
+        # slide the other way
+        e0 = _energy(st, bflt, grav, i)
+        PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, True)
+        old = pm[i, 3]
+        pm[i, 3] = 0
+        rc = _pv_choose(i, st, w, pm)
+        if rc == ERR_PAINLEVE:
+            _set_err(err, t, i, -1 - p, px, py, w[CP_MU], viT, 0.0)
+            return rc, 0
+        if rc == 1:
+            pm[i, 3] = old
+        px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK if pm[i, 3] == 0 else EV_SLIDE, i, -1 - p,
+             2 if pm[i, 3] == 0 else 1, 0, px, py, nx, ny, viN, viT, vfN, vfT, PN, PT,
+             _energy(st, bflt, grav, i) - e0)
+    rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
+                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
+    return rc, 0
+
+
 # ------------------------------------------------------------------ impact resolution
 
 
@@ -930,6 +1248,14 @@ def _jblock(c, d, bflt, c_i, c_f):
     return w00, w01, w10, w11
 
 
+#: joint solve: with redundant frictional contacts (a rod lying on both ends: their
+#: tangential impulses act along one line) the sweeps can cycle instead of converging; after
+#: simul_max_iter sweeps the solve is accepted if the last sweep changed no contact velocity
+#: by more than SIMUL_ACCEPT_RTOL times the largest pre-impact contact speed (as stepper3d),
+#: else the run fails (ERR_PGS). A rod rocking to rest cycled at 1.3e-12 of it.
+SIMUL_ACCEPT_RTOL = 1e-9
+
+
 @njit((_I1, _i, _f, _A2, _A2, _A2, _I2, _A2, _A2, _A1, _A1, _A1, _A1, _I1, _A1, _I2, _A2, _I1,
        _A1), cache=True, _nrt=False)
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, toli, ev_t,
@@ -991,7 +1317,7 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, tol
         if dmax <= tol:
             converged = True
             break
-    if not converged:
+    if not converged and not dmax <= SIMUL_ACCEPT_RTOL * vmax:
         c = members[0]
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], K,
                  dmax, 0.0)
@@ -1094,11 +1420,12 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz, zp, bp_t,
-            pr_t, c_i, c_f, bmark, err):
+def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli, tz,
+            zp, bp_t, pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
-    simul_gap), bring their bodies to t and build their contact frames. Returns the number
-    of contacts or an error code."""
+    simul_gap; and the held vertex of a body in pivot contact), bring their bodies to t and
+    build their contact frames; a body in pivot contact is in flight from t. Returns the
+    number of contacts or an error code."""
     nb = st.shape[0]
     npl = planes.shape[0]
     npr = pairs.shape[0]
@@ -1106,15 +1433,23 @@ def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, t
     tw = t + tolf[TF_SIMUL_TIME]
     nc = 0
     for i in range(nb):
+        piv = False
+        if pm[i, 0] == PM_PIVOT:
+            for p in range(npl):
+                if bp_t[i, p] <= tw:
+                    piv = True
         for p in range(npl):
-            if bp_t[i, p] > tw:
+            held = piv and p == pm[i, 1]
+            if bp_t[i, p] > tw and not held:
                 continue
             bmark[i] = 1
             kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
             v0 = bint[i, 1]
             nv = bint[i, 2]
             for k in range(nv):
-                if nv > 1:
+                if held and k == pm[i, 2]:
+                    pass    # the held vertex is in the cluster (at gap 0)
+                elif nv > 1:
                     s, code = plane_feature_toi(
                         kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, 2],
                         bflt[i, 3], bflt[i, 4], planes[p, 0], planes[p, 1], planes[p, 2],
@@ -1137,6 +1472,13 @@ def _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, t
                 c_i[nc, CI_LAW] = bp_law[i, p]
                 c_i[nc, CI_OFF] = 0
                 nc += 1
+        if piv:
+            # the integrated contact ends with the impact: in flight at t (after the
+            # impacts, _after_impacts decides what persists)
+            pm[i, 0] = PM_FLIGHT
+            st[i, 6] = grav[0]
+            st[i, 7] = grav[1]
+            st[i, 8] = 0.0
     for q in range(npr):
         if pr_t[q] > tw:
             continue
@@ -1257,9 +1599,10 @@ def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, 
 @njit(cache=True, _nrt=False)
 def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pairs,
                    pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f,
-                   seg_t, seg_b, seg_s, cnt, tmp, err):
+                   seg_t, seg_b, seg_s, cnt, tmp, w, err):
     """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
-    contacts, schedule accumulation points, detect single-point chatter, log segments."""
+    contacts, schedule accumulation points, hold a vertex whose impacts accumulate
+    (integrated pivot contact; other single-point chatter is an error), log segments."""
     nb = st.shape[0]
     npr = pairs.shape[0]
     # perforating impacts disable their pair for good
@@ -1317,6 +1660,10 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
             settled = True
             break
         if not settled:
+            # impacts accumulating at one point: a polygon (or rod) vertex on a plane is
+            # held there (integrated pivot contact); the most strongly pushed one if several
+            hold = -1
+            amin = 0.0
             for c in range(nc):
                 if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
                     continue
@@ -1324,16 +1671,34 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                     continue
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
-                if vN >= 0.0 and acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                    _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
-                             c_f[c, CF_PY], vN, acc, 0.0)
+                if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+                    if c_i[c, CI_TYPE] != 0 or bint[i, 0] != SH_POLY:
+                        _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
+                                 c_f[c, CF_PY], vN, acc, 0.0)
+                        return ERR_CHATTER
+                    if acc < amin:
+                        amin = acc
+                        hold = c
+            if hold >= 0:
+                c = hold
+                rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, 1], t, st, bint,
+                                  bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+                                  ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                if rc == 1:
+                    vN, vT = _contact_velocity(st, c_i, c_f, c)
+                    _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN,
+                             amin, 0.0)
                     return ERR_CHATTER
+                if rc < 0:
+                    return rc
     for i in range(nb):
         if bmark[i] == 0:
             continue
         if not _finite(st, i):
             _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
+        if pm[i, 0] == PM_PIVOT:
+            continue    # its first pass (at t) records its motion
         if tz[i] < INF:
             # accumulation jump pending: the trajectory holds the body on the plane
             _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
@@ -1356,7 +1721,10 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
     t_end = tolf[TF_T_END]
     max_events = toli[TI_MAX_EVENTS]
     margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
-    margin_s = evbuf.segment_margin(MAXC, nb)
+    margin_s = evbuf.segment_margin(MAXC, nb) + PIECE_BUDGET
+    # the pivot integrator's scratch: the joint solve's workspace (never in use during a
+    # pivot pass, which runs among the scheduled switches, before any impact of an instant)
+    w = Wb.reshape(Wb.size)
     cap_e = ev_t.shape[0]
     cap_s = seg_t.shape[0]
     # the candidates of the bodies marked at an instant are recomputed at the top of the
@@ -1417,9 +1785,27 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
         for i in range(nb):
             bmark[i] = 0
 
-        # ---- scheduled switches: accumulation points and the end of slip
+        # ---- scheduled switches: accumulation points, the end of slip, pivot passes (at
+        # most one per pass of this loop: its pieces fit the segment margin)
         did = False
         for i in range(nb):
+            if ttr[i] <= t and pm[i, 0] == PM_PIVOT:
+                rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav,
+                                       law_par, bp_law, bp_off, bp_t, pm, zp, ttr, tolf, w,
+                                       ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+                if rc < 0:
+                    return rc
+                if not _finite(st, i):
+                    _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+                    return ERR_NONFINITE
+                if act == 2:
+                    continue    # an impact at t: the impact step below
+                did = True
+                if act == 1:
+                    bmark[i] = 1
+                    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+                    continue
+                break
             if tz[i] <= t:
                 p = zp[i]
                 tz[i] = INF
@@ -1446,8 +1832,8 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             pend = True
             continue
 
-        nc = _gather(t, st, tref, bint, bflt, verts, planes, bp_law, pairs, tolf, toli, tz,
-                     zp, bp_t, pr_t, c_i, c_f, bmark, err)
+        nc = _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf,
+                     toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
         if nc < 0:
             return nc
         rc = _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2,
@@ -1456,7 +1842,7 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             return rc
         rc = _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark,
-                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, err)
+                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err)
         if rc < 0:
             return rc
         pend = True

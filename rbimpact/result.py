@@ -11,7 +11,11 @@ kind       "impact": a collision resolved by a law (or by the joint solve of the
            at rest on a plane, and the body is now in persistent contact with it;
            "slide", "roll", "rest": a persistent contact changes mode (slip starts or
            reverses, slip stops and a disk rolls, slip stops and the body rests);
-           "release": a body in persistent contact received an impulse that lifts it off
+           "release": a body in persistent contact received an impulse that lifts it off,
+           or a held vertex's normal force fell to zero; "pivot": impacts accumulated at
+           a vertex of a box or a rod, which is now held on the plane (integrated contact,
+           ``kernels/pivot2d.py``; mode 2 sticking, 1 sliding); "stick": the held vertex's
+           slip stopped and it sticks
 a, b       body index of A; B's body index, or ``-1 - plane index`` for a plane
 point      contact point (m); for persistent-contact events, the centre of mass projected
            on the plane
@@ -28,7 +32,11 @@ cluster    number of contacts resolved together at that instant (1: a single con
 =========  ==================================================================================
 
 Trajectories are stored as segments of exact constant-acceleration motion, so
-``sample(times)`` is exact (to round-off) at any time in ``[t_start, t_end]``.
+``sample(times)`` is exact (to round-off) at any time in ``[t_start, t_end]``, except
+while a vertex is held on a plane ("pivot" to the next event): that motion has no closed
+form, and it is recorded as short constant-acceleration pieces within stated tolerances of
+the integrated solution (``pivot2d.PIECE_ETOL`` 1e-10 m V^2 in energy, ``PIECE_LTOL``
+1e-10 L in position, ``PIECE_VTOL`` 1e-9 V in velocity).
 """
 
 import numpy as np

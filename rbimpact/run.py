@@ -14,6 +14,9 @@ import numpy as np
 #: an impact "creates energy" when dE > ENERGY_GAIN_RTOL * sum |P| (|v_i| + |v_f|) / 2 (J),
 #: the scale of the dot product that defines dE (its round-off is about 1e-16 of it).
 ENERGY_GAIN_RTOL = 1e-12
+#: ... and dE > ENERGY_GAIN_EFLOOR * (|E(0)| + |E(t_end)|) (J): below that a gain is round-off
+#: of the scene's energy (e.g. 1e-45 J from contact velocities of 1e-31 m/s at rest)
+ENERGY_GAIN_EFLOOR = 1e-15
 #: a first (cold) run longer than this (s) is not repeated to time a warm run.
 REPEAT_LIMIT = 10.0
 
@@ -146,7 +149,7 @@ def _summary(name, sc, result, t_end, warm, cold, out, plot, failed=False):
     e0, e1 = (float(x) for x in np.asarray(result.energy(np.array([0.0, t_stop]))).ravel())
 
     impacts = events[np.array([k == "impact" for k in kinds], dtype=bool)]
-    gains = impacts["dE"][_energy_gain(impacts)]
+    gains = impacts["dE"][_energy_gain(impacts, abs(e0) + abs(e1))]
     may = sc.law.may_create_energy
     if gains.size:
         created = (f"energy created: {gains.sum():.6g} J in {gains.size} impact(s), largest "
@@ -193,11 +196,14 @@ def _summary(name, sc, result, t_end, warm, cold, out, plot, failed=False):
     return "\n".join(lines)
 
 
-def _energy_gain(impacts):
+def _energy_gain(impacts, e_scale):
     """Impacts whose dE exceeds round-off: dE > ENERGY_GAIN_RTOL * sum |P| (|v_i| + |v_f|)/2
-    (the scale of the dot product defining dE, J); boolean array."""
+    (the scale of the dot product defining dE, J) and dE > ENERGY_GAIN_EFLOOR * e_scale
+    (J; the scene's energy: contact velocities that cancel to ~0 carry the round-off of the
+    body velocities, not their own); boolean array."""
     if len(impacts) == 0:
         return np.zeros(0, dtype=bool)
     scale = 0.5 * np.sum(np.abs(impacts["P"]) * (np.abs(impacts["v_i"])
                                                  + np.abs(impacts["v_f"])), axis=-1)
-    return impacts["dE"] > ENERGY_GAIN_RTOL * scale
+    return (impacts["dE"] > ENERGY_GAIN_RTOL * scale) & (
+        impacts["dE"] > ENERGY_GAIN_EFLOOR * e_scale)

@@ -79,10 +79,12 @@ What the stepper does
   when its normal (and, not for a disk, rotational) kinetic energy stays below
   ``m zeno_speed^2 / 2`` (that motion is removed), else it is released ("release") and an
   approach into the plane is then resolved as an impact at the same instant.
-  Impacts accumulating at a *single point* of a non-disk body (a rod or box pivoting on
-  a corner, e.g. after a plastic impact) need a persistent one-point contact with no
-  closed form: the run stops with ``SimulationError`` (normal speed after impact below
-  ``sqrt(2 |g''| rest_length)`` while the gap is accelerating into the plane).
+  Impacts accumulating at a *single point* (normal speed after impact below
+  ``sqrt(2 |g''| rest_length)`` while the gap is accelerating into the plane): at a vertex
+  of a box or a rod the body is then held on it ("pivot") and its motion, which has no
+  closed form, is integrated with Coulomb friction (stick, slide, lift-off, landing of
+  another vertex; ``kernels/pivot2d.py``); on a disk or an ellipse (rolling) the run stops
+  with ``SimulationError``.
 * **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
   below ``-gap_tol``), a time-of-impact search that does not converge, or ``stall_events``
   consecutive events at one instant raise ``SimulationError`` / ``NoSolutionError``; the
@@ -124,7 +126,9 @@ TOLERANCES = {
     "simul_gap": (1e-12, "m", "a corner of a body already in an impact at that instant whose "
                   "gap is below this and closing joins the same cluster"),
     "simul_tol": (1e-14, "-", "joint solve: stop when a sweep changes no contact velocity "
-                  "by more than this times the largest pre-impact contact speed"),
+                  "by more than this times the largest pre-impact contact speed (sweeps "
+                  "that cycle are accepted after simul_max_iter below 1e-9 of it, "
+                  "stepper2d.SIMUL_ACCEPT_RTOL)"),
     "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
@@ -418,9 +422,18 @@ class Simulation:
             exc = SimulationError(
                 f"impacts accumulate at a single contact point of {body} on {self._where(b)} "
                 f"{at}, {pt}: normal speed after the impact {err[5]:.3g} m/s while the gap "
-                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would pivot or "
-                f"roll on that point in persistent contact, which has no closed form and is "
-                f"not supported by the event-driven stepper")
+                f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would roll on "
+                f"that point in persistent contact: integrated at a vertex of a box or a rod "
+                f"(pivot), not supported for a disk or an ellipse")
+        elif rc == k.ERR_PAINLEVE:
+            exc = SimulationError(
+                f"Painleve: {body} held on a vertex on {self._where(b)} {at} (centre of mass "
+                f"({err[3]:.9g}, {err[4]:.9g})) has no consistent contact force with friction "
+                f"mu = {err[5]:g}: sliding needs W_NN - mu s W_NT > 0")
+        elif rc == k.ERR_PIVOT_STEPS:
+            exc = SimulationError(
+                f"{body} held on a vertex on {self._where(b)}: the pivot integrator reached "
+                f"its step limit {at} (centre of mass ({err[3]:.9g}, {err[4]:.9g}))")
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[6])} resolutions {at}")

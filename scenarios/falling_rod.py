@@ -12,9 +12,8 @@ floor. Each impact on one end throws the other end down: the rod clatters on alt
 ends, many times. The lower end's impact couples normal and tangential
 impulses (W_NT != 0), which is where the laws differ (and where Kane & Levinson may create
 energy). Reference (omega = 0): the exact time of the first impact.
-The event-driven stepper has no persistent one-point (pivoting) contact:
-run much longer than the default end time and the impacts accumulate at one point, which
-ends the run with SimulationError; the default end time stays inside the bouncing phase."""
+Run longer and the impacts accumulate at one end: the rod then pivots (or slides) on it
+in integrated persistent contact, slams down on the other end, and comes to rest."""
 
 
 @register("falling_rod", laws=ALL_LAWS,

@@ -10,10 +10,9 @@ that corner, which rotates it onto the other corner, and so on: it rocks from co
 corner (Housner's rocking block, resolved here as a sequence of corner impacts, with
 restitution high enough that each corner leaves the floor again). With `angle` below
 atan(width/height) it does not topple. Reference (omega = 0): the first impact time.
-The event-driven stepper has no persistent one-corner (pivoting) contact, which is how a
-rocking block with a plastic corner impact really moves: run much longer than the default
-end time and the impacts accumulate at one corner, which ends the run with
-SimulationError; the default end time stays inside the bouncing phase for every law."""
+Run longer and the impacts accumulate at one corner: the block then pivots on it (an
+integrated persistent contact, as a rocking block with plastic corner impacts really
+moves), lands on the other corner, and comes to rest on its base."""
 
 
 @register("rocking_block", laws=ALL_LAWS,

@@ -1,7 +1,7 @@
 """Stability suite (issue 6): the quick matrix, hypothesis properties of every law over
-many orders of magnitude, and one reproducer per weakness found (xfail strict: they start
-passing, and must be unmarked, when the owning kernel is fixed). Tolerances are the named
-constants of ``rbimpact.stability``."""
+many orders of magnitude, and one reproducer per weakness found (a regression test now
+that its kernel is fixed; a new weakness is added as a strict xfail until it is).
+Tolerances are the named constants of ``rbimpact.stability``."""
 import math
 
 import numpy as np
@@ -17,13 +17,6 @@ LABELS = [lab for lab, _, _ in S.LAW_VARIANTS]
 # ============================================================================================
 # the quick matrix
 # ============================================================================================
-#: (kind, law/scene, case, dim) of quick-matrix cells that FAIL because of a kernel weakness
-#: reported to the owners (reproducers in the xfail tests below). Any other FAIL is new.
-KNOWN_FAILING = {
-    ("stepper", "routh-energetic", "box_lands_flat_sequential", 2),   # 2D has no pivot contact
-}
-
-
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
     path = tmp_path_factory.mktemp("stab") / "quick.csv"
@@ -45,12 +38,13 @@ def test_quick_report_shape(quick):
         assert sum(1 for _ in f) == len(rows)
 
 
-def test_quick_no_unknown_failures(quick):
-    """Every FAIL of the quick matrix is a known, reported kernel weakness."""
-    _, rows, _, _ = quick
-    new = [(r.kind, r.name, r.case, r.dim, r.note, r.repro) for r in rows
-           if r.status == "FAIL" and (r.kind, r.name, r.case, r.dim) not in KNOWN_FAILING]
-    assert not new, new
+def test_quick_matrix_has_no_failure(quick):
+    """Every cell of the quick matrix is OK or a documented error (each weakness found was
+    fixed in its kernel; the reproducers are the regression tests below)."""
+    _, rows, ok, _ = quick
+    failed = [(r.kind, r.name, r.case, r.dim, r.note, r.repro) for r in rows
+              if r.status == "FAIL"]
+    assert ok and not failed, failed
 
 
 def test_quick_documented_errors(quick):
@@ -60,13 +54,6 @@ def test_quick_documented_errors(quick):
     for kind in ("routh-energetic", "routh-newton"):
         r = cell[(kind, "painleve", 3)]
         assert r.status == "DOC-ERR" and "mode -1" in r.note
-
-
-@pytest.mark.xfail(strict=True, reason="kernel weaknesses in KNOWN_FAILING (reproducers: "
-                   "the xfail tests below)")
-def test_quick_subset_passes(quick):
-    _, rows, ok, _ = quick
-    assert ok and not [r for r in rows if r.status == "FAIL"]
 
 
 # ============================================================================================
@@ -156,7 +143,7 @@ def test_law_properties_stiff(label, dim, data):
 
 
 # ============================================================================================
-# reproducers of the weaknesses found (xfail strict until the owner fixes the kernel)
+# reproducers of the weaknesses found (regression tests: each was fixed in its kernel)
 # ============================================================================================
 W_THIN_ROD = [[50000001.00000001, -50000000.0], [-50000000.0, 50000000.999999985]]
 
@@ -306,13 +293,10 @@ def _scene(case, dim):
     return next(c for c in S.stepper_cases(quick=True) if c.case == case and c.dim == dim)
 
 
-@pytest.mark.xfail(strict=True, reason="stepper 2D: sequential flat landing of a 0.2 x 0.1 "
-                   "box (routh e=0.5 mu=0.3) ends in the documented SimulationError 'impacts "
-                   "accumulate at a single contact point': the box pivots down on one corner "
-                   "and the 2D stepper has no integrated pivot contact (3D has pivot3d). No "
-                   "energy is created (the snap onto the short side that created +0.039 J is "
-                   "fixed)")
 def test_stepper_flat_box_sequential_2d():
+    """Regression: a 0.2 x 0.1 box (routh e=0.5 mu=0.3) landing flat corner after corner
+    pivots down on one corner; it ended in the documented 'impacts accumulate at a single
+    contact point' before 2D had an integrated pivot contact (kernels/pivot2d.py)."""
     row = S.run_scene(_scene("box_lands_flat_sequential", 2), quick=True)
     assert row.status == "OK", row.note
 

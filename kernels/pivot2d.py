@@ -1,0 +1,601 @@
+"""Persistent one-corner contact in 2D: a body pivoting on one of its vertices on a plane,
+sticking or sliding with Coulomb friction, integrated with error control and event
+location (the 2D counterpart of ``pivot3d``; used by ``stepper2d``'s ``PM_PIVOT``).
+
+Model (Newton-Euler with one unilateral contact and Coulomb friction; e.g. Pfeiffer &
+Glocker, *Multibody Dynamics with Unilateral Contacts*, 1996, ch. 6). Plane ``n . q >= d``
+with tangent ``t = (n_y, -n_x)`` (DESIGN §3); body of mass ``m`` and inertia ``I`` with a
+vertex ``p`` (body frame) carrying a radius ``rad`` (0 for a polygon corner, the capsule
+radius for a rod end) held on the plane. With ``r = R(angle) p``, ``xi = t . r``,
+``eta = n . r``, ``eta_c = eta - rad`` (normal offset of the contact point) and the contact
+force ``lam n + f t`` at the contact point, ``m a = m g + lam n + f t`` and
+``I dw/dt = xi lam - eta_c f`` (Euler). The vertex centre stays at height ``d + rad``:
+
+* reduced coordinates ``y = (u, angle, du/dt, w)``, ``u = t . (x + r)``; the centre of mass
+  is ``x = u t + (d + rad) n - r`` and ``v = (du/dt) t - w J r`` (``J`` the quarter turn), so
+  the contact constraint holds exactly along the integrated solution (no drift). The slip
+  velocity of the contact point is ``v_T = du/dt + w rad``.
+* **sticking** (``v_T = 0``): ``dw/dt (I + m (xi^2 + eta_c^2)) = m (w^2 xi rad - xi g_n +
+  eta_c g_t)``, ``lam = m (w^2 eta - g_n - xi dw/dt)``, ``f = m (eta_c dw/dt + w^2 xi - g_t)``,
+  ``d2u/dt2 = -rad dw/dt`` (for ``rad = 0``: the rigid pendulum about the corner);
+* **sliding** along ``sig t`` (``sig = +-1``): ``f = -mu sig lam``, ``kap = xi + mu sig eta_c``,
+  ``D = I + m xi kap``, ``lam = m I (w^2 eta - g_n) / D``, ``dw/dt = kap lam / I``,
+  ``d2u/dt2 = g_t + f/m - eta dw/dt - w^2 xi``. ``D / (m I) = W_NN - mu sig W_NT``: ``D <= 0``
+  is the Painleve paradox (no solution in this model): ``PV_PAINLEVE``.
+
+The normal force does no work (``v_N = 0``) and the friction force works ``f v_T <= 0``:
+the motion never creates energy. Frictionless sliding (``mu = 0``) conserves energy and the
+horizontal momentum on a level plane.
+
+Events (functions that must stay positive; the phase ends at the first root, located on
+the dense output): ``lam`` reaching 0 (lift-off); a sticking force reaching its friction
+cone ``mu lam - |f| = 0`` (slip starts); the slip ``sig v_T`` of a sliding contact reaching
+0 (it sticks or reverses; not for ``mu = 0``); the gap of any other vertex to any plane
+(and of the held vertex to the other planes) reaching 0 (an impact). A function starting
+below its arm (``FORCE_ARM m |g|``, ``SLIP_ARM V``, ``GAP_ARM L``) fires below
+``min(0, start) - arm`` instead. Each step also samples the events where ``w`` changes
+sign (a swing turning back), so a corner that swings onto the plane and back within one
+step is seen; otherwise two roots of one function inside one step are not (steps rotate
+the body by at most ``MAX_ANGLE``: a stated limitation, as in ``pivot3d``).
+
+Integration: Dormand-Prince RK5(4) (``dopri5``) on ``y`` with its 4th-order dense output,
+component scales ``(L, 1, V, V/L)`` (``L`` the body's size, ``V = |v| + |w| L + sqrt(|g| L)``
+at the start of the pass) and error tolerance ``PIVOT_TOL``.
+
+Trajectory output: the segment rows of ``stepper2d`` are exact constant-acceleration
+motions (``flight2d.sample_segments``), so an integrated phase is recorded as consecutive
+*velocity-interpolating* quadratic pieces: each piece starts at the integrated state and
+has the constant accelerations ``(v(s + h) - v(s)) / h``, ``(w(s + h) - w(s)) / h`` that make
+its velocities agree with the integrated ones at both ends. The piece length ``h`` is
+chosen so that, against the integrated solution, the piece's energy deviates by at most
+``PIECE_ETOL m V^2``, its points (centre of mass and every point of the body within
+``L``) by at most ``PIECE_LTOL L`` and their velocities by at most ``PIECE_VTOL V``; so the
+sampled trajectory never creates energy nor penetrates beyond those bounds (leading
+errors: energy and velocity ``O(h^2)``, position ``O(h^3)``).
+"""
+import math
+
+from numba import njit
+
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
+from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
+                     reject_factor, solution, step_factor)
+
+# ---- workspace w (float64[N_W], flat): contact parameters, integrator, scratch ----------
+CP_M = 0        # mass (kg)
+CP_I = 1        # moment of inertia about the centre of mass (kg m^2)
+CP_GN = 2       # gravity along n (m/s^2; < 0: it pushes the body onto the plane)
+CP_GT = 3       # gravity along t (m/s^2)
+CP_NX = 4       # plane normal n
+CP_NY = 5
+CP_D = 6        # plane offset d (m)
+CP_RAD = 7      # vertex radius (m)
+CP_PX = 8       # body-frame vertex p (m)
+CP_PY = 9
+CP_MU = 10      # friction coefficient
+CP_SIG = 11     # 0: sticking; +1 / -1: sliding along +t / -t
+CP_L = 12       # body size L (m): largest |p_k| + rad
+CP_V = 13       # velocity scale V (m/s)
+N_CP = 16
+W_TOL = 16      # integrator: tolerance, step, next step, largest step, step start (s)
+W_H = 17
+W_HNEXT = 18
+W_HMAX = 19
+W_S0 = 20
+W_SC = 24       # 24:28 error scales of (u, angle, du/dt, w)
+W_Y = 28        # step start
+W_YT = 32       # stage argument
+W_Y1 = 36       # step end
+W_K = 40        # 40:68 seven stages
+W_RC = 68       # 68:88 dense output
+W_YA = 88       # scratch states (4 each)
+W_YB = 92
+W_ROW = 96      # 96:105 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
+W_ROWB = 105    # 105:114 a second one
+N_W = 116
+NY = 4
+
+# ---- tolerances (named, dimensionless unless stated) -------------------------------------
+PIVOT_TOL = 1e-12   # RK error tolerance per step, relative to the scales (L, 1, V, V/L)
+MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
+PIECE_ETOL = 1e-10  # energy deviation of a recorded piece, relative to m V^2
+PIECE_LTOL = 1e-10  # point deviation of a recorded piece, relative to L
+PIECE_VTOL = 1e-9   # point velocity deviation of a recorded piece, relative to V
+PIECE_BUDGET = 512  # recorded pieces per call of pivot_advance at most (buffer margin)
+FORCE_ARM = 1e-9    # force events starting below FORCE_ARM m |g| are armed (see above)
+SLIP_ARM = 1e-12    # slip event armed below SLIP_ARM V
+GAP_ARM = 1e-12     # gap events armed below GAP_ARM L
+EVENT_ITER = 200    # secant/bisection iterations locating an event on the dense output
+MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (PI_TOO_MANY_STEPS)
+PIECE_ITER = 60     # shrinks of one piece at most (then it is accepted as is)
+
+# force codes
+PV_OK = 0
+PV_PAINLEVE = 1     # sliding with D = I + m xi kap <= 0
+
+# integrator codes
+PI_OK = 0
+PI_TOO_MANY_STEPS = 1
+PI_FORCES = 2       # Painleve during the integration
+
+# event kinds (returned by pivot_advance)
+PE_NONE = 0         # the call ended (piece budget or end of window) without an event
+PE_LIFT = 1         # lam reaches 0
+PE_SLIP = 2         # a sticking force reaches the friction cone
+PE_STOP = 3         # a sliding contact's slip reaches 0
+PE_GAP = 4          # another vertex reaches a plane (index: plane * nv + vertex)
+
+
+# ------------------------------------------------------------------ state and forces
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _arm(w, th):
+    """r = R(th) p (m) and its components xi = t . r, eta = n . r."""
+    c = math.cos(th)
+    s = math.sin(th)
+    px = w[CP_PX]
+    py = w[CP_PY]
+    rx = c * px - s * py
+    ry = s * px + c * py
+    nx = w[CP_NX]
+    ny = w[CP_NY]
+    return rx, ry, ny * rx - nx * ry, nx * rx + ny * ry
+
+
+@njit(cache=True, _nrt=False)
+def pivot_forces(w, y0, y1, y2, y3):
+    """Contact force and accelerations at the reduced state (u, angle, du/dt, w).
+    Returns (code, lam (N), f (N), d2u/dt2 (m/s^2), dw/dt (rad/s^2)); see the module
+    docstring for the equations."""
+    m = w[CP_M]
+    inertia = w[CP_I]
+    gn = w[CP_GN]
+    gt = w[CP_GT]
+    rad = w[CP_RAD]
+    sig = w[CP_SIG]
+    rx, ry, xi, eta = _arm(w, y1)
+    etac = eta - rad
+    om2 = y3 * y3
+    if sig == 0.0:
+        wd = m * (om2 * xi * rad - xi * gn + etac * gt) / (inertia + m * (xi * xi + etac * etac))
+        lam = m * (om2 * eta - gn - xi * wd)
+        f = m * (etac * wd + om2 * xi - gt)
+        return PV_OK, lam, f, -rad * wd, wd
+    mu = w[CP_MU]
+    kap = xi + mu * sig * etac
+    D = inertia + m * xi * kap
+    if not D > 0.0:
+        return PV_PAINLEVE, 0.0, 0.0, 0.0, 0.0
+    lam = m * inertia * (om2 * eta - gn) / D
+    wd = kap * lam / inertia
+    f = -mu * sig * lam
+    return PV_OK, lam, f, gt + f / m - eta * wd - om2 * xi, wd
+
+
+@njit(cache=True, _nrt=False)
+def pivot_row(w, y0, y1, y2, y3, row):
+    """Full state row ``(x, y, angle, vx, vy, w, ax, ay, alpha)`` of the reduced state into
+    ``row`` (the accelerations are the contact motion's own). Returns the force code."""
+    nx = w[CP_NX]
+    ny = w[CP_NY]
+    tx = ny
+    ty = -nx
+    rx, ry, xi, eta = _arm(w, y1)
+    h = w[CP_D] + w[CP_RAD]
+    row[0] = y0 * tx + h * nx - rx
+    row[1] = y0 * ty + h * ny - ry
+    row[2] = y1
+    row[3] = y2 * tx + y3 * ry
+    row[4] = y2 * ty - y3 * rx
+    row[5] = y3
+    code, lam, f, ud, wd = pivot_forces(w, y0, y1, y2, y3)
+    om2 = y3 * y3
+    row[6] = ud * tx + wd * ry + om2 * rx
+    row[7] = ud * ty - wd * rx + om2 * ry
+    row[8] = wd
+    return code
+
+
+@njit(cache=True, _nrt=False)
+def pivot_reduce(w, row, out):
+    """Reduced state (u, angle, du/dt, w) of a full state row (vertex on the plane)."""
+    nx = w[CP_NX]
+    ny = w[CP_NY]
+    rx, ry, xi, eta = _arm(w, row[2])
+    out[0] = ny * (row[0] + rx) - nx * (row[1] + ry)
+    out[1] = row[2]
+    out[2] = ny * (row[3] - row[5] * ry) - nx * (row[4] + row[5] * rx)
+    out[3] = row[5]
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _energy_row(w, row):
+    """Kinetic plus gravitational energy (J) of a state row."""
+    m = w[CP_M]
+    nx = w[CP_NX]
+    ny = w[CP_NY]
+    gx = w[CP_GN] * nx + w[CP_GT] * ny
+    gy = w[CP_GN] * ny - w[CP_GT] * nx
+    return (0.5 * m * (row[3] * row[3] + row[4] * row[4]) + 0.5 * w[CP_I] * row[5] * row[5]
+            - m * (gx * row[0] + gy * row[1]))
+
+
+@njit(cache=True, _nrt=False)
+def slip_velocity(w, row):
+    """Slip velocity v_T (m/s) of the held contact point of a state row."""
+    rx, ry, xi, eta = _arm(w, row[2])
+    rad = w[CP_RAD]
+    cx = rx - rad * w[CP_NX]
+    cy = ry - rad * w[CP_NY]
+    return w[CP_NY] * (row[3] - row[5] * cy) - w[CP_NX] * (row[4] + row[5] * cx)
+
+
+# ------------------------------------------------------------------ integrator
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _rhs(w, yo, ko):
+    """dy/ds at w[yo:yo+4] into w[ko:ko+4]; returns the force code."""
+    code, lam, f, ud, wd = pivot_forces(w, w[yo], w[yo + 1], w[yo + 2], w[yo + 3])
+    w[ko] = w[yo + 2]
+    w[ko + 1] = w[yo + 3]
+    w[ko + 2] = ud
+    w[ko + 3] = wd
+    return code
+
+
+@njit(cache=True, _nrt=False)
+def _step(w, h):
+    """One error-controlled step from w[W_Y] with first trial h (stage 1 already at
+    w[W_K]). Returns (code, number of attempts); the accepted step is w[W_H]."""
+    tol = w[W_TOL]
+    att = 0
+    while True:
+        att += 1
+        if att > 1000 or not h > 0.0:
+            return PI_TOO_MANY_STEPS, att
+        arg2(w, NY, W_Y, W_K, W_YT, h)
+        if _rhs(w, W_YT, W_K + 4) != PV_OK:
+            return PI_FORCES, att
+        arg3(w, NY, W_Y, W_K, W_YT, h)
+        if _rhs(w, W_YT, W_K + 8) != PV_OK:
+            return PI_FORCES, att
+        arg4(w, NY, W_Y, W_K, W_YT, h)
+        if _rhs(w, W_YT, W_K + 12) != PV_OK:
+            return PI_FORCES, att
+        arg5(w, NY, W_Y, W_K, W_YT, h)
+        if _rhs(w, W_YT, W_K + 16) != PV_OK:
+            return PI_FORCES, att
+        arg6(w, NY, W_Y, W_K, W_YT, h)
+        if _rhs(w, W_YT, W_K + 20) != PV_OK:
+            return PI_FORCES, att
+        solution(w, NY, W_Y, W_K, W_Y1, h)
+        if _rhs(w, W_Y1, W_K + 24) != PV_OK:
+            return PI_FORCES, att
+        err = 0.0
+        for j in range(NY):
+            r = abs(error_estimate(w, NY, W_K, h, j)) / (tol * w[W_SC + j])
+            if r > err:
+                err = r
+        if err <= 1.0:
+            dense_store(w, NY, W_Y, W_Y1, W_K, W_RC, h)
+            w[W_H] = h
+            w[W_HNEXT] = h * step_factor(err)
+            return PI_OK, att
+        h = h * reject_factor(err)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _dense(w, s, yo):
+    """Dense output at s (within the current step) into w[yo:yo+4]."""
+    th = (s - w[W_S0]) / w[W_H]
+    for j in range(NY):
+        w[yo + j] = dense_eval(w, NY, W_RC, th, j)
+
+
+# ------------------------------------------------------------------ events
+
+
+@njit(cache=True, _nrt=False)
+def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
+    """Value of event function e at the reduced state w[yo:yo+4]: e = 0 lam (N), e = 1 the
+    stick margin mu lam - |f| (N) or the slip sig v_T (m/s; inf for mu = 0), e >= 2 the
+    gap (m) of vertex (e - 2) % nv to plane (e - 2) // nv (inf for the held vertex on its
+    plane)."""
+    y0 = w[yo]
+    y1 = w[yo + 1]
+    y2 = w[yo + 2]
+    y3 = w[yo + 3]
+    if e < 2:
+        code, lam, f, ud, wd = pivot_forces(w, y0, y1, y2, y3)
+        if e == 0:
+            return lam
+        if w[CP_SIG] == 0.0:
+            return w[CP_MU] * lam - abs(f)
+        if w[CP_MU] == 0.0:
+            return math.inf
+        return w[CP_SIG] * (y2 + y3 * w[CP_RAD])
+    q = (e - 2) // nv
+    k = (e - 2) % nv
+    if q == p0 and k == k0:
+        return math.inf
+    nx = w[CP_NX]
+    ny = w[CP_NY]
+    rx, ry, xi, eta = _arm(w, y1)
+    h = w[CP_D] + w[CP_RAD]
+    x = y0 * ny + h * nx - rx
+    yy = -y0 * nx + h * ny - ry
+    c = math.cos(y1)
+    s = math.sin(y1)
+    px = verts[v0 + k, 0]
+    py = verts[v0 + k, 1]
+    return (planes[q, 0] * (x + c * px - s * py) + planes[q, 1] * (yy + s * px + c * py)
+            - planes[q, 2] - w[CP_RAD])
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _floor(w, e, v):
+    """Firing level of event e for a step starting at value v (see the module docstring)."""
+    if e == 0:
+        arm = FORCE_ARM * w[CP_M] * math.hypot(w[CP_GN], w[CP_GT])
+    elif e == 1:
+        if w[CP_SIG] == 0.0:
+            arm = FORCE_ARM * w[CP_M] * math.hypot(w[CP_GN], w[CP_GT])
+        else:
+            arm = SLIP_ARM * w[CP_V]
+    else:
+        arm = GAP_ARM * w[CP_L]
+    if v > arm:
+        return 0.0
+    return min(0.0, v) - arm
+
+
+@njit(cache=True, _nrt=False)
+def _locate(w, e, fl, sa, sb, verts, v0, nv, planes, p0, k0, t0, rtol, atol):
+    """First root of event e (minus its floor fl) in (sa, sb] on the dense output, with
+    value > 0 at sa and <= 0 at sb. Returns the time on the <= 0 side for a force or slip
+    event (the new mode is consistent there), on the > 0 side for a gap (as the flight
+    search: the impact is taken with the vertex not yet through the plane)."""
+    w0 = W_YA
+    _dense(w, sa, w0)
+    fa = _event(w, w0, e, verts, v0, nv, planes, p0, k0) - fl
+    _dense(w, sb, w0)
+    fb = _event(w, w0, e, verts, v0, nv, planes, p0, k0) - fl
+    for it in range(EVENT_ITER):
+        if sb - sa <= atol + rtol * abs(t0 + sb):
+            break
+        sm = sb - fb * (sb - sa) / (fb - fa) if fb != fa else 0.5 * (sa + sb)
+        if not (sa < sm < sb) or it % 3 == 2:
+            sm = 0.5 * (sa + sb)
+        _dense(w, sm, w0)
+        fm = _event(w, w0, e, verts, v0, nv, planes, p0, k0) - fl
+        if fm > 0.0:
+            sa = sm
+            fa = fm
+        else:
+            sb = sm
+            fb = fm
+    return sa if e >= 2 else sb
+
+
+@njit(cache=True, _nrt=False)
+def _first_event(w, sa, sb, ne, verts, v0, nv, planes, off, p0, k0, t0, rtol, atol):
+    """Earliest event in the step part (sa, sb]: samples at sb and, when w changes sign,
+    at the turning point. Returns (s, e) with e = -1 when none fires."""
+    best = math.inf
+    be = -1
+    # sample points: the turning point of the swing (if any) and the end
+    _dense(w, sa, W_YA)
+    wa = w[W_YA + 3]
+    _dense(w, sb, W_YA)
+    wb = w[W_YA + 3]
+    sm = sb
+    if wa * wb < 0.0:
+        lo = sa
+        hi = sb
+        for it in range(EVENT_ITER):
+            if hi - lo <= atol + rtol * abs(t0 + hi):
+                break
+            mid = 0.5 * (lo + hi)
+            _dense(w, mid, W_YA)
+            if (w[W_YA + 3] > 0.0) == (wa > 0.0):
+                lo = mid
+            else:
+                hi = mid
+        sm = hi
+    for e in range(ne):
+        if e >= 2 and off[(e - 2) // nv] != 0:
+            continue
+        _dense(w, sa, W_YB)
+        v = _event(w, W_YB, e, verts, v0, nv, planes, p0, k0)
+        if v == math.inf:
+            continue
+        fl = _floor(w, e, v)
+        for smp in range(2):
+            sx = sm if smp == 0 else sb
+            if smp == 0 and sm == sb:
+                continue
+            _dense(w, sx, W_YB)
+            if _event(w, W_YB, e, verts, v0, nv, planes, p0, k0) - fl <= 0.0:
+                r = _locate(w, e, fl, sa, sx, verts, v0, nv, planes, p0, k0, t0, rtol, atol)
+                if r < best:
+                    best = r
+                    be = e
+                break
+    return best, be
+
+
+# ------------------------------------------------------------------ recorded pieces
+
+
+@njit(cache=True, _nrt=False)
+def _piece_dev(w, sa, h):
+    """Deviation of the velocity-interpolating piece from the integrated solution over
+    [sa, sa + h]: (energy deviation / (PIECE_ETOL m V^2), max(point deviation /
+    (PIECE_LTOL L), point velocity deviation / (PIECE_VTOL V))), the larger of the values
+    at h/2 and h. The piece row (start state and accelerations) is left in w[W_ROW]."""
+    row = w[W_ROW:W_ROW + 9]
+    rb = w[W_ROWB:W_ROWB + 9]
+    _dense(w, sa, W_YA)
+    pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
+    _dense(w, sa + h, W_YA)
+    pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], rb)
+    for j in range(3):
+        row[6 + j] = (rb[3 + j] - row[3 + j]) / h
+    L = w[CP_L]
+    etol = PIECE_ETOL * w[CP_M] * w[CP_V] * w[CP_V]
+    ltol = PIECE_LTOL * L
+    vtol = PIECE_VTOL * w[CP_V]
+    de = 0.0
+    dp = 0.0
+    for smp in range(2):
+        # the end (rb already holds the integrated state there), then the midpoint
+        s = h if smp == 0 else 0.5 * h
+        if smp == 1:
+            _dense(w, sa + s, W_YA)
+            pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], rb)
+        hh = 0.5 * s * s
+        x = row[0] + row[3] * s + row[6] * hh
+        yy = row[1] + row[4] * s + row[7] * hh
+        th = row[2] + row[5] * s + row[8] * hh
+        vx = row[3] + row[6] * s
+        vy = row[4] + row[7] * s
+        om = row[5] + row[8] * s
+        m = w[CP_M]
+        nx = w[CP_NX]
+        ny = w[CP_NY]
+        gx = w[CP_GN] * nx + w[CP_GT] * ny
+        gy = w[CP_GN] * ny - w[CP_GT] * nx
+        ep = (0.5 * m * (vx * vx + vy * vy) + 0.5 * w[CP_I] * om * om
+              - m * (gx * x + gy * yy))
+        de = max(de, abs(ep - _energy_row(w, rb)) / etol)
+        dp = max(dp, (math.hypot(x - rb[0], yy - rb[1]) + L * abs(th - rb[2])) / ltol,
+                 (math.hypot(vx - rb[3], vy - rb[4]) + L * abs(om - rb[5])) / vtol)
+    return de, dp
+
+
+@njit(cache=True, _nrt=False)
+def _emit(w, sa, sb, hp, budget, t0, seg_t, seg_b, seg_s, cnt, ib):
+    """Record [sa, sb] (within the current step) as pieces; at most ``budget`` rows.
+    Returns (s reached, next piece length guess, rows written)."""
+    s = sa
+    n = 0
+    while s < sb and n < budget:
+        h = min(hp, sb - s)
+        last = h == sb - s
+        for it in range(PIECE_ITER):
+            de, dp = _piece_dev(w, s, h)
+            r = max(de, dp)
+            if r <= 1.0:
+                break
+            # energy deviation ~ h^2, point deviation ~ h^3
+            h = h * max(0.1, 0.8 / math.sqrt(r))
+            last = False
+        k = cnt[1]
+        seg_t[k] = t0 + s
+        seg_b[k] = ib
+        for j in range(9):
+            seg_s[k, j] = w[W_ROW + j]
+        cnt[1] = k + 1
+        n += 1
+        if r < 0.25:
+            hp = h * min(2.0, 0.9 / math.sqrt(max(r, 1e-6)))
+        else:
+            hp = h
+        s = sb if last else s + h
+    return s, hp, n
+
+
+# ------------------------------------------------------------------ one call
+
+
+@njit(cache=True, _nrt=False)
+def pivot_advance(w, row, verts, v0, nv, planes, off, p0, k0, t0, S, rtol, atol, seg_t,
+                  seg_b, seg_s, cnt, ib):
+    """Integrate the held contact (parameters in ``w[:N_CP]``) from the state ``row``
+    (float64[9], at ``t0``; its vertex ``k0`` on plane ``p0``) until the first event, the
+    end of the window ``S`` (s) or ``PIECE_BUDGET`` recorded pieces, whichever comes
+    first, recording the motion from ``t0`` as segment rows of body ``ib``. ``off[q]``: plane
+    q disabled. On return ``row`` holds the state at ``t0 + s``. Returns
+    ``(s, kind, index, code)``: kind ``PE_*`` (index: the plane * nv + vertex of a gap),
+    code ``PI_*``."""
+    L = w[CP_L]
+    gl = math.hypot(w[CP_GN], w[CP_GT])
+    vv = math.hypot(row[3], row[4])
+    V = vv + abs(row[5]) * L + math.sqrt(gl * L)
+    w[CP_V] = V
+    w[W_TOL] = PIVOT_TOL
+    w[W_SC] = L
+    w[W_SC + 1] = 1.0
+    w[W_SC + 2] = V
+    w[W_SC + 3] = V / L
+    hmax = MAX_ANGLE * L / V
+    w[W_HMAX] = hmax
+    h = min(hmax, hmax * PIVOT_TOL ** 0.2 * 10.0)
+    pivot_reduce(w, row, w[W_Y:W_Y + NY])
+    w[W_S0] = 0.0
+    ne = 2 + planes.shape[0] * nv
+    if _rhs(w, W_Y, W_K) != PV_OK:
+        return 0.0, PE_NONE, 0, PI_FORCES
+    hp = math.inf
+    rows = 0
+    att = 0
+    while True:
+        # cap the rotation of the step at MAX_ANGLE at its starting angular speed
+        om = abs(w[W_Y + 3])
+        hcap = hmax
+        if om * hcap > MAX_ANGLE:
+            hcap = MAX_ANGLE / om
+        h = min(h, hcap, S - w[W_S0])
+        if not h > 0.0:
+            h = S - w[W_S0]
+        code, a = _step(w, h)
+        att += a
+        if code != PI_OK:
+            return w[W_S0], PE_NONE, 0, code
+        if att > MAX_ATTEMPTS:
+            return w[W_S0], PE_NONE, 0, PI_TOO_MANY_STEPS
+        s0 = w[W_S0]
+        s1 = s0 + w[W_H]
+        if s1 > S:
+            s1 = S
+        se, e = _first_event(w, s0, s1, ne, verts, v0, nv, planes, off, p0, k0, t0, rtol,
+                             atol)
+        send = se if e >= 0 else s1
+        if hp == math.inf:
+            hp = w[W_H]
+        sr, hp, n = _emit(w, s0, send, hp, PIECE_BUDGET - rows, t0, seg_t, seg_b, seg_s,
+                          cnt, ib)
+        rows += n
+        if sr < send:
+            # piece budget used up inside the step: end the call there (the next call
+            # restarts the integration from this state)
+            _dense(w, sr, W_YA)
+            pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
+            return sr, PE_NONE, 0, PI_OK
+        if e >= 0 or send >= S:
+            _dense(w, send, W_YA)
+            pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
+            if e < 0:
+                return send, PE_NONE, 0, PI_OK
+            if e == 0:
+                return send, PE_LIFT, 0, PI_OK
+            if e == 1:
+                return send, (PE_SLIP if w[CP_SIG] == 0.0 else PE_STOP), 0, PI_OK
+            return send, PE_GAP, e - 2, PI_OK
+        if rows >= PIECE_BUDGET:
+            for j in range(NY):
+                w[W_YA + j] = w[W_Y1 + j]
+            pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
+            return s1, PE_NONE, 0, PI_OK
+        # next step: from the step end (FSAL: its derivative is stage 7)
+        for j in range(NY):
+            w[W_Y + j] = w[W_Y1 + j]
+            w[W_K + j] = w[W_K + 24 + j]
+        w[W_S0] = s1
+        h = w[W_HNEXT]
