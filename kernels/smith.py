@@ -57,28 +57,36 @@ Algorithms and special cases (iteration counts are typical; limits are named bel
   on ``p``. Two roots closer than ``SCAN_RATIO`` in ``P_N`` could be skipped (the next one is
   then returned). About 15 grid points, ~60 scalar evaluations.
 * 3D accuracy: W is scaled by a power of two (exact). The scan's normal equation switches to
-  the stick-slope form next to the pole (``_r_eval``: ``common.schur3`` and a refined
-  W_TT^-1 w). Next to the pole (D < DPOLE_REL W_NN) or for an ill-conditioned W (away from
-  stick) the root is polished in the caller's frame by Newton in (P_N, d = a + b)
-  (``_caller_polish_3d``), with the residuals of v_fN = -e v_N and v_fT = b evaluated in
-  Dot2 for the returned float impulse. There g (|g| ~ 1 ulp moves D = W_NN - mu w.g by
-  eps mu |w|) and the rotated frame (W off by eps |W|) each cost P up to eps cond(W) or
-  eps W_NN / D relative, while (P_N, d) resolves P to round-off (before, 5 of the stability
-  suite's 300 random cases returned impulses off by up to a factor 3000). Near
-  stick (|g| < G_POLISH_3D, large mu) away from the pole the root is polished by damped
-  Newton in g itself, in the caller's frame with compensated D and N (``_polish_g_3d``), and
-  the final D is compensated for the returned g. Weakness left: the scan's R(p) is
-  evaluated in the rotated frame, so for mu |W_TN| >~ 1e5 W_NN with cond(W) >~ 1e8 it can
-  report a spurious sign change far from the root, which the polish then cannot reach
-  (residual ~1e-8 or worse: 2 in 6000 of the stiff property's draws).
+  the stick-slope form ``R = p sch + z.(b - a) - c`` (``_r_eval``; ``common.schur3`` and a
+  refined z = W_TT^-1 w) next to the pole and wherever R is less sensitive to the round-off
+  of b(p) in that form (``_stick_form``): for a large normal impulse (p |W| >> |v|) b(p)
+  carries eps p (|W_TN| + mu |W_TT|), which the direct form p D(g(b)) - c amplifies by
+  ~p mu |W_TN| / |b| (it reported sign changes of R far from any root, where the true D was
+  ~1e-9 W_NN, for mu |W_TN| >~ 1e3 W_NN and cond(W) >~ 1e11). Next to the pole
+  (D < DPOLE_REL W_NN) or for an ill-conditioned W (away from stick) the root is polished in
+  the caller's frame by Newton in (P_N, d = a + b) (``_caller_polish_3d``), with the
+  residuals of v_fN = -e v_N and v_fT = b evaluated in Dot2 for the returned float impulse.
+  There g (|g| ~ 1 ulp moves D = W_NN - mu w.g by eps mu |w|) and the rotated frame (W off
+  by eps |W|) each cost P up to eps cond(W) or eps W_NN / D relative, while (P_N, d)
+  resolves P to round-off (before, 5 of the stability suite's 300 random cases returned
+  impulses off by up to a factor 3000). Near stick (|g| < G_POLISH_3D, large mu) away from
+  the pole the root is polished by damped Newton in g itself, in the caller's frame with
+  compensated D and N (``_polish_g_3d``), and the final D is compensated for the returned
+  g. Checked against 60-digit references (tests) and on 3e4 draws each of the stability
+  suite's stiff (cond(W) 1e8..1e12) and 2e4 of its moderate property: no failure. Weakness
+  left: b(p) is still found in the rotated frame (W off by eps |W|), so the sign of R is
+  uncertain where |R| is below ~eps p (|W_TN| + mu |W_TT|) |z|: two roots that close in P_N
+  could be missed (a later root is then returned, as for roots closer than SCAN_RATIO).
 * ``a = 0`` (and ``|a|`` below ``A_ZERO_REL`` times the velocity scale): Smith's direction
   is 0/0 only at ``a = b = 0``; we read it as the set-valued sign (the unit ball), which is
   the limit of Smith's law as ``a -> 0`` from every direction. The result is Coulomb's
   inclusion along the final slip: **stick** (``b = 0``, mode ``MODE_STICK``, impulse
   strictly inside the cone) when ``|W_TT^-1 W_TN| <= mu``; otherwise slip along the unique
   direction ``u`` with ``(s I + mu W_TT) u = W_TN``, ``s > 0``, ``|u| = 1`` (2D:
-  ``u = sign(W_TN)``), ``D > 0`` guaranteed. The stick P_N uses the compensated Schur
-  complement (``common.schur3``) and W_TT^-1 W_TN by a refined solve; the slip u comes from
+  ``u = sign(W_TN)``), ``D > 0`` guaranteed. The stick test uses W_TT^-1 W_TN by a refined
+  solve; the 3D stick impulse ``P = W^-1 (c, 0, 0)`` comes from ``common.spd3_solve``
+  (compensated and refined: ``c / schur3`` lost 2.7e-11 relative at cond(W) = 1e12, an
+  energy gain at e = 1); the slip u comes from
   the secular system (scaled only by a power of two, so that a tiny or subnormal W_TN or mu
   neither underflows nor loses digits) refined against its compensated residual, D
   compensated. The literal "``P_T = 0`` at ``a = b = 0``" is rejected: it is not a solution
@@ -204,6 +212,10 @@ G_PHI_SIGN = 1e-3
 """2D pole test: where |g| at D = DPOLE_REL W_NN is below this, the side of the root is decided
 by the D-form Phi (``_phi_2d``) instead of the cubic in t: g from t has eps absolute (eps/|g|
 relative) error, so for mu |W_NT| >> W_NN t no longer resolves D near DPOLE_REL W_NN."""
+STICK_FORM_SENS = 2.0
+"""3D scan: R(p) is evaluated in its stick-slope form where |z| (Q = |a|^2 + |b|^2) is below
+STICK_FORM_SENS p mu |w| |b| / Q, a typical size of its sensitivity to b in the direct form
+(``_stick_form``; the bound is 4 |b| / Q, the factor only moves the switch by 2x)."""
 DPOLE_REL = 1.0 / 64.0
 """2D: a root whose D = W_NN - mu W_NT g is below DPOLE_REL * W_NN lies next to the pole of
 P_N(b) (or of a near-pole end of the interval): there D is solved for directly
@@ -790,7 +802,8 @@ def _set_valued_3d(c, Wnn, w1, w2, t11, t12, t22, mu):
     y1, y2 = _solve2_refined(t11, t12, t22, q1, q2)   # T^-1 w 2^-ex
     if math.hypot(y1, y2) <= muq:
         # c M_NN: the Schur complement W_NN - w.T^-1 w = det W / det T, compensated (by
-        # Cramer's rule it cancels for near-singular W and can even come out negative)
+        # Cramer's rule it cancels for near-singular W and can even come out negative);
+        # _smith_3d_core replaces this impulse by a refined solve (spd3_solve) where it can
         PN = c / schur3(Wnn, w1, w2, t11, t12, t22)
         return MODE_STICK, PN, math.ldexp(y1, ex), math.ldexp(y2, ex), 1.0
     # secular equation in the scaled unknown s = sigma/|w| (m = mu/|w| <= 1/lambda_min(T)):
@@ -1047,6 +1060,13 @@ def _smith_3d_core(vN, a1, a2, Wnn, W01, W02, T11, T12, T22, e, mu):
         mode, PN, k1, k2, f = _set_valued_3d(cn, Wnn, W01, W02, T11, T12, T22, mu)
         if mode < 0:
             return mode, 0.0, 0.0, 0.0, s
+        if mode == MODE_STICK:
+            # stick: P = W^-1 (c, 0, 0) by the refined compensated solve (few ulps normwise
+            # up to cond(W) ~1e14). c / schur3 loses ~eps^2 |W|^3 / det W relative (2.7e-11 at
+            # cond(W) = 1e12): at e = 1 the energy error is v_fN dP_N, i.e. a gain.
+            okr, x0, x1, x2 = spd3_solve(Wnn, W01, W02, T11, T12, T22, cn, 0.0, 0.0)
+            if okr and x0 > 0.0 and x0 < math.inf and math.hypot(x1, x2) <= mu * x0:
+                return mode, x0, x1, x2, s
         return mode, PN, -f * (PN * k1), -f * (PN * k2), s
     # rotate the tangent frame: R a = (al, 0), R = [[cs, sn], [-sn, cs]]
     cs = a1 / al
@@ -1509,14 +1529,31 @@ def smith_3d(v, W, params, P_out):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2):
+def _stick_form(p, b1, b2, D, al, Wnn, mu, wn, zn):
+    """True if R(p) is better evaluated in its stick-slope form (``_r_eval``): next to the
+    pole (D < DPOLE_REL W_NN, where p D cancels), or where R is less sensitive to an error
+    db of the tangential solution b(p) in that form. Sensitivities: direct form
+    ``p mu w.(dg/db) db`` with ``|dg/db| <= 4 |b| / Q`` (Q = |a|^2 + |b|^2), stick-slope form
+    ``z.db``. For a large normal impulse (p |W| >> |v|) b(p) carries the round-off
+    eps p (|w| + mu |T|) of the tangential equation; through g it moved the direct R by
+    p mu |w| times that over |b| (sign changes of R far from any root for mu |W_TN| ~ 1e3..1e5
+    W_NN and cond(W) ~ 1e11..1e12, where the true D was ~1e-9 W_NN)."""
+    if D < DPOLE_REL * Wnn:
+        return True
+    nb2 = b1 * b1 + b2 * b2
+    return zn * (al * al + nb2) < STICK_FORM_SENS * p * mu * wn * math.sqrt(nb2)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2, wn, zn):
     """R(p) = v_fN(p) + e v_N = p D - c at the tangential solution b(p) (rotated frame).
     With P_T = W_TT^-1 (b - a - p w) from the tangential equation, also
     R = p sch + z.(b - a) - c (sch = W_NN - w.z, z = W_TT^-1 w): next to the pole
     (D < DPOLE_REL W_NN) that form keeps its accuracy (sch compensated, b accurate) where
-    p (W_NN - mu w.g) carries eps W_NN / D relative error."""
+    p (W_NN - mu w.g) carries eps W_NN / D relative error; it is also taken wherever it is
+    the less sensitive to the error of b (``_stick_form``; ``wn = |w|``, ``zn = |z|``)."""
     D = Wnn - mu * (w1 * g1 + w2 * g2)
-    if D < DPOLE_REL * Wnn:
+    if _stick_form(p, b1, b2, D, al, Wnn, mu, wn, zn):
         return p * sch + (z1 * (b1 - al) + z2 * b2) - c
     return p * D - c
 
@@ -1529,6 +1566,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K, sch, z1, z2):
 
     Returns (mode, P_N, b1, b2) in the rotated, normalized frame."""
     wn = math.sqrt(w1 * w1 + w2 * w2)
+    zn = math.sqrt(z1 * z1 + z2 * z2)
     pmin = c / (Wnn + mu * wn)               # R(p) < 0 below this (D <= Wnn + mu |w|)
     pmax = 2.0 * math.sqrt(abs(mnn * K)) * (1.0 + 1e-6)   # energy bound on any root's P_N
     if not (pmax > pmin):
@@ -1554,7 +1592,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K, sch, z1, z2):
                                                                  t11, t12, t22, mu)
         if not ok:
             return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2)
+        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2, wn, zn)
         if R >= 0.0:
             found = True
             break
@@ -1591,8 +1629,8 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K, sch, z1, z2):
         gg = _g3(b1, b2, al, al * al)
         dg1 = gg[2] * db1 + gg[3] * db2
         dg2 = gg[4] * db1 + gg[5] * db2
-        if D < DPOLE_REL * Wnn:
-            dR = sch + z1 * db1 + z2 * db2   # near the pole: derivative of the _r_eval form
+        if _stick_form(p, b1, b2, D, al, Wnn, mu, wn, zn):
+            dR = sch + z1 * db1 + z2 * db2   # derivative of the stick-slope form of R
         else:
             dR = D - p * mu * (w1 * dg1 + w2 * dg2)
         step = -R / dR
@@ -1619,7 +1657,7 @@ def _scan_core(al, c, Wnn, w1, w2, t11, t12, t22, mu, mnn, K, sch, z1, z2):
                                                                  t11, t12, t22, mu)
         if not ok:
             return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
-        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2)
+        R = _r_eval(p, b1, b2, g1, g2, al, c, Wnn, w1, w2, mu, sch, z1, z2, wn, zn)
         if R == 0.0:
             return MODE_SLIP, p, b1, b2
         if R > 0.0:

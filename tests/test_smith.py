@@ -567,11 +567,23 @@ def test_2d_near_singular_and_pole_cases_match_decimal():
      [[3668340.860681912, -3624150.5111939665, -6954111.172863282],
       [-3624150.5111939665, 3580492.498268053, 6870339.078092478],
       [-6954111.172863282, 6870339.078092478, 13182979.459354883]], 1.0, 5176.209204024562),
+    # 3D, cond 8e11 and 1e12 (stiff hypothesis property), elastic: c / schur3 was off by
+    # 2.5e-12 and 2.7e-11 relative, an energy gain of 1e-11 and 1e-10 K0
+    ([-30027032.982398365, 3.4471059823701624e-207, 0.0],
+     [[0.15576229519142673, -0.29135751770525947, 0.21589626991086153],
+      [-0.29135751770525947, 0.5449919896717814, -0.4038397178827082],
+      [0.21589626991086153, -0.4038397178827082, 0.2992457153269424]], 1.0, 2.51188643150958),
+    ([-819.7197766334237, 0.0, 0.0],
+     [[0.274166886822623, 0.35156487371929757, -0.27459341681280397],
+      [0.35156487371929757, 0.4508125028036599, -0.352111814180579],
+      [-0.27459341681280397, -0.352111814180579, 0.27502061038115266]], 1.0,
+     1.0000002744895709),
 ])
 def test_set_valued_stick_near_singular_matches_rationals(v, W, e, mu):
     """a = 0 (below A_ZERO_REL) and |W_TT^-1 W_TN| <= mu: stick, P = W^-1 ((-e v_N, 0) - v).
-    The compensated Schur complement (det W / det W_TT) and the refined tangential solve give
-    it to round-off against exact rational arithmetic, with P_N > 0 and no energy gain."""
+    The compensated Schur complement (det W / det W_TT, 2D) or the refined compensated 3x3
+    solve (3D) and the refined tangential solve give it to round-off against exact rational
+    arithmetic, with P_N > 0 and no energy gain."""
     P = np.array((_smith2 if len(v) == 2 else _smith3)(v, W, e, mu)[1:])
     mode = (_smith2 if len(v) == 2 else _smith3)(v, W, e, mu)[0]
     ref = _rational_stick(v, W, e)
@@ -893,3 +905,59 @@ def test_3d_pole_root_matches_high_precision_reference(case, P_ref):
     mode, P, vf = run(v, W, e, mu)
     assert mode == MODE_SLIP
     assert np.linalg.norm(P - P_ref) <= 1e-13 * np.linalg.norm(P_ref)
+
+
+# ---- 3D scan path: large normal impulses with an ill-conditioned W (stick-slope form of R) ----
+# Found by the stiff hypothesis property (cond(W) 2e11..1e12, mu |W_TN| up to 3e5 W_NN, the
+# root's D down to ~1e-12 W_NN): at p |W| >> |v| the tangential solution b(p) carries
+# eps p (|W_TN| + mu |W_TT|), which the direct form p D(g(b)) - c of R amplified into a sign
+# change far from the root. The kernel returned P_N off by factors 1e5..1e11 (residuals 3e-8
+# to 2e-5). P_ref: the smallest root of R(p) = p D(g(b(p))) - c in 60-digit decimal arithmetic
+# (b(p) bisected through the exact one-scalar reduction, R scanned at ratio 1.02 from
+# c / (W_NN + mu |W_TN|) and bisected), rounded to float.
+SCAN_CASES = [
+    ([-2.6198794343694523e-08, -2.6198794343694523e-08, -2.0060844137333498e-49],
+     [[1346851.4863439354, -2341198.894534239, 566463.3257130905],
+      [-2341198.894534239, 4069648.5985751855, -984669.3012706386],
+      [566463.3257130905, -984669.3012706386, 238245.04977564406]], 0.0, 4987.274025703433,
+     [0.0018680294880167702, 0.0011480808472769998, 0.0003035100601101144]),
+    ([-1.0, 3.548133892335755, 3.548133892335755],
+     [[2203.3507487365873, 3016.1693803573025, -4156.85732361795],
+      [3016.1693803573025, 4128.837742531347, -5690.3267832159345],
+      [-4156.85732361795, -5690.3267832159345, 7842.356837443571]], 0.11804507014489832,
+     163524.81808888202, [17224973.85715088, -96965833.49236104, -61227196.187470675]),
+    ([-15.848931924611133, 7.162067144987e-287, 1.0],
+     [[0.10894686325130573, 0.1619154612818725, 0.2661969713014989],
+      [0.1619154612818725, 0.24063672712055145, 0.3956185990289939],
+      [0.2661969713014989, 0.3956185990289939, 0.6504164100702393]], 0.7796221995157868,
+     278191.0843308712, [18314813061943.895, -13376755112966.05, 640736217365.6709]),
+    ([-0.27955779515183493, -3.9810717055349722, 0.0],
+     [[372174.9043531996, 1227896.6198242796, 7325060.474943573],
+      [1227896.6198242796, 4051133.202984648, 24167177.60140221],
+      [7325060.474943573, 24167177.60140221, 144170148.0044357]], 0.0, 1000000.0,
+     [1969.647574645879, 4939.538421486648, -928.0873450688837]),
+    ([-7.405978001234067, 1.0000000000000004, -1.0],
+     [[4.163721293731986e-09, 4.213224679656416e-09, -6.454611720317449e-09],
+      [4.213224679656416e-09, 4.263316622233853e-09, -6.53135199971446e-09],
+      [-6.454611720317449e-09, -6.53135199971446e-09, 1.000595609634068e-08]], 0.0,
+     282144.26910738717, [7.388465644628184e+19, -5.148105055112977e+19, 1.4057218084208488e+19]),
+    ([-0.0019630940798075745, 10.0, 10.0],
+     [[222.00206879140822, 236.1114424541433, -0.681350772872417],
+      [236.1114424541433, 251.11753946415817, -0.7246541200628812],
+      [-0.681350772872417, -0.7246541200628812, 0.0020911470962906263]], 0.5508219615071318,
+     4499.610633079292, [280347134.89105046, -380654257.7570105, -40565275699.68767]),
+]
+
+
+@pytest.mark.parametrize("v, W, e, mu, P_ref", SCAN_CASES)
+def test_3d_scan_large_impulse_matches_high_precision_reference(v, W, e, mu, P_ref):
+    """The scan evaluates R in its stick-slope form where that is the less sensitive to the
+    round-off of b(p) (kernels.smith._stick_form): the smallest root is found, and the
+    caller-frame polish brings P to round-off of the 60-digit root; the stability checks
+    (residual, energy) pass."""
+    from rbimpact import stability as S
+    mode, P, vf = run(v, W, e, mu)
+    assert mode == MODE_SLIP
+    assert np.linalg.norm(P - P_ref) <= 1e-13 * np.linalg.norm(P_ref)
+    ev = S.check_impact("smith", v, W, dict(e=e, mu=mu), iterations=False, timing=False)
+    assert ev.status == "OK", ev.note
