@@ -64,6 +64,7 @@ guard(__name__, __file__)
 
 from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
                      reject_factor, solution, step_factor)
+from .flight2d import body_energy, fly_into
 
 # ---- workspace w (float64[N_W], flat): contact parameters, integrator, scratch ----------
 CP_M = 0        # mass (kg)
@@ -96,7 +97,8 @@ W_YA = 88       # scratch states (4 each)
 W_YB = 92
 W_ROW = 96      # 96:105 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
 W_ROWB = 105    # 105:114 a second one
-N_W = 116
+W_ROWC = 114    # 114:123 a third one
+N_W = 123
 NY = 4
 
 # ---- tolerances (named, dimensionless unless stated) -------------------------------------
@@ -215,14 +217,11 @@ def pivot_reduce(w, row, out):
 
 @njit(cache=True, _nrt=False, inline="always")
 def _energy_row(w, row):
-    """Kinetic plus gravitational energy (J) of a state row."""
-    m = w[CP_M]
+    """Kinetic plus gravitational energy (J) of a state row (``flight2d.body_energy``)."""
     nx = w[CP_NX]
     ny = w[CP_NY]
-    gx = w[CP_GN] * nx + w[CP_GT] * ny
-    gy = w[CP_GN] * ny - w[CP_GT] * nx
-    return (0.5 * m * (row[3] * row[3] + row[4] * row[4]) + 0.5 * w[CP_I] * row[5] * row[5]
-            - m * (gx * row[0] + gy * row[1]))
+    return body_energy(row, w[CP_M], w[CP_I], w[CP_GN] * nx + w[CP_GT] * ny,
+                       w[CP_GN] * ny - w[CP_GT] * nx)
 
 
 @njit(cache=True, _nrt=False)
@@ -441,6 +440,7 @@ def _piece_dev(w, sa, h):
     at h/2 and h. The piece row (start state and accelerations) is left in w[W_ROW]."""
     row = w[W_ROW:W_ROW + 9]
     rb = w[W_ROWB:W_ROWB + 9]
+    rc = w[W_ROWC:W_ROWC + 9]
     _dense(w, sa, W_YA)
     pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
     _dense(w, sa + h, W_YA)
@@ -459,23 +459,10 @@ def _piece_dev(w, sa, h):
         if smp == 1:
             _dense(w, sa + s, W_YA)
             pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], rb)
-        hh = 0.5 * s * s
-        x = row[0] + row[3] * s + row[6] * hh
-        yy = row[1] + row[4] * s + row[7] * hh
-        th = row[2] + row[5] * s + row[8] * hh
-        vx = row[3] + row[6] * s
-        vy = row[4] + row[7] * s
-        om = row[5] + row[8] * s
-        m = w[CP_M]
-        nx = w[CP_NX]
-        ny = w[CP_NY]
-        gx = w[CP_GN] * nx + w[CP_GT] * ny
-        gy = w[CP_GN] * ny - w[CP_GT] * nx
-        ep = (0.5 * m * (vx * vx + vy * vy) + 0.5 * w[CP_I] * om * om
-              - m * (gx * x + gy * yy))
-        de = max(de, abs(ep - _energy_row(w, rb)) / etol)
-        dp = max(dp, (math.hypot(x - rb[0], yy - rb[1]) + L * abs(th - rb[2])) / ltol,
-                 (math.hypot(vx - rb[3], vy - rb[4]) + L * abs(om - rb[5])) / vtol)
+        fly_into(row, s, rc)                 # the piece at s
+        de = max(de, abs(_energy_row(w, rc) - _energy_row(w, rb)) / etol)
+        dp = max(dp, (math.hypot(rc[0] - rb[0], rc[1] - rb[1]) + L * abs(rc[2] - rb[2])) / ltol,
+                 (math.hypot(rc[3] - rb[3], rc[4] - rb[4]) + L * abs(rc[5] - rb[5])) / vtol)
     return de, dp
 
 

@@ -101,7 +101,7 @@ guard(__name__, __file__)
 from . import evbuf
 from .common import P_E, P_MU
 from .dispatch import resolve_2d
-from .flight2d import fly_into, fly_row
+from .flight2d import body_energy, fly_into, fly_row
 from .pivot2d import (CP_D, CP_GN, CP_GT, CP_I, CP_L, CP_M, CP_MU, CP_NX, CP_NY, CP_PX,
                       CP_PY, CP_RAD, CP_SIG, N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
                       PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_YA,
@@ -313,10 +313,7 @@ def _w_body(m, inertia, rx, ry, nx, ny):
 
 @njit(cache=True, _nrt=False)
 def _energy(st, bflt, grav, i):
-    m = bflt[i, 0]
-    return (0.5 * m * (st[i, 3] * st[i, 3] + st[i, 4] * st[i, 4])
-            + 0.5 * bflt[i, 1] * st[i, 5] * st[i, 5]
-            - m * (grav[0] * st[i, 0] + grav[1] * st[i, 1]))
+    return body_energy(st[i], bflt[i, 0], bflt[i, 1], grav[0], grav[1])
 
 
 @njit(cache=True, _nrt=False, inline="always")
