@@ -1,0 +1,561 @@
+"""The randomized drop campaign (issue 13): random scenes over the whole input space, each
+checked for the invariants every scene must keep (DESIGN §6c).
+
+    >>> report = drop_campaign(200, dim="both", seed=0)
+    >>> print(report.table()); report.ok
+
+Each scene is drawn from its own seed (``scene_seed(dim, seed, index)``), so any scene is
+replayed alone by ``rbimpact stability --replay DIM:SCENE_SEED`` (``run_drop(dim,
+scene_seed)``). What a scene draws (``draw_scene``):
+
+* a shape: 2D disk, box, convex polygon, rod (segment), capsule, ellipse; 3D sphere, box,
+  capsule; its size ``L`` log-uniform in ``[SIZE_MIN, SIZE_MAX]`` m, mass log-uniform in
+  [0.01, 100] kg;
+* a law (``stability.LAW_VARIANTS``: the five laws, Routh with each termination), ``e`` in
+  ``E_VALUES``, ``mu`` in ``MU_VALUES``, ``e_t`` in ``ET_VALUES`` (Brach, C&R);
+* the policy for simultaneous contacts: "simultaneous" or "sequential";
+* a layout (``LAYOUTS``): a floor; a floor and a wall the body is thrown at; a V-groove
+  of two inclined planes; a corner (2D: floor and wall, 3D: floor and two walls); a body
+  starting at rest in contact with the floor; two round bodies touching, on the floor;
+* the height of the lowest point above the floor, log-uniform in ``[H_MIN, H_MAX]`` m,
+  a random orientation, and a velocity and spin of the scale ``sqrt(|g| L)``,
+  ``sqrt(|g| / L)``.
+
+What is checked (``check_result``), with tolerances scaled to the scene:
+
+* the run ends "done", or with a status that names a real mechanical cause (a Painleve
+  inconsistency: ``REFUSED``, shown with its contact); "not supported", stalls, missed
+  events, "max_events" and every other error are failures;
+* no body below a plane (or two round bodies overlapping) by more than
+  ``PEN_RTOL * L + PEN_ATOL`` at densely sampled times (every event, midpoints, a uniform
+  grid; each local minimum refined);
+* energy: for a law that cannot create energy, the sampled total energy never rises by
+  more than ``ENERGY_RTOL * E_scale`` and no instant's impacts (summed over its cluster)
+  gain more than that, with ``E_scale`` the scene's energy above its lowest state (kinetic
+  plus ``m |g| (h + L)``). The simultaneous policy's joint Newton solve is not the pair
+  law and may create energy for ``e > 0`` (``rbimpact.simulation``): there the check applies
+  to scenes whose clusters had a single contact, or ``e == 0``;
+* a dissipative scene (``e < 1``, ``mu > 0``, a single floor) that has come to rest by
+  ``t_end`` rests in a stable static state: a polygon, rod or box on a face (its centre of
+  mass over at least two support points, or a round body), not balanced on a vertex.
+"""
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .errors import NoSolutionError, SimulationError
+
+__all__ = ["draw_scene", "build_scene", "run_drop", "drop_campaign", "scene_seed",
+           "DropRow", "CampaignReport"]
+
+# ---- the input space -------------------------------------------------------------------
+E_VALUES = (0.0, 1e-9, 0.3, 0.8, 1.0)
+MU_VALUES = (0.0, 0.3, 1.0, 10.0)
+ET_VALUES = (0.0, 0.5)
+SIZE_MIN, SIZE_MAX = 1e-2, 1.0
+"""Body size L (m): log-uniform in this range."""
+H_MIN, H_MAX = 1e-12, 0.5
+"""Drop height of the lowest point (m): log-uniform in this range."""
+SHAPES = {2: ("disk", "box", "polygon", "rod", "capsule", "ellipse"),
+          3: ("sphere", "box", "capsule")}
+LAYOUTS = ("floor", "floor", "floor", "wall", "groove", "corner", "resting", "touching")
+POLICIES = ("simultaneous", "sequential")
+GRAVITY = 9.81
+T_END_FALLS = 6.0
+"""Run time in units of the fall time ``sqrt(2 H_MAX / |g|)`` plus the settling time scale."""
+MAX_EVENTS = 200_000
+"""Events allowed per scene: reaching it is a failure (a stall in disguise)."""
+
+# ---- tolerances of the checks -----------------------------------------------------------
+PEN_RTOL = 1e-9
+"""Penetration tolerance relative to the body size L (dimensionless)."""
+PEN_ATOL = 1e-12
+"""Absolute floor of the penetration tolerance (m)."""
+ENERGY_RTOL = 1e-12
+"""Energy that a never-gain law may appear to create, relative to the scene's energy scale."""
+REST_SPEED_RTOL = 1e-9
+"""A body is at rest at the end when every point moves slower than this times sqrt(|g| L)."""
+SUPPORT_RTOL = 1e-7
+"""A corner is a support point when its gap is below this times L."""
+N_SAMPLES = 4000
+"""Uniform samples per scene for the penetration and energy checks (plus every event time
+and the midpoints between events)."""
+MAX_EVENT_SAMPLES = 20_000
+"""At most this many event times (and midpoints) are added to the samples."""
+
+NEVER_GAIN = ("smith", "chatterjee_ruina", "routh-energetic", "routh-poisson")
+
+
+def scene_seed(dim, seed, index):
+    """The seed (int) of scene ``index`` of the campaign ``(dim, seed)``."""
+    return int(np.random.SeedSequence([int(seed), int(dim), int(index)]).generate_state(1)[0])
+
+
+def _loguniform(rng, lo, hi):
+    return float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
+
+
+def draw_scene(dim, sseed):
+    """The parameters of one scene (a plain dict) from its seed ``sseed``."""
+    from .stability import LAW_VARIANTS
+    rng = np.random.default_rng(sseed)
+    label, name, fixed = LAW_VARIANTS[rng.integers(len(LAW_VARIANTS))]
+    params = dict(fixed)
+    params["e"] = float(E_VALUES[rng.integers(len(E_VALUES))])
+    params["mu"] = float(MU_VALUES[rng.integers(len(MU_VALUES))])
+    if name in ("brach", "chatterjee_ruina"):
+        params["e_t"] = float(ET_VALUES[rng.integers(len(ET_VALUES))])
+    layout = LAYOUTS[rng.integers(len(LAYOUTS))]
+    shapes = SHAPES[dim]
+    shape = shapes[rng.integers(len(shapes))]
+    if layout == "touching":
+        shape = "disk" if dim == 2 else "sphere"
+    L = _loguniform(rng, SIZE_MIN, SIZE_MAX)
+    aspect = float(rng.uniform(0.2, 1.0))
+    h = 0.0 if layout == "resting" else _loguniform(rng, H_MIN, H_MAX)
+    spec = dict(dim=dim, seed=int(sseed), law=label, law_name=name, params=params,
+                policy=POLICIES[rng.integers(2)], layout=layout, shape=shape, size=L,
+                aspect=aspect, mass=_loguniform(rng, 1e-2, 1e2), height=h)
+    if shape == "polygon":
+        k = int(rng.integers(3, 8))
+        ang = np.sort(rng.uniform(0, 2 * math.pi, k))
+        while np.min(np.diff(np.r_[ang, ang[0] + 2 * math.pi])) < 0.3:
+            ang = np.sort(rng.uniform(0, 2 * math.pi, k))
+        spec["vertices"] = [(0.5 * L * math.cos(a), 0.5 * L * aspect * math.sin(a))
+                            for a in ang]
+    vs = math.sqrt(GRAVITY * L)
+    ws = math.sqrt(GRAVITY / L)
+    if layout == "resting":
+        spec["velocity"] = [0.0] * dim
+        spec["spin"] = [0.0] * (1 if dim == 2 else 3)
+    else:
+        spec["velocity"] = [float(x) for x in rng.uniform(-1.0, 1.0, dim) * vs]
+        spec["spin"] = [float(x) for x in rng.uniform(-3.0, 3.0, 1 if dim == 2 else 3) * ws]
+    if dim == 2:
+        spec["angle"] = float(rng.uniform(0, 2 * math.pi))
+        if layout == "resting":
+            spec["angle"] = 0.0
+    else:
+        q = rng.normal(size=4)
+        spec["orientation"] = [float(x) for x in q / np.linalg.norm(q)]
+        if layout == "resting":
+            spec["orientation"] = [1.0, 0.0, 0.0, 0.0]
+    spec["tilt"] = float(rng.uniform(0.2, 1.2))      # groove half-opening (rad from level)
+    return spec
+
+
+def _shape(spec):
+    L, a, dim = spec["size"], spec["aspect"], spec["dim"]
+    s = spec["shape"]
+    if dim == 2:
+        from .shapes import Box, Disk, Ellipse, Polygon, Rod
+        if s == "disk":
+            return Disk(0.5 * L)
+        if s == "box":
+            return Box(L, a * L)
+        if s == "polygon":
+            return Polygon(spec["vertices"])
+        if s == "rod":
+            return Rod(L)
+        if s == "capsule":
+            return Rod(L, 0.5 * a * L)
+        return Ellipse(0.5 * L, 0.5 * a * L)
+    from .shapes3d import Box3D, Capsule, Sphere
+    if s == "sphere":
+        return Sphere(0.5 * L)
+    if s == "box":
+        return Box3D((L, a * L, (0.5 + 0.5 * a) * L))
+    return Capsule(L, 0.5 * a * L)
+
+
+def build_scene(spec):
+    """``(simulation, t_end, max_events)`` for a drawn scene."""
+    from .laws import Law
+    from .simulation import Simulation
+    dim, L, layout = spec["dim"], spec["size"], spec["layout"]
+    shape = _shape(spec)
+    law = Law(spec["law_name"], **spec["params"])
+    if dim == 2:
+        from .scene import Scene2D
+        scene = Scene2D(gravity=(0.0, -GRAVITY))
+        pose = dict(angle=spec["angle"], velocity=spec["velocity"],
+                    angular_velocity=spec["spin"][0])
+        up = np.array([0.0, 1.0])
+    else:
+        from .scene3d import Scene3D
+        scene = Scene3D(gravity=(0.0, 0.0, -GRAVITY))
+        pose = dict(orientation=spec["orientation"], velocity=spec["velocity"],
+                    angular_velocity=spec["spin"])
+        up = np.array([0.0, 0.0, 1.0])
+    # planes: the floor through the origin, and walls just beside the body
+    R = shape.bounding_radius
+    if layout == "groove":
+        tl = spec["tilt"]
+        for sgn in (1.0, -1.0):
+            n = np.zeros(dim)
+            n[0] = -sgn * math.sin(tl)
+            n[-1] = math.cos(tl)
+            scene.add_plane(np.zeros(dim), n)
+    else:
+        scene.add_plane(np.zeros(dim), up)
+    if layout in ("wall", "corner"):
+        gapw = 0.0 if layout == "corner" else 0.5 * R
+        p = np.zeros(dim)
+        p[0] = -(R + gapw)
+        n = np.zeros(dim)
+        n[0] = 1.0
+        scene.add_plane(p, n)
+        if layout == "corner" and dim == 3:
+            p = np.zeros(3)
+            p[1] = -R
+            scene.add_plane(p, (0.0, 1.0, 0.0))
+        v = np.array(pose["velocity"], float)
+        v[0] = -abs(v[0])          # thrown at the wall
+        pose["velocity"] = v
+    mass = spec["mass"]
+    # place the body so that its lowest point is `height` above every plane
+    pos = np.zeros(dim)
+    body = scene.add_body(shape, mass, pos, **pose)
+    b = scene.bodies[body]
+    lift = 0.0
+    for pl in scene.planes:
+        lift = max(lift, _needed_lift(scene, b, pl, dim))
+    pos[-1] = lift + spec["height"]
+    scene.bodies[body] = replace(b, position=tuple(float(x) for x in pos))
+    if layout == "touching":   # a second round body touching the first, on the floor
+        r = 0.5 * L
+        r2 = 0.5 * L * (0.5 + spec["aspect"])
+        other = _shape_round(dim, r2)
+        ang = 0.3 + 0.9 * spec["aspect"]
+        d = r + r2
+        pos2 = pos.copy()
+        pos2[0] += d * math.cos(ang)
+        pos2[-1] += d * math.sin(ang)
+        kw = dict(velocity=[0.0] * dim)
+        scene.add_body(other, mass * spec["aspect"], pos2, **kw)
+    sim = Simulation(scene, law, policy=spec["policy"])
+    fall = math.sqrt(2.0 * H_MAX / GRAVITY)
+    t_end = T_END_FALLS * fall + 20.0 * math.sqrt(L / GRAVITY)
+    return sim, t_end, MAX_EVENTS
+
+
+def _shape_round(dim, r):
+    if dim == 2:
+        from .shapes import Disk
+        return Disk(r)
+    from .shapes3d import Sphere
+    return Sphere(r)
+
+
+def _needed_lift(scene, body, plane, dim):
+    """How far the body (centre at the origin) must rise along the up axis for its lowest
+    point to touch ``plane`` (m)."""
+    n = np.asarray(plane.normal, float)
+    if dim == 2:
+        from .simulation import _min_gap_plane
+    else:
+        from .simulation3d import _min_gap_plane
+    g = _min_gap_plane(body, plane)      # gap at the origin
+    nz = n[-1]
+    if nz <= 1e-12:
+        return 0.0
+    return max(0.0, -g / nz)
+
+
+# ============================================================================================
+# checks
+# ============================================================================================
+@dataclass
+class DropRow:
+    """One scene of the campaign: what was drawn, how it ended and what the checks found.
+    ``verdict``: "OK", "REFUSED" (a real mechanical cause, named in ``note``) or "FAIL"."""
+
+    dim: int
+    seed: int
+    shape: str
+    law: str
+    layout: str
+    policy: str
+    e: float
+    mu: float
+    height: float
+    verdict: str
+    status: str
+    impacts: int
+    penetration: float
+    pen_tol: float
+    energy_gain: float
+    wall: float
+    note: str
+
+    @property
+    def reproducer(self):
+        return f"rbimpact stability --replay {self.dim}:{self.seed}"
+
+    FIELDS = ("dim", "seed", "shape", "law", "layout", "policy", "e", "mu", "height",
+              "verdict", "status", "impacts", "penetration", "pen_tol", "energy_gain",
+              "wall", "note")
+
+    def fields(self):
+        return [getattr(self, k) for k in self.FIELDS] + [self.reproducer]
+
+
+def _sample_times(res, n):
+    t0, t1 = res.t_start, res.t_end
+    ev = np.asarray(res.events["t"])[:MAX_EVENT_SAMPLES]
+    mids = 0.5 * (ev[1:] + ev[:-1])
+    t = np.concatenate([np.linspace(t0, t1, n), ev, mids, ev + 1e-9 * (t1 - t0 + 1.0)])
+    return np.unique(np.clip(t, t0, t1))
+
+
+def _kinetic(res, s, dim):
+    from .stability import _quat_rotate
+    if dim == 2:
+        return np.sum(0.5 * res.masses * (s["vx"] ** 2 + s["vy"] ** 2)
+                      + 0.5 * res.moments * s["omega"] ** 2, axis=1)
+    q = s["orientation"]
+    wb = _quat_rotate(q * np.array([1.0, -1.0, -1.0, -1.0]), s["angular_velocity"])
+    return np.sum(0.5 * res.masses * np.sum(s["velocity"] ** 2, axis=-1)
+                  + 0.5 * np.sum(res.inertias[None] * wb * wb, axis=-1), axis=1)
+
+
+def _supports(sim, s, k, dim, L):
+    """Support analysis of body 0 on plane 0 at sample ``k``: (number of corners within
+    SUPPORT_RTOL L of the plane, whether the centre of mass is over them, rounded)."""
+    from .stability import _quat_rotate
+    body = sim.scene.bodies[0]
+    sh = body.shape
+    name = type(sh).__name__
+    n = np.asarray(sim.scene.planes[0].normal, float)
+    tol = SUPPORT_RTOL * L
+    if dim == 2:
+        x = np.array([s["x"][k, 0], s["y"][k, 0]])
+        th = s["angle"][k, 0]
+        c, sn = math.cos(th), math.sin(th)
+        if name == "Disk":
+            return 1, True
+        if name == "Ellipse":
+            nb = np.array([c * n[0] + sn * n[1], -sn * n[0] + c * n[1]])
+            h = math.sqrt(sh.a ** 2 * nb[0] ** 2 + sh.b ** 2 * nb[1] ** 2)
+            return 1, h <= min(sh.a, sh.b) + tol
+        V = np.asarray(sh.vertices)
+        rad = getattr(sh, "radius", 0.0)
+        P = x + V @ np.array([[c, sn], [-sn, c]])
+        gaps = P @ n - rad - sim.scene.planes[0].offset
+        sup = P[gaps < tol]
+        if len(sup) < 2:
+            return len(sup), False
+        t = np.array([n[1], -n[0]])
+        u = sup @ t
+        xc = x @ t
+        return len(sup), bool(u.min() - tol <= xc <= u.max() + tol)
+    pos = s["position"][k, 0]
+    if name == "Sphere":
+        return 1, True
+    if name == "Box3D":
+        V, rad = np.asarray(sh.vertices), 0.0
+    else:
+        V, rad = np.array([[0, 0, -0.5 * sh.length], [0, 0, 0.5 * sh.length]]), sh.radius
+    q = np.repeat(s["orientation"][k, 0][None], len(V), axis=0)
+    P = pos + _quat_rotate(q, V)
+    gaps = P @ n - rad - sim.scene.planes[0].offset
+    cnt = int(np.sum(gaps < tol))
+    need = 3 if name == "Box3D" else 2
+    return cnt, cnt >= need
+
+
+def check_result(spec, sim, res, note):
+    """The invariants of one finished (or partial) run. Returns
+    ``(problems, penetration, pen_tol, energy_gain)``: ``problems`` a list of strings."""
+    from .stability import _energy_from_sample, _gaps_2d, _gaps_3d, _refine
+    dim, L = spec["dim"], spec["size"]
+    problems = []
+    if res is None or res.t_end <= res.t_start:
+        return problems, 0.0, 0.0, 0.0
+    t = _sample_times(res, N_SAMPLES)
+    s = res.sample(t)
+    gaps = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
+    pen_tol = PEN_RTOL * L + PEN_ATOL
+    worst = 0.0
+    for key, g in gaps.items():
+        gmin = float(g.min())
+        if gmin < 0.1 * pen_tol:
+            gmin = _refine(res, sim, dim, key, t, g)
+        if -gmin > worst:
+            worst = -gmin
+            wkey = key
+    if worst > pen_tol:
+        problems.append(f"penetration {worst:.3g} m > {pen_tol:.2g} m (body {wkey[0]} "
+                        f"in {wkey[1]} {wkey[2]})")
+    # energy
+    E = _energy_from_sample(res, s, dim)
+    K0 = float(_kinetic(res, s, dim)[0])
+    g = GRAVITY
+    if dim == 2:
+        heights = s["y"][0]
+    else:
+        heights = s["position"][0, :, 2]
+    E_scale = K0 + float(np.sum(res.masses * g * (np.abs(heights) + L)))
+    gain = float(np.max(E - np.minimum.accumulate(E))) / E_scale
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    if len(imp):
+        _, inv = np.unique(imp["t"], return_inverse=True)
+        gain = max(gain, float(np.bincount(inv, weights=imp["dE"]).max()) / E_scale)
+    joint = spec["policy"] == "simultaneous" and len(imp) and np.any(imp["cluster"] > 1)
+    safe = spec["law"] in NEVER_GAIN and (not joint or spec["params"]["e"] == 0.0)
+    if safe and gain > ENERGY_RTOL:
+        problems.append(f"energy created: {gain:.3g} of the scene's energy scale "
+                        f"{E_scale:.3g} J (> {ENERGY_RTOL:g})")
+    # a dissipative scene at rest must rest stably
+    p = spec["params"]
+    if (res.status == "done" and p["e"] < 1.0 and p["mu"] > 0.0
+            and spec["layout"] in ("floor", "resting")):
+        vs = math.sqrt(GRAVITY * L)
+        R = sim.scene.bodies[0].shape.bounding_radius
+        if dim == 2:
+            speed = math.hypot(s["vx"][-1, 0], s["vy"][-1, 0]) + abs(s["omega"][-1, 0]) * R
+        else:
+            speed = (float(np.linalg.norm(s["velocity"][-1, 0]))
+                     + float(np.linalg.norm(s["angular_velocity"][-1, 0])) * R)
+        if speed < REST_SPEED_RTOL * vs:
+            cnt, stable = _supports(sim, s, -1, dim, L)
+            if not stable:
+                problems.append(f"at rest in an unstable state ({cnt} support point(s))")
+        else:
+            note.append(f"still moving at t_end ({speed:.2g} m/s)")
+    return problems, worst, pen_tol, gain
+
+
+MECHANICAL = ("Painleve",)
+"""Words of a SimulationError message that name a real mechanical cause (a refusal)."""
+
+
+def run_drop(dim, sseed, spec=None):
+    """Build, run and check one scene; returns a ``DropRow``."""
+    import warnings
+    spec = draw_scene(dim, sseed) if spec is None else spec
+    p = spec["params"]
+    row = dict(dim=dim, seed=int(sseed), shape=spec["shape"], law=spec["law"],
+               layout=spec["layout"], policy=spec["policy"], e=p["e"], mu=p["mu"],
+               height=spec["height"])
+    t0 = time.perf_counter()
+    note = []
+    try:
+        sim, t_end, max_events = build_scene(spec)
+    except Exception as exc:        # a scene the campaign draws must be accepted
+        return DropRow(**row, verdict="FAIL", status="not built", impacts=0,
+                       penetration=0.0, pen_tol=0.0, energy_gain=0.0,
+                       wall=time.perf_counter() - t0,
+                       note=f"scene not built: {type(exc).__name__}: {exc}"[:300])
+    verdict, res = "OK", None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = sim.run(t_end, max_events=max_events)
+        status = res.status
+        if status != "done":
+            verdict = "FAIL"
+            note.append(f"status {status!r} after {len(res.events)} events at "
+                        f"t = {res.t_end:.6g} s")
+    except (NoSolutionError, SimulationError) as exc:
+        res = getattr(exc, "result", None)
+        msg = str(exc)
+        mech = isinstance(exc, NoSolutionError) or any(m in msg for m in MECHANICAL)
+        verdict = "REFUSED" if mech else "FAIL"
+        status = type(exc).__name__
+        note.append(msg[:300])
+    except Exception as exc:
+        verdict, status = "FAIL", type(exc).__name__
+        note.append(f"{type(exc).__name__}: {exc}"[:300])
+    wall = time.perf_counter() - t0
+    try:
+        problems, pen, pen_tol, gain = check_result(spec, sim, res, note)
+    except Exception as exc:
+        problems, pen, pen_tol, gain = [f"check failed: {type(exc).__name__}: {exc}"], 0, 0, 0
+    if problems:
+        verdict = "FAIL"
+        note = problems + note
+    n_imp = 0 if res is None else int(np.sum(res.events["kind"] == "impact"))
+    return DropRow(**row, verdict=verdict, status=status, impacts=n_imp, penetration=pen,
+                   pen_tol=pen_tol, energy_gain=gain, wall=wall, note="; ".join(note)[:400])
+
+
+# ============================================================================================
+# the campaign and its report
+# ============================================================================================
+@dataclass
+class CampaignReport:
+    """The rows of a campaign, with a table of counts and the failures' reproducers."""
+
+    rows: list
+    elapsed: float
+
+    @property
+    def ok(self):
+        return not any(r.verdict == "FAIL" for r in self.rows)
+
+    def counts(self, key):
+        out = {}
+        for r in self.rows:
+            k = key(r)
+            c = out.setdefault(k, {"OK": 0, "REFUSED": 0, "FAIL": 0})
+            c[r.verdict] += 1
+        return out
+
+    def table(self):
+        """Counts per dimension, shape and law; then one line per failure."""
+        lines = []
+        for title, key in (("dim shape", lambda r: (f"{r.dim}D", r.shape)),
+                           ("dim law", lambda r: (f"{r.dim}D", r.law)),
+                           ("dim layout policy", lambda r: (f"{r.dim}D", r.layout, r.policy))):
+            c = self.counts(key)
+            lines.append(f"{title:<34} {'scenes':>7} {'OK':>6} {'REFUSED':>8} {'FAIL':>6}")
+            for k in sorted(c):
+                v = c[k]
+                lines.append(f"{' '.join(k):<34} {sum(v.values()):>7} {v['OK']:>6} "
+                             f"{v['REFUSED']:>8} {v['FAIL']:>6}")
+            lines.append("")
+        fails = [r for r in self.rows if r.verdict != "OK"]
+        for r in fails:
+            lines.append(f"{r.verdict:<7} {r.reproducer}  [{r.shape} {r.law} e={r.e:g} "
+                         f"mu={r.mu:g} {r.layout} {r.policy} h={r.height:.2g}] {r.note[:160]}")
+        lines.append(self.summary())
+        return "\n".join(lines)
+
+    def summary(self):
+        n = len(self.rows)
+        c = {k: sum(r.verdict == k for r in self.rows) for k in ("OK", "REFUSED", "FAIL")}
+        return (f"campaign: {n} scenes in {self.elapsed:.1f} s: {c['OK']} OK, {c['REFUSED']} "
+                f"refused (mechanical), {c['FAIL']} FAIL -> {'ok' if self.ok else 'FAILED'}")
+
+    def write_csv(self, path):
+        import csv
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(list(DropRow.FIELDS) + ["reproducer"])
+            for r in self.rows:
+                w.writerow(r.fields())
+
+
+def drop_campaign(n_scenes, dim="both", seed=0, progress=None):
+    """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
+    seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
+    each ``DropRow``."""
+    if isinstance(n_scenes, bool) or not isinstance(n_scenes, (int, np.integer)) \
+            or n_scenes < 1:
+        raise ValueError(f"drop_campaign: n_scenes must be a positive integer, got "
+                         f"{n_scenes!r}")
+    dims = {2: (2,), 3: (3,), "2": (2,), "3": (3,), "both": (2, 3)}.get(dim)
+    if dims is None:
+        raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")
+    t0 = time.perf_counter()
+    rows = []
+    for d in dims:
+        for k in range(int(n_scenes)):
+            rows.append(run_drop(d, scene_seed(d, seed, k)))
+            if progress:
+                progress(rows[-1])
+    return CampaignReport(rows, time.perf_counter() - t0)
