@@ -100,6 +100,7 @@ guard(__name__, __file__)
 
 from . import evbuf
 from .common import P_E, P_MU
+from .decisions import perforates
 from .dispatch import resolve_2d
 from .flight2d import body_energy, fly_into, fly_row
 from .pivot2d import (CP_D, CP_GN, CP_GT, CP_I, CP_L, CP_M, CP_MU, CP_NX, CP_NY, CP_PX,
@@ -1369,7 +1370,7 @@ def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W
                           ev_t, ev_i, ev_f, cnt, err)
         if rc < 0:
             return rc
-        if vfN < 0.0:
+        if perforates(law_par[c_i[best, CI_LAW]], vfN):
             c_i[best, CI_OFF] = 1
     c = members[0]
     _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], K,

@@ -90,6 +90,7 @@ guard(__name__, __file__)
 
 from . import evbuf
 from .common import P_E, P_MU, spd3_solve
+from .decisions import perforates
 from .dispatch import resolve_3d
 from .flight3d import RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
     qrot, qrot_inv
@@ -1860,7 +1861,7 @@ def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
                           ev_t, ev_i, ev_f, cnt, err)
         if rc < 0:
             return rc
-        if vfN < 0.0:
+        if perforates(law_par[c_i[best, CI_LAW]], vfN):
             c_i[best, CI_OFF] = 1
     c = members[0]
     _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
@@ -2256,7 +2257,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                                   Ii, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
                     return rc
-                if vfN < 0.0:
+                if perforates(law_par[c_i[c, CI_LAW]], vfN):
                     c_i[c, CI_OFF] = 1
             elif policy == POL_SIMULTANEOUS:
                 rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,

@@ -559,3 +559,59 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None):
             if progress:
                 progress(rows[-1])
     return CampaignReport(rows, time.perf_counter() - t0)
+
+
+def _progress_bar(total):
+    """A progress callback: a tqdm bar on a terminal (``rbimpact.progress`` when present),
+    nothing otherwise."""
+    try:
+        from .progress import progress
+    except ImportError:
+        return None, None
+    bar = progress(None, total=total, desc="scenes")
+    if bar is None or not hasattr(bar, "update"):
+        return None, None
+    return (lambda row: bar.update(1)), bar
+
+
+def replay_text(dim, sseed):
+    """One scene, run again and explained: what was drawn, how it ended, the checks."""
+    spec = draw_scene(dim, sseed)
+    row = run_drop(dim, sseed, spec)
+    lines = [f"scene {dim}:{sseed}"]
+    for k, v in spec.items():
+        lines.append(f"  {k:<12} {v}")
+    lines.append(f"  -> {row.verdict}: status {row.status}, {row.impacts} impacts, penetration "
+                 f"{row.penetration:.3g} m (tol {row.pen_tol:.2g}), energy gain "
+                 f"{row.energy_gain:.3g} of the scene's scale, {row.wall:.3f} s")
+    if row.note:
+        lines.append(f"  {row.note}")
+    return "\n".join(lines), row
+
+
+def main(args):
+    """``rbimpact stability --scenes N [--dim 2|3|both] [--seed S] [--out CSV]`` and
+    ``--replay DIM:SEED``: print the table; exit status 1 when a scene FAILs."""
+    if args.replay is not None:
+        try:
+            d, sd = args.replay.split(":")
+            d, sd = int(d), int(sd)
+            if d not in (2, 3) or sd < 0:
+                raise ValueError
+        except ValueError:
+            raise ValueError(f"--replay takes DIM:SEED with DIM 2 or 3 and a seed >= 0 (as "
+                             f"printed by a failure), got {args.replay!r}") from None
+        text, row = replay_text(d, sd)
+        print(text)
+        return 0 if row.verdict != "FAIL" else 1
+    dims = 2 if args.dim == "both" else 1
+    cb, bar = _progress_bar(args.scenes * dims)
+    try:
+        report = drop_campaign(args.scenes, dim=args.dim, seed=args.seed, progress=cb)
+    finally:
+        if bar is not None:
+            bar.close()
+    print(report.table())
+    if args.out:
+        report.write_csv(args.out)
+    return 0 if report.ok else 1

@@ -87,10 +87,23 @@ def _cmd_crosscheck(args):
 
 
 def _cmd_stability(args):
+    if args.replay is not None or args.scenes is not None:
+        from .campaign import main as campaign_main
+        return campaign_main(args)
     from .stability import stability_report
     text, _, ok = stability_report(quick=args.quick, out=args.out)
     print(text)
     return 0 if ok else 1
+
+
+def _positive_int(text):
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
+    return n
 
 
 def _cmd_list(args):
@@ -170,6 +183,13 @@ def _parser():
                        "stepper (exits 1 if any breaks)")
     q.add_argument("--quick", action="store_true", help="a subset that runs in seconds")
     q.add_argument("--out", help="write the table to this CSV file")
+    q.add_argument("--scenes", type=_positive_int, metavar="N",
+                   help="run the randomized drop campaign instead: N scenes per dimension")
+    q.add_argument("--dim", choices=("2", "3", "both"), default="both",
+                   help="campaign: dimensions to draw (default both)")
+    q.add_argument("--seed", type=int, default=0, help="campaign seed (default 0)")
+    q.add_argument("--replay", metavar="DIM:SEED",
+                   help="run one campaign scene (from a failure's reproducer) and explain it")
     q.set_defaults(func=_cmd_stability)
     return p
 
