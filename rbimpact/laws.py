@@ -16,6 +16,7 @@ from types import MappingProxyType
 
 import numpy as np
 
+from ._validate import _scalar_reason, _show, _to_float, energy_check, real_array
 from .errors import NoSolutionError
 
 # Relative tolerance on ``dE`` for flagging energy creation: a gain is reported when
@@ -108,23 +109,26 @@ LAWS = {
 
 def _check_param(law, key, value, spec):
     if key == "restitution":
-        if value not in RESTITUTION_KINDS:
+        if not (isinstance(value, str) and value in RESTITUTION_KINDS):
             raise ValueError(f"law {law!r}: restitution must be one of {RESTITUTION_KINDS}, "
-                             f"got {value!r}")
+                             f"got {_show(value)}")
         return RESTITUTION_KINDS.index(value)
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"law {law!r}: parameter {key!r} must be a real number, "
-                         f"got {value!r}") from None
+    hi = "inf)" if spec.hi == np.inf else f"{spec.hi:g}]"
+    reason = _scalar_reason(value)
+    if reason is not None:
+        raise ValueError(f"law {law!r}: parameter {key!r} must be a real number in "
+                         f"[{spec.lo:g}, {hi}, got {_show(value)}: {reason}")
+    x = _to_float(value)
     if not (spec.lo <= x <= spec.hi) or np.isnan(x) or (x == np.inf):
-        hi = "inf)" if spec.hi == np.inf else f"{spec.hi:g}]"
         raise ValueError(f"law {law!r}: parameter {key!r} must be finite and in "
                          f"[{spec.lo:g}, {hi}, got {value!r}")
     return x
 
 
 def _law_spec(name):
+    if not isinstance(name, str):
+        raise ValueError(f"the law name must be a string, one of {', '.join(LAWS)}; got "
+                         f"{_show(name)} ({type(name).__name__})")
     try:
         return LAWS[name]
     except KeyError:
@@ -187,9 +191,11 @@ def _check_contact(v, W):
     Scalar Python arithmetic on the 2 or 3 components (a per-call cost of a few
     microseconds, not the tens of NumPy's reductions on tiny arrays): finite, symmetric to
     SYMMETRY_RTOL, and positive definite by a Cholesky factorisation (every pivot > 0);
-    the slow vectorised ``_check_W_values`` runs only to word an error."""
-    v = np.array(v, dtype=np.float64)
-    W = np.array(W, dtype=np.float64)
+    the slow vectorised ``_check_W_values`` runs only to word an error. Booleans, strings,
+    None, complex numbers and ragged rows are refused (``ValueError``), and so is a contact
+    whose kinetic energy ``v . W^-1 v / 2`` (J) overflows float64."""
+    v = real_array("v", v, "2 or 3 real numbers (m/s), normal first")
+    W = real_array("W", W, "a 2x2 or 3x3 symmetric positive definite matrix (1/kg)")
     if v.ndim != 1 or v.shape[0] not in (2, 3):
         raise ValueError(f"v must have length 2 (2D) or 3 (3D), normal first; got shape {v.shape}")
     d = v.shape[0]
@@ -203,25 +209,33 @@ def _check_contact(v, W):
     if asym > SYMMETRY_RTOL * max(map(abs, flat[d:])):
         _check_W_values(v[None], W[None])
     S = [[0.5 * (rows[i][j] + rows[j][i]) for j in range(d)] for i in range(d)]
-    if not _cholesky_ok(S):
+    L = _cholesky(S)
+    if L is None:
         _check_W_values(v[None], W[None])
         raise ValueError("W must be positive definite")
+    # kinetic energy of the contact, |L^-1 v|^2 / 2 (J): must be representable
+    vl, y, E = flat[:d], [0.0] * d, 0.0
+    for i in range(d):
+        y[i] = (vl[i] - sum(L[i][k] * y[k] for k in range(i))) / L[i][i]
+        E += y[i] * y[i]
+    if not math.isfinite(E):
+        energy_check("resolve: contact (v, W)", {"kinetic energy v.W^-1 v / 2": 0.5 * E})
     return v, np.array(S)
 
 
-def _cholesky_ok(S):
-    """True when the symmetric 2x2 or 3x3 ``S`` (nested lists) has a Cholesky
-    factorisation with positive pivots (the positive-definiteness test of LAPACK potrf)."""
+def _cholesky(S):
+    """The lower Cholesky factor (nested lists) of the symmetric 2x2 or 3x3 ``S``, or None
+    when a pivot is not > 0 (the positive-definiteness test of LAPACK potrf)."""
     d = len(S)
     L = [[0.0] * d for _ in range(d)]
     for j in range(d):
         s = S[j][j] - sum(L[j][k] * L[j][k] for k in range(j))
         if not s > 0.0:
-            return False
+            return None
         L[j][j] = math.sqrt(s)
         for i in range(j + 1, d):
             L[i][j] = (S[i][j] - sum(L[i][k] * L[j][k] for k in range(j))) / L[j][j]
-    return True
+    return L
 
 
 def _check_W_values(v, W):
@@ -331,6 +345,9 @@ class Law:
         fl = [vl[i] + _dot(rows[i], pl) for i in range(len(vl))]
         dE = 0.5 * _dot(pl, [a + b for a, b in zip(vl, fl)])
         scale = 0.5 * _dot([abs(x) for x in pl], [abs(a) + abs(b) for a, b in zip(vl, fl)])
+        if not (math.isfinite(dE) and all(map(math.isfinite, fl))):
+            energy_check(f"law {self.name!r}: impact", {"energy change dE": dE, **{
+                f"final velocity v_f[{i}]": x for i, x in enumerate(fl)}})
         mode, phases = MODE_NAMES[code]
         return Impact(P, np.array(fl), mode, phases, dE, dE > ENERGY_GAIN_RTOL * scale, code)
 

@@ -11,7 +11,7 @@ counter-clockwise; ``angular_velocity`` in rad/s (counter-clockwise positive).
 import math
 from dataclasses import dataclass
 
-from ._validate import real as _real, vector
+from ._validate import body_energy_2d, energy_check, real as _real, vector
 from .shapes import Shape
 
 __all__ = ["Scene2D", "Body", "Plane"]
@@ -52,10 +52,11 @@ class Scene2D:
     """Rigid bodies and static half-planes under uniform ``gravity`` (m/s^2)."""
 
     def __init__(self, gravity=(0.0, -9.81)):
-        g = vector("Scene2D: gravity", gravity, 2, "(x, y)")
+        g = vector("Scene2D: gravity", gravity, 2, "(gx, gy)", "m/s^2")
         self.gravity = (float(g[0]), float(g[1]))
         self.bodies = []
         self.planes = []
+        self._energy = 0.0   # sum of |energies| of the bodies (J): must stay finite
 
     def add_body(self, shape, mass, position, angle=0.0, velocity=(0.0, 0.0),
                  angular_velocity=0.0, moment=None):
@@ -64,7 +65,10 @@ class Scene2D:
         ``shape``: a ``Disk``, ``Box``, ``Polygon``, ``Rod`` or ``Ellipse``; ``mass`` (kg) > 0;
         ``position`` of the centre of mass (m); ``angle`` (rad); ``velocity`` (m/s);
         ``angular_velocity`` (rad/s); ``moment`` (kg m^2) > 0, by default that of the shape
-        with uniform density.
+        with uniform density. Every number must be a finite real (not a bool, string,
+        None or complex), and the body's energies (``m |v|^2 / 2``, ``I w^2 / 2``,
+        ``m g.x``) and the scene's total must be finite in float64: ``ValueError``
+        otherwise.
         """
         if not isinstance(shape, Shape):
             raise ValueError(f"add_body: shape must be a Disk, Box, Polygon, Rod or Ellipse, "
@@ -72,9 +76,9 @@ class Scene2D:
         m = _real("add_body: mass", mass, "kg")
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
-        pos = vector("add_body: position", position, 2, "(x, y)")
+        pos = vector("add_body: position", position, 2, "(x, y)", "m")
         ang = _real("add_body: angle", angle, "rad")
-        vel = vector("add_body: velocity", velocity, 2, "(x, y)")
+        vel = vector("add_body: velocity", velocity, 2, "(vx, vy)", "m/s")
         w = _real("add_body: angular_velocity", angular_velocity, "rad/s")
         if moment is None:
             inertia = shape.moment(m)
@@ -85,16 +89,20 @@ class Scene2D:
             inertia = _real("add_body: moment", moment, "kg m^2")
             if not inertia > 0.0:
                 raise ValueError(f"add_body: moment must be > 0 (kg m^2), got {moment!r}")
+        energy = energy_check(f"add_body (body {len(self.bodies)})",
+                              body_energy_2d(m, inertia, pos, vel, w, self.gravity),
+                              getattr(self, "_energy", 0.0))
         body = Body(len(self.bodies), shape, m, float(inertia), (float(pos[0]), float(pos[1])), ang,
                     (float(vel[0]), float(vel[1])), w)
         self.bodies.append(body)
+        self._energy = energy
         return body.index
 
     def add_plane(self, point, normal):
         """Add a static half-plane through ``point`` (m) with ``normal`` pointing into the
         free side (normalised here); returns its ``Plane``."""
-        pt = vector("add_plane: point", point, 2, "(x, y)")
-        n = vector("add_plane: normal", normal, 2, "(x, y)")
+        pt = vector("add_plane: point", point, 2, "(x, y)", "m")
+        n = vector("add_plane: normal", normal, 2, "(nx, ny)")
         norm = math.hypot(n[0], n[1])
         if not norm > 0.0:
             raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")

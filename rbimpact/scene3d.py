@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validate import real as _real, vector as _vec
+from ._validate import (body_energy_3d, energy_check, real as _real, real_array,
+                        vector as _vec)
 from .shapes3d import Shape3D
 
 __all__ = ["Scene3D", "Body3D", "Plane3D"]
@@ -54,9 +55,11 @@ class Scene3D:
     """Rigid bodies and static half-spaces under uniform ``gravity`` (m/s^2)."""
 
     def __init__(self, gravity=(0.0, 0.0, -9.81)):
-        self.gravity = tuple(_vec("Scene3D: gravity", gravity, 3, "(gx, gy, gz)"))
+        self.gravity = tuple(float(x) for x in
+                             _vec("Scene3D: gravity", gravity, 3, "(gx, gy, gz)", "m/s^2"))
         self.bodies = []
         self.planes = []
+        self._energy = 0.0   # sum of |energies| of the bodies (J): must stay finite
 
     def add_body(self, shape, mass, position, orientation=(1.0, 0.0, 0.0, 0.0),
                  velocity=(0.0, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.0), inertia=None):
@@ -67,7 +70,10 @@ class Scene3D:
         ``velocity`` (m/s); ``angular_velocity`` (rad/s, world frame); ``inertia``: the
         principal moments (kg m^2) about the body axes -- one number (spherical) or three
         -- by default those of the shape with uniform density. Each moment must be > 0
-        and obey the triangle inequality ``I_i <= I_j + I_k`` of a real body.
+        and obey the triangle inequality ``I_i <= I_j + I_k`` of a real body. Every number
+        must be a finite real (not a bool, string, None or complex), and the body's
+        energies (``m |v|^2 / 2``, ``w.I w / 2``, ``m g.x``) and the scene's total must be
+        finite in float64: ``ValueError`` otherwise.
         """
         if not isinstance(shape, Shape3D):
             raise ValueError(f"add_body: shape must be a Sphere, Box3D or Capsule, got "
@@ -75,23 +81,20 @@ class Scene3D:
         m = _real("add_body: mass", mass, "kg")
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
-        pos = _vec("add_body: position", position, 3, "(x, y, z)")
+        pos = _vec("add_body: position", position, 3, "(x, y, z)", "m")
         q = _vec("add_body: orientation", orientation, 4, "(w, x, y, z)")
         nq = float(np.linalg.norm(q))
         if not nq > 0.0:
             raise ValueError(f"add_body: orientation must be a non-zero quaternion "
                              f"(w, x, y, z), got {orientation!r}")
         q = q / nq
-        vel = _vec("add_body: velocity", velocity, 3, "(vx, vy, vz)")
-        w = _vec("add_body: angular_velocity", angular_velocity, 3, "(wx, wy, wz)")
+        vel = _vec("add_body: velocity", velocity, 3, "(vx, vy, vz)", "m/s")
+        w = _vec("add_body: angular_velocity", angular_velocity, 3, "(wx, wy, wz)", "rad/s")
         if inertia is None:
             I = shape.inertia(m)
         else:
-            try:
-                I = np.array(inertia, dtype=float).reshape(-1)
-            except (TypeError, ValueError):
-                raise ValueError(f"add_body: inertia must be one or three principal moments "
-                                 f"(kg m^2), got {inertia!r}") from None
+            I = real_array("add_body: inertia", inertia,
+                           "one or three principal moments (kg m^2)").reshape(-1)
             if I.shape == (1,):
                 I = np.repeat(I, 3)
             if I.shape != (3,):
@@ -104,21 +107,27 @@ class Scene3D:
                 if I[k] > (I[(k + 1) % 3] + I[(k + 2) % 3]) * (1.0 + 1e-12):
                     raise ValueError(f"add_body: principal moments {I.tolist()} violate the "
                                      f"triangle inequality I_{k + 1} <= sum of the others")
-        body = Body3D(len(self.bodies), shape, m, tuple(float(x) for x in I), tuple(pos),
-                      tuple(q), tuple(vel), tuple(w))
+        energy = energy_check(f"add_body (body {len(self.bodies)})",
+                              body_energy_3d(m, I, pos, q, vel, w, self.gravity),
+                              getattr(self, "_energy", 0.0))
+        body = Body3D(len(self.bodies), shape, m, tuple(float(x) for x in I),
+                      tuple(float(x) for x in pos), tuple(float(x) for x in q),
+                      tuple(float(x) for x in vel), tuple(float(x) for x in w))
         self.bodies.append(body)
+        self._energy = energy
         return body.index
 
     def add_plane(self, point, normal):
         """Add a static half-space through ``point`` (m) with ``normal`` pointing into the
         free side (normalised here); returns its ``Plane3D``."""
-        pt = _vec("add_plane: point", point, 3, "(x, y, z)")
+        pt = _vec("add_plane: point", point, 3, "(x, y, z)", "m")
         n = _vec("add_plane: normal", normal, 3, "(nx, ny, nz)")
         norm = float(np.linalg.norm(n))
         if not norm > 0.0:
             raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")
         n = n / norm
-        plane = Plane3D(len(self.planes), tuple(pt), tuple(float(x) for x in n))
+        plane = Plane3D(len(self.planes), tuple(float(x) for x in pt),
+                        tuple(float(x) for x in n))
         self.planes.append(plane)
         return plane
 

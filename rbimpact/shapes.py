@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ._validate import ValueShape, size as _size
+from ._validate import ValueShape, real as _real, real_array, size as _size
 
 __all__ = ["Shape", "Disk", "Box", "Polygon", "Rod", "Ellipse"]
 
@@ -36,7 +36,7 @@ class Shape(ValueShape):
     def moment(self, mass):
         """Moment of inertia (kg m^2) about the centre of mass for ``mass`` (kg), uniform
         density."""
-        return float(mass) * self.unit_moment
+        return _real(f"{type(self).__name__}.moment: mass", mass, "kg") * self.unit_moment
 
 
 
@@ -78,29 +78,34 @@ class Polygon(Shape):
     """
 
     def __init__(self, vertices, _name="Polygon"):
-        try:
-            v = np.array(vertices, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{_name}: vertices must be a sequence of (x, y) points, got "
-                             f"{vertices!r}") from None
+        v = real_array(f"{_name}: vertices", vertices,
+                       "a sequence of at least 3 points (x, y) in m")
         if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
             raise ValueError(f"{_name}: vertices must be at least 3 points (x, y), got shape "
                              f"{v.shape}")
         if not np.all(np.isfinite(v)):
             raise ValueError(f"{_name}: vertices must be finite, got {vertices!r}")
-        e = np.roll(v, -1, axis=0) - v
-        scale = float(np.max(np.abs(v - v.mean(axis=0))))
+        # All geometry in coordinates relative to the vertex mean ``ref``: a small polygon
+        # far from the origin would otherwise lose its area, centroid and moment to
+        # cancellation (x_i y_j - x_j y_i of large coordinates). ``v - ref`` is exact for
+        # vertices within a factor 2 of ``ref`` (Sterbenz), the case that matters.
+        ref = v.mean(axis=0)
+        d = v - ref
+        e = np.roll(d, -1, axis=0) - d
+        scale = float(np.max(np.abs(d)))
         if scale == 0.0 or np.any(np.hypot(e[:, 0], e[:, 1]) <= 1e-12 * scale):
             raise ValueError(f"{_name}: vertices must be distinct consecutive points")
-        cross = e[:, 0] * np.roll(e, -1, axis=0)[:, 1] - e[:, 1] * np.roll(e, -1, axis=0)[:, 0]
-        area2 = float(np.sum(v[:, 0] * np.roll(v, -1, axis=0)[:, 1]
-                             - np.roll(v, -1, axis=0)[:, 0] * v[:, 1]))
+        dn = np.roll(d, -1, axis=0)
+        area2 = float(np.sum(d[:, 0] * dn[:, 1] - dn[:, 0] * d[:, 1]))
         if area2 == 0.0:
             raise ValueError(f"{_name}: the outline has zero signed area (degenerate or "
                              f"self-intersecting), not a convex polygon")
         if area2 < 0.0:  # clockwise: reverse to counter-clockwise
-            v = v[::-1].copy()
-            return self.__init__(v, _name)
+            v, d = v[::-1].copy(), d[::-1].copy()
+            e = np.roll(d, -1, axis=0) - d
+            dn = np.roll(d, -1, axis=0)
+        en = np.roll(e, -1, axis=0)
+        cross = e[:, 0] * en[:, 1] - e[:, 1] * en[:, 0]
         tol = 1e-12 * scale * scale
         if np.any(cross <= tol):
             bad = int(np.argmin(cross))
@@ -108,25 +113,26 @@ class Polygon(Shape):
                              f"{(bad + 1) % len(v)} is {'reflex' if cross[bad] < 0 else 'flat'}"
                              f"); give the vertices of a convex polygon")
         # winding number 1 (a star polygon turns twice): total turning must be 2 pi
-        ang = np.arctan2(cross, np.sum(e * np.roll(e, -1, axis=0), axis=1))
+        ang = np.arctan2(cross, np.sum(e * en, axis=1))
         if abs(float(np.sum(ang)) - 2 * math.pi) > 1e-6:
             raise ValueError(f"{_name}: the outline is self-intersecting, not a convex polygon")
-        xn = np.roll(v, -1, axis=0)
-        c = v[:, 0] * xn[:, 1] - xn[:, 0] * v[:, 1]
+        c = d[:, 0] * dn[:, 1] - dn[:, 0] * d[:, 1]
         A = 0.5 * float(np.sum(c))
-        cx = float(np.sum((v[:, 0] + xn[:, 0]) * c)) / (6.0 * A)
-        cy = float(np.sum((v[:, 1] + xn[:, 1]) * c)) / (6.0 * A)
-        self.offset = np.array([cx, cy])
-        self.vertices = v - self.offset
+        cd = np.array([float(np.sum((d[:, 0] + dn[:, 0]) * c)),
+                       float(np.sum((d[:, 1] + dn[:, 1]) * c))]) / (6.0 * A)
+        self.offset = ref + cd
+        self.vertices = d - cd
         self.vertices.setflags(write=False)
         self.offset.setflags(write=False)
+        # second moment about the centroid, from the centred vertices (no parallel-axis
+        # subtraction, so nothing cancels)
         w = self.vertices
         wn = np.roll(w, -1, axis=0)
         c = w[:, 0] * wn[:, 1] - wn[:, 0] * w[:, 1]
         J = float(np.sum(c * (w[:, 0] ** 2 + w[:, 0] * wn[:, 0] + wn[:, 0] ** 2
                               + w[:, 1] ** 2 + w[:, 1] * wn[:, 1] + wn[:, 1] ** 2))) / 12.0
-        self._area = A
-        self._unit_moment = J / A
+        self._area = 0.5 * float(np.sum(c))
+        self._unit_moment = J / self._area
 
     @property
     def area(self):

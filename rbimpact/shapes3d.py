@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from ._validate import ValueShape, size as _size
+from ._validate import ValueShape, real as _real, real_array, size as _size
 
 __all__ = ["Shape3D", "Sphere", "Box3D", "Capsule"]
 
@@ -43,7 +43,8 @@ class Shape3D(ValueShape):
     def inertia(self, mass):
         """Principal moments of inertia (kg m^2, float64[3]) about the body axes for
         ``mass`` (kg), uniform density."""
-        return float(mass) * np.asarray(self.unit_inertia, dtype=float)
+        m = _real(f"{type(self).__name__}.inertia: mass", mass, "kg")
+        return m * np.asarray(self.unit_inertia, dtype=float)
 
 
 
@@ -81,19 +82,17 @@ class Box3D(Shape3D):
     x, y, z axes, or a cube when ``size`` is one number."""
 
     def __init__(self, size):
+        vals = real_array("Box3D: size", size,
+                          "a number or three edge lengths (a, b, c) in m").reshape(-1)
         if np.ndim(size) == 0:
             s = _size("Box3D", "size", size)
             self.size = (s, s, s)
         else:
-            try:
-                vals = [float(x) for x in size]
-            except (TypeError, ValueError):
-                raise ValueError(f"Box3D: size must be a number or three numbers (m), got "
-                                 f"{size!r}") from None
-            if len(vals) != 3:
+            if vals.shape != (3,):
                 raise ValueError(f"Box3D: size must be a number or three edge lengths "
                                  f"(a, b, c) in m, got {size!r}")
-            self.size = tuple(_size("Box3D", f"size[{k}]", v) for k, v in enumerate(vals))
+            self.size = tuple(_size("Box3D", f"size[{k}]", float(x))
+                              for k, x in enumerate(vals))
 
     @property
     def half(self):
