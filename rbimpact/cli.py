@@ -67,7 +67,14 @@ def _table(header, rows):
 
 def _cmd_bench(args):
     from . import bench
-    return bench.main(args.what, repeat=args.repeat, json_path=args.json)
+    try:
+        return bench.main(args.what, repeat=args.repeat, json_path=args.json)
+    except OSError as exc:              # the figures are printed already
+        if args.json and getattr(exc, "filename", None) == args.json:
+            args._unwritten.append(f"could not write --json {args.json!r}: "
+                                   f"{exc.strerror or exc}")
+            return 0
+        raise
 
 
 def _cmd_impulse_space(args):
@@ -79,20 +86,42 @@ def _cmd_impulse_space(args):
 
 
 def _cmd_crosscheck(args):
-    from .crosscheck import crosscheck_report
-    text, _ = crosscheck_report(args.name, dts=args.dt, repeat=args.repeat, out=args.out,
-                                plot=args.plot, law=args.law, settings=args.set)
-    print(text)
+    from . import crosscheck
+    text, rows = crosscheck.crosscheck_report(args.name, dts=args.dt, repeat=args.repeat,
+                                              law=args.law, settings=args.set)
+    print(text, flush=True)
+    # the files are written here, after the table is printed, so that a failed write
+    # (checked beforehand, but a disk can fill up) does not lose the run
+    _write(args, "--out", args.out, lambda p: crosscheck._write_csv(p, rows),
+           "table written to {}")
+    pm = [r for r in rows if r["engine"] == "pymunk"]
+    _write(args, "--plot", args.plot, lambda p: crosscheck._plot(
+        p, rows, crosscheck._order([r["dt_s"] for r in pm], [r["error_m"] for r in pm]),
+        args.name, rows[-1]["law"], not rows[-1]["reference"]), "plot written to {}")
     return 0
+
+
+def _write(args, what, path, write, done):
+    """Write one output file after the command's output; an OSError is remembered on
+    ``args`` and reported by ``main`` as one line (exit status 2)."""
+    if not path:
+        return
+    try:
+        write(path)
+    except OSError as exc:
+        args._unwritten.append(f"could not write {what} {str(path)!r}: {exc.strerror or exc}")
+        return
+    print(done.format(path))
 
 
 def _cmd_stability(args):
     if args.replay is not None or args.scenes is not None:
         from .campaign import main as campaign_main
         return campaign_main(args)
-    from .stability import stability_report
-    text, _, ok = stability_report(quick=args.quick, out=args.out)
-    print(text)
+    from .stability import stability_report, write_csv
+    text, rows, ok = stability_report(quick=args.quick)
+    print(text, flush=True)
+    _write(args, "--out", args.out, lambda p: write_csv(rows, p), "table written to {}")
     return 0 if ok else 1
 
 
@@ -102,8 +131,13 @@ def _positive_int(text):
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
     if n < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a positive integer (>= 1), got {text!r}")
     return n
+
+
+#: the options of each command that name a file to write (checked before the command runs)
+OUTPUTS = {"run": ("out", "plot"), "crosscheck": ("out", "plot"), "bench": ("json",),
+           "impulse-space": ("plot",), "stability": ("out",)}
 
 
 def _cmd_list(args):
@@ -113,9 +147,18 @@ def _cmd_list(args):
 
 
 def _cmd_run(args):
+    from .errors import OutputError
     from .run import run_scenario
-    print(run_scenario(args.name, law=args.law, settings=args.set, t_end=args.t_end,
-                       out=args.out, plot=args.plot))
+    try:
+        text = run_scenario(args.name, law=args.law, settings=args.set, t_end=args.t_end,
+                            out=args.out, plot=args.plot)
+    except OutputError as exc:          # the run finished; a file could not be written
+        print(exc.summary)
+        args._unwritten.append(str(exc).replace("could not write out ", "could not write "
+                                                "--out ").replace("could not write plot ",
+                                                                  "could not write --plot "))
+        return 0
+    print(text)
     return 0
 
 
@@ -143,14 +186,15 @@ def _parser():
     q.add_argument("what", nargs="?", default="laws",
                    choices=("laws", "routh3d", "rotation3d", "stepper", "crosscheck",
                             "compile", "pay", "all"))
-    q.add_argument("--repeat", type=int, default=7, help="repeats per figure (median)")
+    q.add_argument("--repeat", type=_positive_int, default=7,
+                   help="repeats per figure (median), >= 1")
     q.add_argument("--json", help="also write the figures to this JSON file")
     q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("impulse-space", help="what each law can reach in impulse space")
     contact(q)
     q.add_argument("--mu", type=float, help="friction coefficient (default 0.3)")
-    q.add_argument("--n", type=int, default=200, help="samples per curve")
+    q.add_argument("--n", type=_positive_int, default=200, help="samples per curve")
     q.add_argument("--plot", help="write the figure to this PNG file")
     q.set_defaults(func=_cmd_impulse_space)
 
@@ -171,7 +215,8 @@ def _parser():
     q.add_argument("name")
     q.add_argument("--dt", type=float, nargs="+", default=[1e-2, 1e-3, 1e-4, 1e-5],
                    help="pymunk time steps (s)")
-    q.add_argument("--repeat", type=int, default=3, help="repeats per timing (median)")
+    q.add_argument("--repeat", type=_positive_int, default=3,
+                   help="repeats per timing (median), >= 1")
     q.add_argument("--out", help="write the table to this CSV file")
     q.add_argument("--plot", help="write the work-precision plot to this PNG file")
     q.add_argument("--law", help="collision law (default kane_levinson, pymunk's own)")
@@ -194,20 +239,46 @@ def _parser():
     return p
 
 
+def _one_line(exc):
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
 def main(argv=None):
+    """Run the command line; returns the exit status: 0 done, 1 the run stopped with a
+    ``NoSolutionError``/``SimulationError`` (or a stability cell failed), 2 bad arguments
+    or an output file that cannot be written (one line on stderr, after the command's
+    output), 130 interrupted (Ctrl-C)."""
     args = _parser().parse_args(argv)
+    args._unwritten = []
+    where = f"rbimpact {args.command}"
     try:
-        return args.func(args)
+        from ._validate import writable_path
+        for opt in OUTPUTS.get(args.command, ()):   # before a run that may take long
+            path = getattr(args, opt, None)
+            if path:
+                writable_path(f"--{opt}", path)
+        status = args.func(args)
+    except KeyboardInterrupt:
+        print(f"{where}: interrupted (Ctrl-C)", file=sys.stderr)
+        return 130
     except ImportError as exc:
-        print(f"rbimpact {args.command}: error: {exc} (pip install -e '.[test]' or "
+        print(f"{where}: error: {_one_line(exc)} (pip install -e '.[test]' or "
               f"'.[plot]' for the optional pieces)", file=sys.stderr)
         return 2
-    except ValueError as exc:
-        print(f"rbimpact {args.command}: error: {exc}", file=sys.stderr)
+    except (ValueError, TypeError) as exc:
+        print(f"{where}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except (NoSolutionError, SimulationError) as exc:
-        print(f"rbimpact {args.command}: {type(exc).__name__}: {exc}", file=sys.stderr)
+        print(f"{where}: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 1
+    except OSError as exc:
+        print(f"{where}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    if args._unwritten:
+        sys.stdout.flush()
+        print(f"{where}: error: " + "; ".join(args._unwritten), file=sys.stderr)
+        return 2
+    return status
 
 
 if __name__ == "__main__":

@@ -16,3 +16,17 @@ class NoSolutionError(RuntimeError):
 
 class SimulationError(RuntimeError):
     """A simulation cannot continue: non-finite state, a missed event, an unsupported scene."""
+
+
+class OutputError(OSError):
+    """A result could not be written to a file (missing directory, a directory path, no
+    permission, disk full). ``summary`` holds the text of the finished run, so that the
+    work is not lost; ``paths`` the files that failed."""
+
+    def __init__(self, message, summary="", paths=()):
+        super().__init__(message)
+        self.summary = summary
+        self.paths = tuple(paths)
+
+    def __str__(self):
+        return self.args[0] if self.args else ""

@@ -104,8 +104,17 @@ def run_scenario(name, law=None, settings=(), t_end=None, out=None, plot=None):
     parameters it takes); ``settings``: ``key=value`` strings (``--set``); ``t_end`` (s):
     end time (default the scenario's); ``out``: write the events to this CSV file (JSON
     when it ends in .json); ``plot``: write a figure to this file (needs matplotlib).
+
+    Before the run, ``out`` and ``plot`` are checked to be writable (``ValueError`` if
+    their directory is missing, they name a directory, or permission is lacking); a write
+    that fails after the run raises ``rbimpact.errors.OutputError`` (an ``OSError``) whose
+    ``summary`` is the run's summary.
     """
     from . import scenarios
+    from ._validate import writable_path
+    for what, path in (("out", out), ("plot", plot)):
+        if path:
+            writable_path(what, path)
     settings = list(settings or ())
     if any(str(x).split("=", 1)[0].strip() == "help" for x in settings):
         s = scenarios.spec(name)
@@ -115,9 +124,14 @@ def run_scenario(name, law=None, settings=(), t_end=None, out=None, plot=None):
     if law is not None:
         params["law"] = law
     sc = scenarios.get(name, **params)
-    if t_end is not None and (isinstance(t_end, bool) or not isinstance(t_end, (int, float))
-                              or not (t_end > 0 and math.isfinite(t_end))):
-        raise ValueError(f"t_end must be a positive number of seconds, got {t_end!r}")
+    if t_end is not None:
+        from ._validate import real
+        try:
+            t = real("t_end", t_end, "s")
+        except ValueError as exc:
+            raise ValueError(f"t_end must be a positive number of seconds: {exc}") from None
+        if not t > 0.0:
+            raise ValueError(f"t_end must be a positive number of seconds, got {t_end!r}")
     t_end = sc.t_end if t_end is None else float(t_end)
 
     from .errors import NoSolutionError, SimulationError
@@ -127,8 +141,12 @@ def run_scenario(name, law=None, settings=(), t_end=None, out=None, plot=None):
         partial = getattr(exc, "result", None)
         text = str(exc)
         if partial is not None:
-            text += "\n--- the run up to the error ---\n" + _summary(
-                name, sc, partial, t_end, None, None, out, plot, failed=True)
+            from .errors import OutputError
+            try:
+                part = _summary(name, sc, partial, t_end, None, None, out, plot, failed=True)
+            except OutputError as oe:
+                part = oe.summary + "\n" + str(oe)
+            text += "\n--- the run up to the error ---\n" + part
         new = type(exc)(text, exc.mode_code) if isinstance(exc, NoSolutionError) \
             else type(exc)(text)
         new.result = partial
@@ -187,13 +205,26 @@ def _summary(name, sc, result, t_end, warm, cold, out, plot, failed=False):
             if cold is not None else
             f"run time: {_fmt_time(warm)} (single run, includes any compilation)")
     lines += _reference_lines(sc, events)
+    unwritten = []     # (what, path, OSError): reported after the summary is complete
     if out:
-        (result.to_json if str(out).endswith(".json") else result.to_csv)(out)
-        lines.append(f"events written to {out}")
+        try:
+            (result.to_json if str(out).endswith(".json") else result.to_csv)(out)
+            lines.append(f"events written to {out}")
+        except OSError as exc:
+            unwritten.append(("out", out, exc))
     if plot:
-        result.plot(plot)
-        lines.append(f"plot written to {plot}")
-    return "\n".join(lines)
+        try:
+            result.plot(plot)
+            lines.append(f"plot written to {plot}")
+        except OSError as exc:
+            unwritten.append(("plot", plot, exc))
+    text = "\n".join(lines)
+    if unwritten:
+        from .errors import OutputError
+        raise OutputError("; ".join(f"could not write {what} {str(path)!r}: "
+                                    f"{exc.strerror or exc}" for what, path, exc in unwritten),
+                          summary=text, paths=[p for _, p, _ in unwritten])
+    return text
 
 
 def _energy_gain(impacts, e_scale):
