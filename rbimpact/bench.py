@@ -495,9 +495,11 @@ def _json_default(x):
 
 def main(what="laws", repeat=7, json_path=None):
     """Run the figures of ``what`` (a key of ``WHAT``), print them and optionally write
-    them all to ``json_path`` (one list of rows per figure)."""
+    them all to ``json_path`` (one list of rows per figure). ``repeat``: an integer >= 1."""
     if what not in WHAT:
         raise ValueError(f"bench: what must be one of {', '.join(WHAT)}, got {what!r}")
+    from ._validate import integer
+    repeat = integer("bench: repeat", repeat)      # >= 1: a median of nothing is nan
     runners = {
         "laws": (lambda: bench_laws(repeat=repeat), _print_laws),
         "overhead": (lambda: bench_overhead(repeat=repeat), _print_overhead),

@@ -237,3 +237,10 @@ def test_ctrl_c_in_a_real_process(tmp_path):
             proc.kill()
     assert proc.returncode == 130
     assert err.strip() == "rbimpact run: interrupted (Ctrl-C)", err
+
+
+@pytest.mark.parametrize("repeat", [0, -1, 2.5, True, "3"])
+def test_bench_main_refuses_a_repeat_below_one(repeat):
+    import rbimpact.bench as bench
+    with pytest.raises(ValueError, match="bench: repeat must be an integer in \\[1, "):
+        bench.main("laws", repeat=repeat)
