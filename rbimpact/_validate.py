@@ -132,6 +132,21 @@ def vector(what, value, n, names, unit=None):
     return v
 
 
+def unit_vector(what, v, value):
+    """The float64 vector ``v`` (already checked finite) divided by its length; ``value``
+    (the caller's argument) goes into the message when ``v`` is zero. Lengths that would
+    overflow or underflow when squared (|v| ~ 1e200 or 1e-200) are scaled first."""
+    with np.errstate(over="ignore", under="ignore"):
+        n = float(np.linalg.norm(v))
+    if not 1e-150 < n < 1e150:
+        m = float(np.max(np.abs(v)))
+        if not m > 0.0:
+            raise ValueError(f"{what} must be non-zero, got {_show(value)}")
+        v = v / m
+        n = float(np.linalg.norm(v))
+    return v / n
+
+
 def size(cls, name, value, allow_zero=False):
     """A shape dimension (m): finite and > 0 (>= 0 with ``allow_zero``)."""
     v = real(f"{cls}: {name}", value, "m")

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import (body_energy_3d, energy_check, real as _real, real_array,
-                        vector as _vec)
+                        unit_vector, vector as _vec)
 from .shapes3d import Shape3D
 
 __all__ = ["Scene3D", "Body3D", "Plane3D"]
@@ -82,12 +82,9 @@ class Scene3D:
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
         pos = _vec("add_body: position", position, 3, "(x, y, z)", "m")
-        q = _vec("add_body: orientation", orientation, 4, "(w, x, y, z)")
-        nq = float(np.linalg.norm(q))
-        if not nq > 0.0:
-            raise ValueError(f"add_body: orientation must be a non-zero quaternion "
-                             f"(w, x, y, z), got {orientation!r}")
-        q = q / nq
+        q = unit_vector("add_body: orientation (a quaternion (w, x, y, z))",
+                        _vec("add_body: orientation", orientation, 4, "(w, x, y, z)"),
+                        orientation)
         vel = _vec("add_body: velocity", velocity, 3, "(vx, vy, vz)", "m/s")
         w = _vec("add_body: angular_velocity", angular_velocity, 3, "(wx, wy, wz)", "rad/s")
         if inertia is None:
@@ -121,11 +118,8 @@ class Scene3D:
         """Add a static half-space through ``point`` (m) with ``normal`` pointing into the
         free side (normalised here); returns its ``Plane3D``."""
         pt = _vec("add_plane: point", point, 3, "(x, y, z)", "m")
-        n = _vec("add_plane: normal", normal, 3, "(nx, ny, nz)")
-        norm = float(np.linalg.norm(n))
-        if not norm > 0.0:
-            raise ValueError(f"add_plane: normal must be non-zero, got {normal!r}")
-        n = n / norm
+        n = unit_vector("add_plane: normal", _vec("add_plane: normal", normal, 3,
+                                                  "(nx, ny, nz)"), normal)
         plane = Plane3D(len(self.planes), tuple(float(x) for x in pt),
                         tuple(float(x) for x in n))
         self.planes.append(plane)

@@ -419,3 +419,18 @@ def test_far_polygon_orientation_and_convexity_are_judged_relative():
     assert cw.unit_moment == pytest.approx(s * s / 6.0, rel=1e-12)
     with pytest.raises(ValueError, match="convex"):
         Polygon(np.array([(0, 0), (2, 0), (1, 0.3), (2, 2), (0, 2)]) * 1e-3 + (1e4, 0))
+
+
+def test_huge_or_tiny_quaternions_and_normals_are_normalised_not_zeroed():
+    s3 = Scene3D()
+    for scale in (1e200, 1e-200, 1.0):
+        i = s3.add_body(Sphere(0.1), 1.0, (0.0, 0.0, 1.0), orientation=(scale, 0, 0, scale))
+        np.testing.assert_allclose(s3.bodies[i].orientation, (0.5 ** 0.5, 0, 0, 0.5 ** 0.5),
+                                   rtol=1e-15)
+        plane = s3.add_plane((0.0, 0.0, 0.0), (0.0, 0.0, scale))
+        assert plane.normal == (0.0, 0.0, 1.0)
+        s2 = Scene2D()
+        assert s2.add_plane((0.0, 0.0), (0.0, scale)).normal == (0.0, 1.0)
+    _raises(lambda: s3.add_body(Sphere(0.1), 1.0, (0, 0, 1), orientation=(0, 0, 0, 0)),
+            "orientation", "non-zero")
+    _raises(lambda: s3.add_plane((0, 0, 0), (0, 0, 0)), "add_plane: normal must be non-zero")
