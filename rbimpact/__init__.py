@@ -20,6 +20,7 @@ _LAZY = {
     "impulse_space": "impulse_region", "ImpulseSpace": "impulse_region",
     "Sphere": "shapes3d", "Box3D": "shapes3d", "Capsule": "shapes3d",
     "Scene3D": "scene3d", "Simulation3D": "simulation3d", "Result3D": "result3d",
+    "sweep": "sweep",   # needs the sweep extra (pandas, pyarrow, dask) only when called
 }
 
 __all__ = ["NoSolutionError", "SimulationError", *_LAZY]

@@ -162,6 +162,13 @@ def _cmd_run(args):
     return 0
 
 
+def _cmd_sweep(args):
+    from .sweep import sweep_command
+    print(sweep_command(args.name, law=args.law, grid=args.grid, seeds=args.seeds,
+                        workers=args.workers, scheduler=args.scheduler, out=args.out))
+    return 0
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="rbimpact", description="Algebraic collision laws "
                                 "with friction and an exact event-driven rigid-body stepper.")
@@ -236,6 +243,23 @@ def _parser():
     q.add_argument("--replay", metavar="DIM:SEED",
                    help="run one campaign scene (from a failure's reproducer) and explain it")
     q.set_defaults(func=_cmd_stability)
+
+    q = sub.add_parser("sweep", help="run a scenario over a grid of parameters, laws and "
+                       "seeds, on Dask (needs the sweep extra)")
+    q.add_argument("name")
+    q.add_argument("--law", action="append", metavar="LAW[,LAW...]",
+                   help="collision law(s) (repeatable; default: the scenario's)")
+    q.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="a scenario parameter and its values (repeatable)")
+    q.add_argument("--seeds", type=_positive_int, default=1,
+                   help="seeds 0..N-1 of each grid point (default 1)")
+    q.add_argument("--workers", type=_positive_int, default=1,
+                   help="processes of a Dask LocalCluster (default 1: in this process)")
+    q.add_argument("--scheduler", metavar="ADDRESS",
+                   help="use the running Dask cluster at this address instead")
+    q.add_argument("--out", metavar="FILE.parquet",
+                   help="write the table here as runs finish; runs already in it are skipped")
+    q.set_defaults(func=_cmd_sweep)
     return p
 
 
