@@ -147,12 +147,23 @@ def unit_vector(what, v, value):
     return v / n
 
 
+#: shape dimensions (m) lie in [SIZE_MIN, SIZE_MAX], so that areas, volumes and unit
+#: moments of inertia (size^2, size^3) are normal float64 numbers
+SIZE_MIN, SIZE_MAX = 1e-100, 1e100
+
+
 def size(cls, name, value, allow_zero=False):
-    """A shape dimension (m): finite and > 0 (>= 0 with ``allow_zero``)."""
+    """A shape dimension (m): finite and > 0 (or 0 with ``allow_zero``), within
+    [SIZE_MIN, SIZE_MAX] = [1e-100, 1e100] m so that area, volume and moment of inertia
+    are representable."""
     v = real(f"{cls}: {name}", value, "m")
     if v < 0.0 or (v == 0.0 and not allow_zero):
         need = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{cls}: {name} must be {need} (m), got {value!r}")
+    if v != 0.0 and not SIZE_MIN <= v <= SIZE_MAX:
+        raise ValueError(f"{cls}: {name} must be {'0 or ' if allow_zero else ''}between "
+                         f"{SIZE_MIN:g} and {SIZE_MAX:g} m (so that its area, volume and "
+                         f"moment of inertia are representable in float64), got {value!r}")
     return v
 
 

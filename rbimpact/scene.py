@@ -85,6 +85,10 @@ class Scene2D:
             if not inertia > 0.0:
                 raise ValueError(f"add_body: {shape!r} has no rotational inertia (a segment "
                                  f"of zero length?); give moment=")
+            if not math.isfinite(inertia):
+                raise ValueError(f"add_body: the moment of inertia of {shape!r} with mass "
+                                 f"{m:g} kg overflows float64; use a smaller mass or size, "
+                                 f"or other units")
         else:
             inertia = _real("add_body: moment", moment, "kg m^2")
             if not inertia > 0.0:

@@ -89,6 +89,10 @@ class Scene3D:
         w = _vec("add_body: angular_velocity", angular_velocity, 3, "(wx, wy, wz)", "rad/s")
         if inertia is None:
             I = shape.inertia(m)
+            if not np.all(np.isfinite(I)):
+                raise ValueError(f"add_body: the moments of inertia of {shape!r} with mass "
+                                 f"{m:g} kg overflow float64; use a smaller mass or size, "
+                                 f"or other units")
         else:
             I = real_array("add_body: inertia", inertia,
                            "one or three principal moments (kg m^2)").reshape(-1)

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from ._validate import ValueShape, real as _real, real_array, size as _size
+from ._validate import SIZE_MAX, SIZE_MIN, ValueShape, real as _real, real_array, size as _size
 
 __all__ = ["Shape", "Disk", "Box", "Polygon", "Rod", "Ellipse"]
 
@@ -95,6 +95,10 @@ class Polygon(Shape):
         scale = float(np.max(np.abs(d)))
         if scale == 0.0 or np.any(np.hypot(e[:, 0], e[:, 1]) <= 1e-12 * scale):
             raise ValueError(f"{_name}: vertices must be distinct consecutive points")
+        if not SIZE_MIN <= scale <= SIZE_MAX:
+            raise ValueError(f"{_name}: the polygon's size ({scale:.3g} m from the vertex "
+                             f"mean) must be between {SIZE_MIN:g} and {SIZE_MAX:g} m, so that "
+                             f"its area and moment of inertia are representable in float64")
         dn = np.roll(d, -1, axis=0)
         area2 = float(np.sum(d[:, 0] * dn[:, 1] - dn[:, 0] * d[:, 1]))
         if area2 == 0.0:

@@ -44,7 +44,7 @@ class Shape3D(ValueShape):
         """Principal moments of inertia (kg m^2, float64[3]) about the body axes for
         ``mass`` (kg), uniform density."""
         m = _real(f"{type(self).__name__}.inertia: mass", mass, "kg")
-        return m * np.asarray(self.unit_inertia, dtype=float)
+        return np.array([m * float(k) for k in self.unit_inertia])   # inf on overflow
 
 
 

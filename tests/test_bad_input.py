@@ -434,3 +434,21 @@ def test_huge_or_tiny_quaternions_and_normals_are_normalised_not_zeroed():
     _raises(lambda: s3.add_body(Sphere(0.1), 1.0, (0, 0, 1), orientation=(0, 0, 0, 0)),
             "orientation", "non-zero")
     _raises(lambda: s3.add_plane((0, 0, 0), (0, 0, 0)), "add_plane: normal must be non-zero")
+
+
+def test_sizes_whose_area_volume_or_moment_overflow_are_refused():
+    for make in (lambda x: Disk(x), lambda x: Box(x, 1.0), lambda x: Rod(x),
+                 lambda x: Ellipse(1.0, x), lambda x: Sphere(x), lambda x: Box3D(x),
+                 lambda x: Capsule(1.0, x)):
+        for bad in (1e160, 1e-170):
+            _raises(lambda: make(bad), "between 1e-100 and 1e+100 m")
+    assert Rod(1.0, radius=0.0).radius == 0.0
+    _raises(lambda: Rod(1.0, radius=1e-120), "must be 0 or between")
+    for k in (1e160, 1e-170):
+        _raises(lambda: Polygon(np.array([(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]) * k),
+                "Polygon: the polygon's size", "between 1e-100 and 1e+100 m")
+    # a representable shape with a mass too large for its moment
+    _raises(lambda: Scene2D().add_body(Disk(1e100), 1e200, (0.0, 2e100)),
+            "add_body: the moment of inertia", "overflows")
+    _raises(lambda: Scene3D().add_body(Sphere(1e100), 1e200, (0.0, 0.0, 2e100)),
+            "add_body: the moments of inertia", "overflow")
