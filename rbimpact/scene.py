@@ -48,6 +48,13 @@ class Plane:
         return self.normal[0] * self.point[0] + self.normal[1] * self.point[1]
 
 
+def _inverse_ok(what, x, unit):
+    """The stepper divides by masses and moments: 1/x must be finite (x >~ 5.6e-309)."""
+    if not math.isfinite(1.0 / x):
+        raise ValueError(f"add_body: {what} {x:g} {unit} is too small: its inverse overflows "
+                         f"float64 (it must be at least ~5.6e-309 {unit}); use other units")
+
+
 class Scene2D:
     """Rigid bodies and static half-planes under uniform ``gravity`` (m/s^2)."""
 
@@ -76,6 +83,7 @@ class Scene2D:
         m = _real("add_body: mass", mass, "kg")
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
+        _inverse_ok("mass", m, "kg")
         pos = vector("add_body: position", position, 2, "(x, y)", "m")
         ang = _real("add_body: angle", angle, "rad")
         vel = vector("add_body: velocity", velocity, 2, "(vx, vy)", "m/s")
@@ -83,8 +91,9 @@ class Scene2D:
         if moment is None:
             inertia = shape.moment(m)
             if not inertia > 0.0:
-                raise ValueError(f"add_body: {shape!r} has no rotational inertia (a segment "
-                                 f"of zero length?); give moment=")
+                raise ValueError(f"add_body: the moment of inertia of {shape!r} with mass "
+                                 f"{m:g} kg underflows to 0; use a larger mass or size, or "
+                                 f"give moment=")
             if not math.isfinite(inertia):
                 raise ValueError(f"add_body: the moment of inertia of {shape!r} with mass "
                                  f"{m:g} kg overflows float64; use a smaller mass or size, "
@@ -93,6 +102,7 @@ class Scene2D:
             inertia = _real("add_body: moment", moment, "kg m^2")
             if not inertia > 0.0:
                 raise ValueError(f"add_body: moment must be > 0 (kg m^2), got {moment!r}")
+        _inverse_ok("moment of inertia", inertia, "kg m^2")
         energy = energy_check(f"add_body (body {len(self.bodies)})",
                               body_energy_2d(m, inertia, pos, vel, w, self.gravity),
                               getattr(self, "_energy", 0.0))

@@ -15,6 +15,7 @@ import numpy as np
 
 from ._validate import (body_energy_3d, energy_check, real as _real, real_array,
                         unit_vector, vector as _vec)
+from .scene import _inverse_ok
 from .shapes3d import Shape3D
 
 __all__ = ["Scene3D", "Body3D", "Plane3D"]
@@ -81,6 +82,7 @@ class Scene3D:
         m = _real("add_body: mass", mass, "kg")
         if not m > 0.0:
             raise ValueError(f"add_body: mass must be > 0 (kg), got {mass!r}")
+        _inverse_ok("mass", m, "kg")
         pos = _vec("add_body: position", position, 3, "(x, y, z)", "m")
         q = unit_vector("add_body: orientation (a quaternion (w, x, y, z))",
                         _vec("add_body: orientation", orientation, 4, "(w, x, y, z)"),
@@ -108,6 +110,12 @@ class Scene3D:
                 if I[k] > (I[(k + 1) % 3] + I[(k + 2) % 3]) * (1.0 + 1e-12):
                     raise ValueError(f"add_body: principal moments {I.tolist()} violate the "
                                      f"triangle inequality I_{k + 1} <= sum of the others")
+        for k in range(3):
+            if not I[k] > 0.0:
+                raise ValueError(f"add_body: the moments of inertia of {shape!r} with mass "
+                                 f"{m:g} kg underflow to 0; use a larger mass or size, or "
+                                 f"give inertia=")
+            _inverse_ok(f"principal moment I_{k + 1}", float(I[k]), "kg m^2")
         energy = energy_check(f"add_body (body {len(self.bodies)})",
                               body_energy_3d(m, I, pos, q, vel, w, self.gravity),
                               getattr(self, "_energy", 0.0))

@@ -452,3 +452,16 @@ def test_sizes_whose_area_volume_or_moment_overflow_are_refused():
             "add_body: the moment of inertia", "overflows")
     _raises(lambda: Scene3D().add_body(Sphere(1e100), 1e200, (0.0, 0.0, 2e100)),
             "add_body: the moments of inertia", "overflow")
+
+
+def test_masses_and_moments_must_have_finite_inverses():
+    _raises(lambda: Scene2D().add_body(Disk(0.1), 1e-310, (0.0, 1.0)), "mass", "too small",
+            "inverse")
+    _raises(lambda: Scene2D().add_body(Disk(0.1), 1.0, (0.0, 1.0), moment=1e-310),
+            "moment of inertia", "too small")
+    _raises(lambda: Scene2D().add_body(Disk(1e-100), 1e-200, (0.0, 1.0)), "underflows")
+    _raises(lambda: Scene3D().add_body(Sphere(0.1), 5e-324, (0.0, 0.0, 1.0)), "mass")
+    _raises(lambda: Scene3D().add_body(Sphere(0.1), 1.0, (0.0, 0.0, 1.0), inertia=1e-310),
+            "principal moment I_1", "too small")
+    _raises(lambda: Scene3D().add_body(Sphere(1e-100), 1e-200, (0.0, 0.0, 1.0)), "underflow")
+    Scene2D().add_body(Disk(1e-50), 1e-200, (0.0, 1.0))          # tiny but representable
