@@ -172,6 +172,8 @@ ERR_CHATTER = -5
 ERR_SEQ = -6
 ERR_PGS = -7
 ERR_TIPPING = -8
+RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, 2]
+TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lifts it (tips)
 ERR_ELLIPSE_SLIDE = -9
 ERR_STALL = -10
 ERR_TOO_MANY = -11
@@ -737,6 +739,13 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
             if vc != 0.0 and sig * k < 0.0:
                 ttr[i] = t - vc / k
     elif kind == SH_POLY:
+        if mu > 0.0 and vT != 0.0 and abs(gt) <= -mu * gn and vT * vT <= _vz2(tolf, -gn):
+            # a slip slower than the accumulation speed with friction that holds the body:
+            # it sticks (the slip's energy, below m zeno_speed^2 / 2, is dissipated; no
+            # decision on the sign of a round-off slip)
+            st[i, 3] -= vT * tx
+            st[i, 4] -= vT * ty
+            vT = 0.0
         if vT == 0.0:
             if abs(gt) <= -mu * gn:
                 mode = PM_REST
@@ -769,9 +778,13 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
         h = -(nx * r0x + ny * r0y)
         N1 = (-h * FT - xi0 * N) / (xi1 - xi0)
         N0 = N - N1
-        if N0 < -1e-12 * N or N1 < -1e-12 * N:
+        if N0 < -TIP_RTOL * N or N1 < -TIP_RTOL * N:
+            # tipping: the face cannot hold the body; the loaded corner carries it from
+            # here (integrated pivot contact, entered by the caller through RC_TIP)
             _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], FT, N0, N1)
-            return ERR_TIPPING
+            pm[i, 2] = pm[i, 3] if N0 < N1 else pm[i, 2]
+            pm[i, 1] = p
+            return RC_TIP
     else:
         if mu == 0.0:
             aT = gt
@@ -848,6 +861,8 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
         return rc
     if rc == 1:
         return 1
+    if rc == RC_TIP:
+        pm[i, 0] = PM_REST      # logged as landed on the face; the caller pivots it
     ux, uy = _point_vel(st, i, -hf * nx, -hf * ny)
     dvx = st[i, 3] - vx0
     dvy = st[i, 4] - vy0
@@ -855,7 +870,7 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
          st[i, 0] - hf * nx, st[i, 1] - hf * ny, nx, ny, viN, viT, ux * nx + uy * ny,
          ux * tx + uy * ty, m * (dvx * nx + dvy * ny), m * (dvx * tx + dvy * ty),
          _energy(st, bflt, grav, i) - e0)
-    return 0
+    return rc
 
 
 @njit(cache=True, _nrt=False)
@@ -892,7 +907,7 @@ def _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
         st[i, 4] = 0.0
     rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
-    if rc < 0:
+    if rc < 0 or rc == RC_TIP:
         return rc
     _log_mode(i, t, st, bflt, planes, pm, ev_t, ev_i, ev_f, cnt, viN, viT)
     return 0
@@ -923,7 +938,7 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
         old = pm[i, 0]
         rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pm, ttr, tolf, err)
-        if rc < 0:
+        if rc < 0 or rc == RC_TIP:
             return rc
         if rc == 0:
             if pm[i, 0] != old:
@@ -1082,6 +1097,27 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, 2 if pm[i, 3] == 0 else 1, 0, px, py,
          nx, ny, viN, viT, vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
     return 0
+
+
+@njit(cache=True, _nrt=False)
+def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr, tolf,
+         w, ev_t, ev_i, ev_f, cnt, err):
+    """Body i resting or sliding on a face tips over (``_persist_setup`` returned RC_TIP,
+    with the loaded corner in pm[i, 2]): from t it pivots on that corner (mode table:
+    rest/slide on a face -> pivot on a vertex). Returns 0 or an error code (ERR_TIPPING
+    when no pivot state is consistent either)."""
+    p = pm[i, 1]
+    k = pm[i, 2]
+    pm[i, 0] = PM_FLIGHT
+    st[i, 6] = grav[0]
+    st[i, 7] = grav[1]
+    st[i, 8] = 0.0
+    ttr[i] = INF
+    rc = _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+    if rc == 1:
+        return ERR_TIPPING      # err holds the face forces set by _persist_setup
+    return rc
 
 
 @njit(cache=True, _nrt=False)
@@ -1382,9 +1418,10 @@ def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W
 
 
 @njit(cache=True, _nrt=False)
-def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr, tolf,
-          ev_t, ev_i, ev_f, cnt, err):
-    """Start of a run: settle the bodies that start at rest on a plane."""
+def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr,
+          tolf, w, ev_t, ev_i, ev_f, cnt, err):
+    """Start of a run: settle the bodies that start at rest on a plane (or pivot those
+    that start on a face that cannot hold them: tipping)."""
     nb = st.shape[0]
     for i in range(nb):
         tref[i] = t
@@ -1412,6 +1449,9 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr
                     and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
                 rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                              ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                if rc == RC_TIP:
+                    rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                              tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
                     return rc
     return 0
@@ -1621,6 +1661,9 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
         if pm[i, 0] != PM_FLIGHT:
             rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                              pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+            if rc == RC_TIP:
+                rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
+                          zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
             continue
@@ -1742,13 +1785,14 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
             if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
                 return RC_BUFFER_FULL
             rc = _init(t_now, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                       ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                       tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
             cnt[3] = 1
             for i in range(nb):
                 bmark[i] = 1
-                _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+                if pm[i, 0] != PM_PIVOT:    # a pivot pass at t records its own motion
+                    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
             pend = True
             continue
         tmin = INF
@@ -1811,16 +1855,19 @@ def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, t
                 tref[i] = t
                 rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                              pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
             elif ttr[i] <= t:
                 rc = _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                                  bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
             else:
                 continue
+            if rc == RC_TIP:
+                rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
+                          zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+            if rc < 0:
+                return rc
             did = True
+            if pm[i, 0] == PM_PIVOT:
+                break       # its first integration pass (at t) records its motion
             bmark[i] = 1
             if not _finite(st, i):
                 _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
