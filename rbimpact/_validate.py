@@ -34,6 +34,9 @@ def _show(value, limit=80):
 
 def _scalar_reason(x):
     """Why ``x`` is not a real number (str), or None when it is one."""
+    t = type(x)
+    if t is float or t is int:          # the common case, fast
+        return None
     if isinstance(x, (bool, np.bool_)):
         return f"{x!r} is a boolean, not a number"
     if isinstance(x, (str, bytes)):
@@ -127,23 +130,18 @@ def vector(what, value, n, names, unit=None):
     v = real_array(what, value, expect).reshape(-1)
     if v.shape != (n,):
         raise ValueError(f"{what} must be {expect}, got {_show(value)}")
-    if not np.all(np.isfinite(v)):
+    if not all(map(math.isfinite, v.tolist())):
         raise ValueError(f"{what} must be finite, got {_show(value)}")
     return v
 
 
 def unit_vector(what, v, value):
     """The float64 vector ``v`` (already checked finite) divided by its length; ``value``
-    (the caller's argument) goes into the message when ``v`` is zero. Lengths that would
-    overflow or underflow when squared (|v| ~ 1e200 or 1e-200) are scaled first."""
-    with np.errstate(over="ignore", under="ignore"):
-        n = float(np.linalg.norm(v))
-    if not 1e-150 < n < 1e150:
-        m = float(np.max(np.abs(v)))
-        if not m > 0.0:
-            raise ValueError(f"{what} must be non-zero, got {_show(value)}")
-        v = v / m
-        n = float(np.linalg.norm(v))
+    (the caller's argument) goes into the message when ``v`` is zero. The length is taken
+    by ``math.hypot``, which neither overflows nor underflows (|v| ~ 1e200 or 1e-200)."""
+    n = math.hypot(*(float(x) for x in v))
+    if not n > 0.0:
+        raise ValueError(f"{what} must be non-zero, got {_show(value)}")
     return v / n
 
 
@@ -258,13 +256,13 @@ def energy_check(what, terms, base=0.0):
 def body_energy_2d(mass, moment, position, velocity, angular_velocity, gravity):
     """The energies (J) of a 2D body, as the stepper computes them: kinetic ``m v.v / 2``,
     rotational ``I w^2 / 2`` and gravitational ``-m g.x`` (dict; inf on overflow)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        vx, vy = (float(c) for c in velocity)
-        w = float(angular_velocity)
-        return {"kinetic energy m |v|^2 / 2": 0.5 * mass * (vx * vx + vy * vy),
-                "rotational energy I w^2 / 2": 0.5 * moment * (w * w),
-                "gravitational energy m g.x": -mass * (gravity[0] * position[0]
-                                                        + gravity[1] * position[1])}
+    m = float(mass)
+    vx, vy = (float(c) for c in velocity)
+    x, y = (float(c) for c in position)
+    w = float(angular_velocity)
+    return {"kinetic energy m |v|^2 / 2": 0.5 * m * (vx * vx + vy * vy),
+            "rotational energy I w^2 / 2": 0.5 * float(moment) * (w * w),
+            "gravitational energy m g.x": -m * (float(gravity[0]) * x + float(gravity[1]) * y)}
 
 
 def body_energy_3d(mass, inertia, position, orientation, velocity, angular_velocity,
@@ -272,20 +270,19 @@ def body_energy_3d(mass, inertia, position, orientation, velocity, angular_veloc
     """As ``body_energy_2d`` for 3D: ``inertia`` the principal moments (kg m^2) about the
     body axes, ``orientation`` a unit quaternion (w, x, y, z), ``angular_velocity`` in the
     world frame (rad/s)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        v = np.asarray(velocity, dtype=float)
-        qw, qx, qy, qz = (float(c) for c in orientation)
-        R = np.array([[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw),
-                       2 * (qx * qz + qy * qw)],
-                      [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz),
-                       2 * (qy * qz - qx * qw)],
-                      [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw),
-                       1 - 2 * (qx * qx + qy * qy)]])
-        wb = R.T @ np.asarray(angular_velocity, dtype=float)    # body frame
-        return {"kinetic energy m |v|^2 / 2": 0.5 * mass * float(v @ v),
-                "rotational energy w.I w / 2": 0.5 * float(np.dot(np.asarray(inertia, float),
-                                                                  wb * wb)),
-                "gravitational energy m g.x": -mass * float(np.dot(gravity, position))}
+    m = float(mass)
+    qw, qx, qy, qz = (float(c) for c in orientation)
+    R = ((1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)),
+         (2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)),
+         (2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)))
+    w = [float(c) for c in angular_velocity]
+    wb = [R[0][k] * w[0] + R[1][k] * w[1] + R[2][k] * w[2] for k in range(3)]  # R^T w
+    v = [float(c) for c in velocity]
+    return {"kinetic energy m |v|^2 / 2": 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]),
+            "rotational energy w.I w / 2": 0.5 * sum(float(i) * (x * x)
+                                                     for i, x in zip(inertia, wb)),
+            "gravitational energy m g.x": -m * sum(float(g) * float(x)
+                                                   for g, x in zip(gravity, position))}
 
 
 def scene_energy_check(who, scene):
