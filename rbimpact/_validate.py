@@ -64,6 +64,8 @@ def _to_float(x):
         return float(x)
     except OverflowError:
         return math.inf if x > 0 else -math.inf
+    except ValueError:                  # Decimal("sNaN")
+        return math.nan
 
 
 def real(what, value, unit):
