@@ -13,6 +13,8 @@
 ``rbimpact bench compile``     start-up in a new process, empty and warm Numba cache.
 ``rbimpact bench pay``         pay only for what is used: a frictionless one-ball scene against a
                                rough two-ball scene, compile (new process, empty cache) and run.
+``rbimpact bench sweep``       ``rbimpact.sweep("die_toss", seeds=400)`` with 1 and 2 workers, and
+                               ``to_csv`` per 1e6 events against the former row-by-row writer.
 ``rbimpact bench all``         all of the above.
 """
 import json
@@ -471,8 +473,102 @@ def _print_routh3d(rows):
               f"{r['impacts_per_s']:>12.3g}")
 
 
+def _csv_rowwise(res, path):
+    """The CSV writer as it was before ``to_csv`` was vectorized (csv.writer over rows,
+    ``repr`` of floats): the reference ``bench sweep`` times ``to_csv`` against."""
+    import csv
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(res.FIELDS_CSV)
+        for ev in res.events:
+            vectors = [float(x) for name in res._EVENT_VECTORS for x in ev[name]]
+            row = (float(ev["t"]), str(ev["kind"]), int(ev["a"]), int(ev["b"]), *vectors,
+                   int(ev["mode"]), float(ev["dE"]), int(ev["cluster"]))
+            w.writerow([repr(x) if isinstance(x, float) else x for x in row])
+
+
+def bench_sweep(repeat=1, seeds=400, workers=(1, 2), csv_events=1_000_000,
+                old_events=100_000, tosses=100):
+    """``rbimpact.sweep("die_toss", seeds=seeds)`` with each number of ``workers`` (wall
+    time, including the LocalCluster's start and the workers' code loading, and the
+    compute phase alone; ratio against the first; whether the tables are identical), and
+    ``to_csv`` per 1e6 events against the former row-by-row writer, on a 3D log of
+    ``csv_events`` events (the events of ``tosses`` die tosses, repeated with shifted
+    times); the former writer is timed on ``old_events`` of them and scaled (its cost is
+    linear), after checking that both write the same bytes. Needs the sweep extra."""
+    import copy
+    import os
+    import tempfile
+    from . import scenarios
+    from .sweep import sweep
+
+    rows, tables = [], []
+    for w in workers:
+        best = None
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            df = sweep("die_toss", seeds=seeds, workers=w, progress=False)
+            wall = time.perf_counter() - t0
+            if best is None or wall < best[0]:
+                best = (wall, df)
+        wall, df = best
+        tables.append(df.drop(columns="run_s"))
+        rows.append({"item": f"sweep die_toss --seeds {seeds} --workers {w}", "workers": w,
+                     "wall_s": wall, "setup_s": df.attrs["setup_s"],
+                     "compute_s": df.attrs["compute_s"],
+                     "errors": int((df["status"] == "error").sum())})
+    for r, t in zip(rows, tables):
+        r["speedup"] = rows[0]["wall_s"] / r["wall_s"]
+        r["compute_speedup"] = rows[0]["compute_s"] / r["compute_s"]
+        r["identical_table"] = bool(t.equals(tables[0]))
+
+    logs = [scenarios.get("die_toss", seed=k).simulate() for k in range(tosses)]
+    base = np.concatenate([r.events for r in logs])
+    span = max(r.t_end for r in logs)
+    base["t"] += np.repeat(np.arange(tosses) * span, [len(r.events) for r in logs])
+    k = -(-csv_events // len(base))
+    big = np.tile(base, k)[:csv_events].copy()
+    big["t"] += np.repeat(np.arange(k) * span * tosses, len(base))[:csv_events]
+    res = copy.copy(logs[0])
+    with tempfile.TemporaryDirectory() as tmp:
+        new_path, old_path = os.path.join(tmp, "new.csv"), os.path.join(tmp, "old.csv")
+        res.events = big[:old_events]
+        _csv_rowwise(res, old_path)
+        res.to_csv(new_path)
+        same = open(old_path, "rb").read() == open(new_path, "rb").read()
+        t_old = _median_time(lambda: _csv_rowwise(res, old_path), max(1, repeat)) \
+            * 1e6 / old_events
+        res.events = big
+        t_new = _median_time(lambda: res.to_csv(new_path), max(1, repeat)) * 1e6 / csv_events
+        size = os.path.getsize(new_path)
+    rows.append({"item": f"to_csv, 3D die_toss log ({len(big):.0e} events, "
+                         f"{size / 1e6:.0f} MB)", "old_s_per_1e6": t_old,
+                 "new_s_per_1e6": t_new, "speedup": t_old / t_new, "same_bytes": same})
+    return rows
+
+
+def _print_sweep(rows):
+    print("Sweeps: die_toss over seeds (wall time includes the Dask LocalCluster's start and "
+          "loading the code on each worker; compute: the runs alone); ratios against the "
+          "first row")
+    print(f"{'item':<44}{'wall s':>9}{'setup s':>9}{'compute s':>11}{'x wall':>8}"
+          f"{'x compute':>11}  same table")
+    for r in rows:
+        if "wall_s" in r:
+            print(f"{r['item']:<44}{r['wall_s']:>9.2f}{r['setup_s']:>9.2f}"
+                  f"{r['compute_s']:>11.2f}{r['speedup']:>8.2f}{r['compute_speedup']:>11.2f}"
+                  f"  {'yes' if r['identical_table'] else 'NO'}"
+                  + (f" ({r['errors']} errors)" if r["errors"] else ""))
+    for r in rows:
+        if "old_s_per_1e6" in r:
+            print(f"{r['item']}: former writer {r['old_s_per_1e6']:.2f} s per 1e6 events, "
+                  f"to_csv {r['new_s_per_1e6']:.2f} s ({r['speedup']:.1f}x; "
+                  f"{'same bytes' if r['same_bytes'] else 'OUTPUT DIFFERS'})")
+
+
 #: subcommand -> the figures it runs (key, function, printer), in order
-SECTIONS = ("laws", "overhead", "routh3d", "rotation3d", "stepper", "pymunk", "compile", "pay")
+SECTIONS = ("laws", "overhead", "routh3d", "rotation3d", "stepper", "pymunk", "compile", "pay",
+            "sweep")
 WHAT = {
     "laws": ("laws", "overhead"),
     "routh3d": ("routh3d",),
@@ -481,6 +577,7 @@ WHAT = {
     "crosscheck": ("pymunk",),
     "compile": ("compile",),
     "pay": ("pay",),
+    "sweep": ("sweep",),
     "all": SECTIONS,
 }
 
@@ -509,6 +606,7 @@ def main(what="laws", repeat=7, json_path=None):
         "pymunk": (lambda: bench_pymunk(repeat=max(3, repeat // 2)), _print_pymunk),
         "compile": (bench_compile, _print_compile),
         "pay": (lambda: bench_pay(repeat=max(1, repeat // 2)), _print_pay),
+        "sweep": (lambda: bench_sweep(repeat=max(1, repeat // 4)), _print_sweep),
     }
     out = {}
     for key in WHAT[what]:

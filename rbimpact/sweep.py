@@ -378,7 +378,11 @@ def sweep(scenario, law=None, grid=None, seeds=1, workers=1, scheduler=None, out
     ``workers``: processes of a Dask ``LocalCluster`` (1: in this process, no Dask);
     ``scheduler``: the address of a running Dask scheduler to use instead; ``out``: a
     ``.parquet`` file, written as runs finish (resumable: runs already in it are
-    skipped); ``progress``: a progress bar on stderr when it is a terminal."""
+    skipped); ``progress``: a progress bar on stderr when it is a terminal.
+
+    ``df.attrs``: runs, ran (computed now), skipped (found in ``out``), seconds (wall
+    time), setup_s (starting the cluster and loading the code on the workers), compute_s
+    (from then to the last run), workers."""
     pd = require("pandas", "rbimpact.sweep")
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise ValueError(f"sweep: workers must be a positive int, got {workers!r}")
@@ -389,9 +393,10 @@ def sweep(scenario, law=None, grid=None, seeds=1, workers=1, scheduler=None, out
     rows = list(done.values())
     from .progress import progress as bar
     t0 = time.perf_counter()
+    clock = {"start": t0}
     try:
         if todo:
-            it = _execute(scenario, keys, todo, workers, scheduler)
+            it = _execute(scenario, keys, todo, workers, scheduler, clock)
             if progress:
                 it = bar(it, total=len(todo), desc=f"sweep {scenario}", unit="run")
             for row in it:
@@ -407,16 +412,22 @@ def sweep(scenario, law=None, grid=None, seeds=1, workers=1, scheduler=None, out
     df = _frame([r for r in rows if _key(r, keys) in wanted], spec, keys)
     df.attrs = {"scenario": scenario, "runs": len(runs), "ran": len(todo),
                 "skipped": len(runs) - len(todo), "seconds": time.perf_counter() - t0,
+                "setup_s": clock.get("setup", t0) - t0,
+                "compute_s": clock.get("done", t0) - clock.get("setup", t0),
                 "workers": int(workers) if scheduler is None else None}
     return df
 
 
-def _execute(scenario, keys, todo, workers, scheduler):
-    """Yield the rows of ``todo`` as they finish."""
+def _execute(scenario, keys, todo, workers, scheduler, clock):
+    """Yield the rows of ``todo`` as they finish; ``clock["setup"]`` and ``clock["done"]``
+    get the times (``time.perf_counter``) the runs started (cluster up, code loaded) and
+    the last one finished."""
     if scheduler is None and workers == 1:
         _warm(scenario, keys, todo)
+        clock["setup"] = time.perf_counter()
         for r in todo:
             yield run_one(scenario, keys, r)
+        clock["done"] = time.perf_counter()
         return
     require("distributed", "rbimpact.sweep with workers > 1 or a scheduler")
     import logging
@@ -435,6 +446,7 @@ def _execute(scenario, keys, todo, workers, scheduler):
     try:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})) or int(workers))
         client.run(_warm, scenario, keys, [tuple(r) for r in todo])
+        clock["setup"] = time.perf_counter()
         chunks = _chunks(todo, n_workers)
         futures = [client.submit(run_chunk, scenario, keys, [tuple(r) for r in c],
                                  pure=False) for c in chunks]
@@ -449,6 +461,7 @@ def _execute(scenario, keys, todo, workers, scheduler):
                                "error": f"{type(exc).__name__}: {_one_line(exc)}"[:500]}
                               for r in c]
             yield from chunk_rows
+        clock["done"] = time.perf_counter()
     finally:
         client.close()
         if cluster is not None:
