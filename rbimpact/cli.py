@@ -1,5 +1,6 @@
 """The ``rbimpact`` command line. Each subcommand imports only what it needs."""
 import argparse
+import os
 import sys
 
 import numpy as np
@@ -81,7 +82,14 @@ def _cmd_impulse_space(args):
     from .impulse_region import impulse_space_report
     v, W = _contact(args)
     mu = CASE_1B["mu"] if args.mu is None else args.mu
-    print(impulse_space_report(v, W, mu, n=args.n, plot=args.plot))
+    if not args.plot:
+        print(impulse_space_report(v, W, mu, n=args.n))
+        return 0
+    from .impulse_region import impulse_space
+    space = impulse_space(v, W, mu, n=args.n)
+    print(space.summary(), flush=True)
+    print()
+    _write(args, "--plot", args.plot, space.plot, "plot written to {}")
     return 0
 
 
@@ -285,6 +293,12 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"{where}: interrupted (Ctrl-C)", file=sys.stderr)
         return 130
+    except BrokenPipeError:         # output piped into `head`: stop quietly, as cat does
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 141
     except ImportError as exc:
         print(f"{where}: error: {_one_line(exc)} (pip install -e '.[test]' or "
               f"'.[plot]' for the optional pieces)", file=sys.stderr)

@@ -244,3 +244,26 @@ def test_bench_main_refuses_a_repeat_below_one(repeat):
     import rbimpact.bench as bench
     with pytest.raises(ValueError, match="bench: repeat must be an integer in \\[1, "):
         bench.main("laws", repeat=repeat)
+
+
+def test_impulse_space_prints_its_summary_when_the_plot_fails(capsys, no_precheck, tmp_path):
+    assert cli.main(["impulse-space", "--n", "20", "--plot",
+                     str(tmp_path / "gone" / "r.png")]) == 2
+    out, err = capsys.readouterr()
+    assert "Impulse space of one contact" in out and "Kane & Levinson" in out
+    _one_error_line(err, "impulse-space", "could not write --plot", "r.png")
+    good = tmp_path / "r.png"
+    assert cli.main(["impulse-space", "--n", "20", "--plot", str(good)]) == 0
+    assert good.stat().st_size > 1000 and f"plot written to {good}" in capsys.readouterr().out
+
+
+def test_a_closed_output_pipe_ends_quietly(capsys, monkeypatch):
+    class ClosedPipe:
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            pass
+    monkeypatch.setattr(sys, "stdout", ClosedPipe())
+    assert cli.main(["list"]) == 141
+    assert capsys.readouterr().err == ""
