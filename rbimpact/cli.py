@@ -145,7 +145,7 @@ def _positive_int(text):
 
 #: the options of each command that name a file to write (checked before the command runs)
 OUTPUTS = {"run": ("out", "plot"), "crosscheck": ("out", "plot"), "bench": ("json",),
-           "impulse-space": ("plot",), "stability": ("out",)}
+           "impulse-space": ("plot",), "stability": ("out",), "sweep": ("out",)}
 
 
 def _cmd_list(args):

@@ -1,6 +1,7 @@
 """The command line's failure modes (issue 13, item 7): bad arguments and unwritable output
 files give one line on stderr and exit status 2 (the run's summary still printed when the
 failure comes after it), Ctrl-C gives one line and 130, never a traceback."""
+import importlib
 import os
 import signal
 import subprocess
@@ -90,14 +91,15 @@ def test_run_refuses_an_unwritable_path_before_running(capsys, monkeypatch, tmp_
 @pytest.mark.parametrize("argv", [["crosscheck", "bouncing_ball", "--out"],
                                   ["crosscheck", "bouncing_ball", "--plot"],
                                   ["bench", "laws", "--json"], ["stability", "--out"],
-                                  ["impulse-space", "--plot"]])
+                                  ["impulse-space", "--plot"],
+                                  ["sweep", "bouncing_ball", "--out"]])
 def test_every_output_option_is_checked_before_the_command(capsys, monkeypatch, tmp_path, argv):
     for mod, fn in (("crosscheck", "crosscheck_report"), ("bench", "main"),
                     ("stability", "stability_report"),
-                    ("impulse_region", "impulse_space_report")):
-        monkeypatch.setattr(f"rbimpact.{mod}.{fn}",
+                    ("impulse_region", "impulse_space_report"), ("sweep", "sweep_command")):
+        monkeypatch.setattr(importlib.import_module(f"rbimpact.{mod}"), fn,
                             lambda *a, **k: pytest.fail("ran before checking the path"))
-    assert cli.main(argv + [str(tmp_path / "nope" / "f.csv")]) == 2
+    assert cli.main(argv + [str(tmp_path / "nope" / "f.parquet")]) == 2
     _one_error_line(capsys.readouterr().err, argv[0], argv[-1], "does not exist")
 
 
