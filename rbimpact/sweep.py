@@ -336,7 +336,13 @@ class _Store:
 
     def append(self, row):
         if self._fh is None:
-            self._fh = open(self.partial, "a")
+            self._fh = open(self.partial, "a+")
+            if self._fh.tell() > 0:              # a line cut by a kill: end it first
+                self._fh.seek(self._fh.tell() - 1)
+                last = self._fh.read(1)
+                self._fh.seek(0, os.SEEK_END)
+                if last != "\n":
+                    self._fh.write("\n")
         self._fh.write(json.dumps(row, default=_json_default) + "\n")
         self._fh.flush()
 
@@ -394,16 +400,17 @@ def sweep(scenario, law=None, grid=None, seeds=1, workers=1, scheduler=None, out
     from .progress import progress as bar
     t0 = time.perf_counter()
     clock = {"start": t0}
+    gen = _execute(scenario, keys, todo, workers, scheduler, clock) if todo else iter(())
     try:
-        if todo:
-            it = _execute(scenario, keys, todo, workers, scheduler, clock)
-            if progress:
-                it = bar(it, total=len(todo), desc=f"sweep {scenario}", unit="run")
-            for row in it:
-                rows.append(row)
-                if store is not None:
-                    store.append(row)
+        it = bar(gen, total=len(todo), desc=f"sweep {scenario}", unit="run") \
+            if progress and todo else gen
+        for row in it:
+            rows.append(row)
+            if store is not None:
+                store.append(row)
     finally:
+        if hasattr(gen, "close"):
+            gen.close()                          # stops the cluster now, even on Ctrl-C
         if store is not None:
             store.close()
             if rows:
@@ -534,8 +541,8 @@ def sweep_command(scenario, law=None, grid=(), seeds=1, workers=1, scheduler=Non
     errors = df[df["status"] == "error"]
     if len(errors):
         lines.append("")
-        lines += [f"error: law {r.law}, seed {r.seed}: {r.error}"
-                  for r in errors.head(5).itertuples()]
+        lines += ["error: " + ", ".join(f"{k} {r[k]}" for k in ("law", *keys, "seed"))
+                  + f": {r['error']}" for _, r in errors.head(5).iterrows()]
         if len(errors) > 5:
             lines.append(f"... and {len(errors) - 5} more (column 'error' of the table)")
     if out:
