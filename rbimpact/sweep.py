@@ -133,7 +133,8 @@ def plan(scenario, law=None, grid=None, seeds=1):
             raise ValueError(f"sweep: grid key {k!r} lists a value twice: {vs}")
         values.append(vs)
     if isinstance(seeds, (bool, np.bool_)):
-        raise ValueError(f"sweep: seeds must be a positive int or a list of ints, got {seeds!r}")
+        raise ValueError(f"sweep: seeds must be a positive int or a list of ints, "
+                         f"got {seeds!r}")
     if isinstance(seeds, (int, np.integer)):
         if seeds < 1:
             raise ValueError(f"sweep: seeds must be >= 1, got {seeds}")
@@ -146,6 +147,9 @@ def plan(scenario, law=None, grid=None, seeds=1):
                              f"ints, got {seeds!r}")
         if len(set(seed_list)) != len(seed_list):
             raise ValueError("sweep: a seed is listed twice")
+        if min(seed_list) < 0:
+            raise ValueError(f"sweep: seeds must be >= 0, got {min(seed_list)}")
+        seed_list = [int(x) for x in seed_list]
     if not has_seed and seed_list != [0]:
         raise ValueError(f"sweep: scenario {scenario!r} has no seed parameter (it is "
                          f"deterministic): use seeds=1")
@@ -178,10 +182,20 @@ def _summary(scenario, result):
         row.update(x_final=float(pos[0]), y_final=float(pos[1]), z_final=float(pos[2]))
     else:
         row.update(x_final=float(s["x"][0, 0]), y_final=float(s["y"][0, 0]))
-    if scenario == "die_toss":
-        from .scenarios.die_toss import face_up
-        row["face"] = face_up(result)
+    extra = SUMMARIES.get(scenario)
+    if extra is not None:
+        row.update(extra(result))
     return row
+
+
+def _die_face(result):
+    from .scenarios.die_toss import face_up
+    return {"face": face_up(result)}
+
+
+#: scenario -> function(result) -> dict of extra final-state columns (ints or floats;
+#: None for missing); ints listed in ``_INT_COLUMNS`` become nullable Int64 columns
+SUMMARIES = {"die_toss": _die_face}
 
 
 def run_one(scenario, keys, run):
@@ -308,8 +322,7 @@ class _Store:
         if os.path.exists(self.out):
             old = pd.read_parquet(self.out)
             want = {"scenario", "law", "seed", *self.keys}
-            params = set(old.columns) - set(RESULT_COLUMNS) - {
-                "x_final", "y_final", "z_final", "face", "run_s", "scenario", "law", "seed"}
+            params = (set(old.columns) & set(self.spec.params)) - {"law", "seed"}
             if not want <= set(old.columns) or params != set(self.keys) or (
                     len(old) and set(old["scenario"]) != {self.spec.name}):
                 raise ValueError(
@@ -326,8 +339,13 @@ class _Store:
                         r = json.loads(line)
                     except ValueError:        # a line cut short by a kill
                         continue
-                    if r.get("scenario") == self.spec.name:
-                        rows.append(r)
+                    params = (set(r) & set(self.spec.params)) - {"law", "seed"}
+                    if r.get("scenario") != self.spec.name or params != set(self.keys):
+                        raise ValueError(
+                            f"sweep: {self.partial} (the finished runs of an interrupted "
+                            f"sweep) holds another sweep ({r.get('scenario')!r}, grid keys "
+                            f"{sorted(params)}); finish it, or delete the file")
+                    rows.append(r)
         seen = {}
         for r in rows:
             r = _coerce_row(r, self.spec, self.keys)
