@@ -8,31 +8,18 @@ import math
 
 import numpy as np
 
+from ._validate import choice, scene_energy_check, validate_run_args, validate_tolerances
 from .laws import N_PARAMS
 
-__all__ = ["check_tolerances", "check_law", "check_run_args", "pack_laws"]
+__all__ = ["check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws"]
 
 
 def check_tolerances(who, table, tolerances):
     """The tolerance dict: ``table`` (keyword -> (default, unit, meaning)) defaults updated
-    with ``tolerances``, each checked (a number, finite, >= 0; iteration limits positive
-    integers; ``zeno_speed`` may be None). Unknown keywords raise ``TypeError``."""
-    unknown = [k for k in tolerances if k not in table]
-    if unknown:
-        raise TypeError(f"{who}: unknown keyword {unknown[0]!r}; tolerances are "
-                        + ", ".join(f"{k} ({u})" for k, (_, u, _) in table.items()))
-    tol = {k: v[0] for k, v in table.items()}
-    tol.update(tolerances)
-    for k, v in tol.items():
-        if k == "zeno_speed" and v is None:
-            continue
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-            raise ValueError(f"{who}: {k} must be a number ({table[k][1]}), got {v!r}")
-        if not (math.isfinite(v) and v >= 0):
-            raise ValueError(f"{who}: {k} must be finite and >= 0 ({table[k][1]}), got {v!r}")
-        if k.endswith(("max_iter", "max_steps", "events")) and (int(v) != v or v < 1):
-            raise ValueError(f"{who}: {k} must be a positive integer, got {v!r}")
-    return tol
+    with ``tolerances``, each checked (``_validate.validate_tolerances``: a number, finite,
+    >= 0; iteration limits positive integers; ``zeno_speed`` may be None). Unknown keywords
+    raise ``TypeError``."""
+    return validate_tolerances(who, table, tolerances)
 
 
 def check_law(who, law, what):
@@ -48,14 +35,17 @@ def check_law(who, law, what):
 
 
 def check_run_args(t_end, max_events):
-    """Validate ``run(t_end, max_events)``; returns ``(float(t_end), int(max_events))``."""
-    if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.integer, np.floating)) \
-            or not (math.isfinite(t_end) and t_end > 0):
-        raise ValueError(f"run: t_end must be a positive finite time (s), got {t_end!r}")
-    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
-            or max_events < 1:
-        raise ValueError(f"run: max_events must be a positive integer, got {max_events!r}")
-    return float(t_end), int(max_events)
+    """Validate ``run(t_end, max_events)``; returns ``(float(t_end), int(max_events))``
+    (``_validate.validate_run_args``: t_end positive and finite in s, max_events a whole
+    number from 1 to the int64 limit)."""
+    return validate_run_args(t_end, max_events)
+
+
+def check_scene(who, scene, policy, policies):
+    """The scene's energy is representable (``_validate.scene_energy_check``) and
+    ``policy`` is one of ``policies``; returns ``policy``."""
+    scene_energy_check(who, scene)
+    return choice(f"{who}: policy", policy, policies)
 
 
 def _check_body(who, scene, i):

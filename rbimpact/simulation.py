@@ -103,7 +103,7 @@ import warnings
 
 import numpy as np
 
-from ._setup import Arena, check_law, check_run_args, check_tolerances, pack_laws
+from ._setup import Arena, check_law, check_scene, check_run_args, check_tolerances, pack_laws
 from .errors import NoSolutionError, SimulationError
 from .result import Result
 from .scene import Plane, Scene2D
@@ -199,8 +199,7 @@ class Simulation:
             raise ValueError(f"Simulation: scene must be a Scene2D or a Scene3D, got {scene!r}")
         if not scene.bodies:
             raise ValueError("Simulation: the scene has no body")
-        if policy not in POLICIES:
-            raise ValueError(f"Simulation: policy must be one of {POLICIES}, got {policy!r}")
+        policy = check_scene("Simulation", scene, policy, POLICIES)
         tol = check_tolerances("Simulation", TOLERANCES, tolerances)
         self.scene = scene
         self.law = check_law("Simulation", law, "law")

@@ -49,7 +49,7 @@ import warnings
 
 import numpy as np
 
-from ._setup import check_law, check_run_args, check_tolerances, pack_laws
+from ._setup import check_law, check_run_args, check_scene, check_tolerances, pack_laws
 from .errors import NoSolutionError, SimulationError
 from .result3d import EVENT_DTYPE_3D, Result3D
 from .scene3d import Plane3D, Scene3D
@@ -148,9 +148,7 @@ class Simulation3D:
             raise ValueError(f"Simulation3D: scene must be a Scene3D, got {scene!r}")
         if not scene.bodies:
             raise ValueError("Simulation3D: the scene has no body")
-        if policy not in POLICIES:
-            raise ValueError(f"Simulation3D: policy must be one of {POLICIES}, got "
-                             f"{policy!r}")
+        policy = check_scene("Simulation3D", scene, policy, POLICIES)
         tol = check_tolerances("Simulation3D", TOLERANCES_3D, tolerances)
         if not tol["rot_tol"] > 0:
             raise ValueError("Simulation3D: rot_tol must be > 0")
