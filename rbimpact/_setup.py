@@ -11,7 +11,7 @@ import numpy as np
 from ._validate import choice, scene_energy_check, validate_run_args, validate_tolerances
 from .laws import N_PARAMS
 
-__all__ = ["check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws"]
+__all__ = ["check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
 
 
 def check_tolerances(who, table, tolerances):
@@ -175,3 +175,19 @@ class Arena:
         np.copyto(self.fbuf, self.fbuf0)
         np.copyto(self.ibuf, self.ibuf0)
         return self.views
+
+
+def run_status(k, rc):
+    """The ``Result.status`` of a run of stepper module ``k`` that returned ``rc``: "done",
+    "max_events", or for an error the lowercase name of its ``ERR_*`` code ("missed",
+    "no_solution", "stall", "painleve", ...), so that the partial result carried by the
+    exception (``exc.result``) names the failure instead of saying "done"."""
+    if rc == k.RC_MAX_EVENTS:
+        return "max_events"
+    if rc >= 0:
+        return "done"
+    for name in dir(k):
+        if name.startswith("ERR_") and getattr(k, name) == rc:
+            return name[4:].lower()
+    return f"error {rc}"
+

@@ -82,8 +82,9 @@ FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "normal_x", "normal_y
 class Result(ResultBase):
     """Outcome of ``Simulation.run``.
 
-    Attributes: ``events`` (see the module docstring), ``status`` ("done" or
-    "max_events"), ``policy`` ("simultaneous" or "sequential": the simultaneous-contact
+    Attributes: ``events`` (see the module docstring), ``status`` ("done",
+    "max_events", or on the partial result an exception carries, the failure: "missed",
+    "no_solution", "stall", "painleve", ... from ``_setup.run_status``), ``policy`` ("simultaneous" or "sequential": the simultaneous-contact
     policy that ran), ``t_start`` and ``t_end`` (s: the time reached; earlier than the
     requested end when status is "max_events"), ``t_requested`` (s), ``n_bodies``,
     ``masses`` (kg), ``moments`` (kg m^2), ``gravity`` (m/s^2), ``law`` (name of the default

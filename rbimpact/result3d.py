@@ -56,8 +56,9 @@ FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x"
 class Result3D(ResultBase):
     """Outcome of ``Simulation3D.run``.
 
-    Attributes: ``events`` (see the module docstring), ``status`` ("done" or
-    "max_events"), ``policy``, ``t_start``, ``t_end`` (s: the time reached),
+    Attributes: ``events`` (see the module docstring), ``status`` ("done",
+    "max_events", or on the partial result an exception carries, the failure: "missed",
+    "no_solution", "stall", "painleve", ... from ``_setup.run_status``), ``policy``, ``t_start``, ``t_end`` (s: the time reached),
     ``t_requested`` (s), ``n_bodies``, ``masses`` (kg), ``inertias`` (principal moments,
     kg m^2, shape (n_bodies, 3)), ``gravity`` (m/s^2), ``law``, ``tolerances``,
     ``n_impacts``.

@@ -103,7 +103,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import Arena, check_law, check_scene, check_run_args, check_tolerances, pack_laws
+from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances, pack_laws,
+                     run_status)
 from .errors import NoSolutionError, SimulationError
 from .result import Result
 from .scene import Plane, Scene2D
@@ -359,7 +360,7 @@ class Simulation:
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
                           pr_off, glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f,
                           Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err)
-        status = "max_events" if rc == k.RC_MAX_EVENTS else "done"
+        status = run_status(k, rc)
         result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob,
                               status, t_end)
         if rc < 0:

@@ -49,7 +49,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import check_law, check_run_args, check_scene, check_tolerances, pack_laws
+from ._setup import (check_law, check_run_args, check_scene, check_tolerances, pack_laws,
+                     run_status)
 from .errors import NoSolutionError, SimulationError
 from .result3d import EVENT_DTYPE_3D, Result3D
 from .scene3d import Plane3D, Scene3D
@@ -329,7 +330,7 @@ class Simulation3D:
                             ybuf, vals, vals0, vfl, err)
             if rc in (k.RC_DONE, k.RC_MAX_EVENTS):
                 break
-        status = "max_events" if rc == k.RC_MAX_EVENTS else "done"
+        status = run_status(k, rc)
         result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status,
                               float(t_end))
         if rc < 0:
