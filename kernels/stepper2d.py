@@ -109,6 +109,7 @@ from .pivot2d import (CP_D, CP_GN, CP_GT, CP_I, CP_L, CP_M, CP_MU, CP_NX, CP_NY,
                       pivot_advance, pivot_forces, pivot_reduce)
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
                     disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
+from .wedge2d import two_contact_rest
 
 INF = math.inf
 
@@ -123,6 +124,7 @@ PM_SLIDE = 1
 PM_ROLL = 2
 PM_REST = 3
 PM_PIVOT = 4         # integrated one-vertex contact (kernels/pivot2d.py)
+PM_WEDGED = 5        # at rest on two contacts (groove, corner, a wall): kernels/wedge2d.py
 REL_TANGENT = -2     # pm[i, 3] of a body just released tangentially (see _released_toi)
 
 # event kinds (ev_i[:, 0]); a persistent mode m is logged as kind m + 1
@@ -464,8 +466,9 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
     ea = bflt[i, 3]
     eb = bflt[i, 4]
     row = st[i]
-    if pm[i, 0] == PM_PIVOT:
-        # integrated contact: its impacts are events of the integration (ttr)
+    if pm[i, 0] == PM_PIVOT or pm[i, 0] == PM_WEDGED:
+        # integrated contact: its impacts are events of the integration (ttr); a wedged
+        # body does not move
         for p in range(planes.shape[0]):
             bp_t[i, p] = INF
         return 0
@@ -920,6 +923,10 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
     normal velocity, and the rotation of a non-disk) when that motion carries less energy
     than the accumulation threshold, else release it to free flight."""
     p = pm[i, 1]
+    if pm[i, 0] == PM_WEDGED:
+        # struck while wedged: free flight from here (its contacts are impacts again)
+        _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt)
+        return 0
     nx = planes[p, 0]
     ny = planes[p, 1]
     gn = nx * grav[0] + ny * grav[1]
@@ -1635,6 +1642,77 @@ def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, 
 
 
 @njit(cache=True, _nrt=False)
+def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
+               c_i, c_f, ev_t, ev_i, ev_f, cnt):
+    """Rest on several points (mode table): after the impacts of an instant, body i whose
+    kinetic energy is below the accumulation threshold ``m zeno_speed^2 / 2`` and that
+    touches two different planes (two contacts of this instant, or one and the
+    plane it rolls, slides or rests on) on which it can rest in static equilibrium with
+    Coulomb friction (``wedge2d.two_contact_rest``) comes to rest there: its remaining
+    motion (below the threshold) is removed, event "rest" (mode ``PM_WEDGED``). Returns
+    True when the body was wedged."""
+    m = bflt[i, 0]
+    gabs = math.hypot(grav[0], grav[1])
+    if not gabs > 0.0:
+        return False
+    ke = 0.5 * m * (st[i, 3] * st[i, 3] + st[i, 4] * st[i, 4]) \
+        + 0.5 * bflt[i, 1] * st[i, 5] * st[i, 5]
+    if ke > 0.5 * m * _vz2(tolf, gabs):
+        return False
+    # candidate contacts: this instant's plane contacts of i, and a disk's persistent one
+    first = -1
+    for c in range(nc):
+        if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0:
+            continue
+        # pair c with a later contact d of this instant ...
+        for d in range(c + 1, nc):
+            if (c_i[d, CI_TYPE] != 0 or c_i[d, CI_A] != i or c_i[d, CI_OFF] != 0
+                    or c_i[d, CI_B] == c_i[c, CI_B]):
+                continue        # (two points of one plane: a face, see _rest_config)
+            if _wedge_pair(m, grav, c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
+                           c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU], c_f[d, CF_RAX],
+                           c_f[d, CF_RAY], c_f[d, CF_NX], c_f[d, CF_NY],
+                           law_par[c_i[d, CI_LAW], P_MU]):
+                first = c
+                break
+        if first >= 0:
+            break
+        # ... or with the plane a disk rolls, slides or rests on
+        if bint[i, 0] == SH_DISK and pm[i, 0] != PM_FLIGHT and pm[i, 0] != PM_WEDGED \
+                and pm[i, 1] != c_i[c, CI_B]:
+            q = pm[i, 1]
+            rad = bflt[i, 2]
+            mu_q = law_par[bp_law[i, q], P_MU]
+            if _wedge_pair(m, grav, c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
+                           c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU],
+                           -rad * planes[q, 0], -rad * planes[q, 1], planes[q, 0],
+                           planes[q, 1], mu_q):
+                first = c
+                break
+    if first < 0:
+        return False
+    e0 = _energy(st, bflt, grav, i)
+    viN, viT = _contact_velocity(st, c_i, c_f, first)
+    for j in range(3, 9):
+        st[i, j] = 0.0
+    pm[i, 0] = PM_WEDGED
+    pm[i, 1] = c_i[first, CI_B]
+    tz[i] = INF
+    ttr[i] = INF
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - c_i[first, CI_B], PM_WEDGED, 0,
+         c_f[first, CF_PX], c_f[first, CF_PY], c_f[first, CF_NX], c_f[first, CF_NY], viN,
+         viT, 0.0, 0.0, 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
+    return True
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _wedge_pair(m, grav, r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x, n2y, mu2):
+    """Contacts on two different planes on which the body rests statically."""
+    return two_contact_rest(m, grav[0], grav[1], r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x,
+                            n2y, mu2)
+
+
+@njit(cache=True, _nrt=False)
 def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pairs,
                    pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f,
                    seg_t, seg_b, seg_s, cnt, tmp, w, err):
@@ -1657,6 +1735,9 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
     # persistent contacts, accumulation (Zeno) points, chatter
     for i in range(nb):
         if bmark[i] == 0:
+            continue
+        if _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, ttr,
+                      tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
             continue
         if pm[i, 0] != PM_FLIGHT:
             rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
