@@ -175,6 +175,9 @@ ERR_SEQ = -6
 ERR_PGS = -7
 ERR_TIPPING = -8
 RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, 2]
+ROLL_RTOL = 8.0 * 2.220446049250313e-16
+"""A disk's contact-point slip vT + w r below ROLL_RTOL (|vT| + |w r|) is the round-off of
+that sum: the disk rolls (a slip that ended by friction otherwise restarts at 1e-17 m/s)."""
 TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lifts it (tips)
 ERR_ELLIPSE_SLIDE = -9
 ERR_STALL = -10
@@ -723,6 +726,8 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
         vc = vT + w * rad
         kinv = 1.0 / m + rad * rad / inertia
         sig = 0.0
+        if abs(vc) <= ROLL_RTOL * (abs(vT) + abs(w * rad)):
+            vc = 0.0        # rolling: the slip is the round-off of vT + w r
         if vc == 0.0:
             F = -gt / kinv
             if abs(F) <= mu * N:
