@@ -123,6 +123,10 @@ N_PW = 228
 PI_OK = 0
 PI_TOO_MANY_STEPS = 1
 PI_FORCES = 2       # the force system failed (Painleve or singular)
+STAGE_SHRINK = 0.25  # a step whose inner stage has no consistent contact force is retried
+#                      this much shorter (the stage lies past a stick/slip/lift-off change
+#                      that the event search locates between accepted steps) ...
+STAGE_HMIN = 1e-12   # ... down to this fraction of the largest step; then PI_FORCES
 
 MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
 SLIP_BLEND = 10.0     # a slip started from sticking blends from its start direction to its
@@ -569,22 +573,40 @@ def pivot_step(pw, cp, fw):
             return PI_TOO_MANY_STEPS
         arg2(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         arg3(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         arg4(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         arg5(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         arg6(pw, NY, Y, K, YT, h)
         if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         solution(pw, NY, Y, K, PW_Y1, h)
         if _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY]) != PV_OK:
-            return PI_FORCES
+            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
+            if h < STAGE_HMIN * pw[PW_HMAX]:
+                return PI_FORCES
+            continue
         err = 0.0
         for j in range(NY):
             r = abs(error_estimate(pw, NY, K, h, j)) / (tol * pw[PW_SC + j])

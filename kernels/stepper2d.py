@@ -863,6 +863,7 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
         st[i, 5] = 0.0
     pm[i, 2] = f0
     pm[i, 3] = f1
+    slip = tx * st[i, 3] + ty * st[i, 4]
     rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
     if rc < 0:
@@ -878,6 +879,12 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
          st[i, 0] - hf * nx, st[i, 1] - hf * ny, nx, ny, viN, viT, ux * nx + uy * ny,
          ux * tx + uy * ty, m * (dvx * nx + dvy * ny), m * (dvx * tx + dvy * ty),
          _energy(st, bflt, grav, i) - e0)
+    if rc == 0 and pm[i, 0] == PM_REST and slip != 0.0 and bint[i, 0] == SH_POLY:
+        # its slow slip stuck at once (_persist_setup): it has come to rest
+        vfN = ux * nx + uy * ny
+        vfT = ux * tx + uy * ty
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, st[i, 0] - hf * nx,
+             st[i, 1] - hf * ny, nx, ny, vfN, vfT, vfN, vfT, 0.0, 0.0, 0.0)
     return rc
 
 

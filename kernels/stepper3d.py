@@ -1339,7 +1339,8 @@ def _snap(i, p, st, bint, bflt, planes, hrest, ux, uy, uz):
 
 
 @njit(cache=True)
-def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err):
+def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, tolf,
+                   err):
     """Choose the persistent mode of body i on plane p (normal velocity already zero;
     a box or capsule already without rotation) and set its constant accelerations and
     next transition time. Returns 0, 1 (the plane does not push: release) or an error."""
@@ -1427,6 +1428,13 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
         fx = 0.0
         fy = 0.0
         fz = 0.0
+        if mu > 0.0 and vt > 0.0 and gt <= mu * (-gn) and vt * vt <= _vz2(tolf, -gn):
+            # a slip slower than the accumulation speed with friction that holds the body:
+            # it sticks (its energy, below m zeno_speed^2 / 2, is dissipated; as in 2D)
+            st[i, 7] -= vtx
+            st[i, 8] -= vty
+            st[i, 9] -= vtz
+            vt = 0.0
         if vt == 0.0:
             if gt <= mu * (-gn):
                 mode = PM_REST
@@ -1537,7 +1545,7 @@ def _contact_velocity_row(st, i, c_f, c):
 
 @njit(cache=True)
 def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, capture, ev_t,
-            ev_i, ev_f, cnt, c_f, cw, err):
+            ev_i, ev_f, cnt, c_f, cw, tolf, err):
     """Snap body i (state at t) onto its rest on plane p (rotation onto the face, normal
     velocity and, not for a sphere, rotation removed) and enter persistent contact: event
     "contact", or "capture" when ``capture`` (the same snap removing more than the
@@ -1561,7 +1569,9 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
         if bint[i, 0] != SH_SPHERE:
             st[i, 10 + j] = 0.0
     pm[i, 2] = face
-    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err)
+    slip = st[i, 7] * st[i, 7] + st[i, 8] * st[i, 8] + st[i, 9] * st[i, 9]
+    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                        tolf, err)
     if rc != 0:
         return rc
     _foot(c_f, cw, st, i, planes, p)
@@ -1575,6 +1585,10 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
     _log(ev_t, ev_i, ev_f, cnt, t, EV_CAPTURE if capture else EV_CONTACT, i, -1 - p,
          pm[i, 0], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
          _energy(st, bflt, grav, i) - e0)
+    if pm[i, 0] == PM_REST and slip > 0.0:
+        # its slow slip stuck at once (_persist_setup): it has come to rest
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, c_f, cw, vf0, vf1,
+             vf2, vf0, vf1, vf2, 0.0, 0.0, 0.0, 0.0)
     return 0
 
 
@@ -1616,7 +1630,8 @@ def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, t
     else:
         for j in range(3):
             st[i, 7 + j] = 0.0
-    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, err)
+    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                        tolf, err)
     if rc < 0:
         return rc
     _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2)
@@ -1648,7 +1663,7 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
                 st[i, 10 + j] = 0.0
         old = pm[i, 0]
         rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                            err)
+                            tolf, err)
         if rc < 0:
             return rc
         if rc == 0:
@@ -1908,7 +1923,7 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
             if (eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
                     and _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex)):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
                 if rc < 0:
                     return rc
     for i in range(nb):
@@ -1975,7 +1990,7 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             small = eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
             if small or (K >= 3 and capture_on):
                 return _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                               not small, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                               not small, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
             if K >= 3:
                 _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
                 return ERR_CHATTER
@@ -2064,7 +2079,7 @@ def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                     _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
                     return rc
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
                 if rc < 0:
                     return rc
             elif ttr[i] <= t and pm[i, 0] == PM_PIVOT:

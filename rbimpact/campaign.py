@@ -140,8 +140,10 @@ def draw_scene(dim, sseed):
     else:
         q = rng.normal(size=4)
         spec["orientation"] = [float(x) for x in q / np.linalg.norm(q)]
-        if layout == "resting":
-            spec["orientation"] = [1.0, 0.0, 0.0, 0.0]
+        if layout == "resting":     # on a face; a capsule on its side (axis along x)
+            h = math.sqrt(0.5)
+            spec["orientation"] = ([h, 0.0, h, 0.0] if shape == "capsule"
+                                   else [1.0, 0.0, 0.0, 0.0])
     spec["tilt"] = float(rng.uniform(0.2, 1.2))      # groove half-opening (rad from level)
     return spec
 

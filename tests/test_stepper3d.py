@@ -204,6 +204,9 @@ def test_rotating_the_scene_about_the_vertical_rotates_everything():
                 np.abs(q + s1["orientation"][k, 0]).max())
         assert d < 1e-7
     assert r0.events["kind"][r0.events["a"] == 0][-1] == "rest"
+    end = r0.sample([3.0])
+    assert np.abs(end["velocity"][0, 0]).max() == 0.0
+    assert np.abs(end["angular_velocity"][0, 0]).max() == 0.0
 
 
 # ------------------------------------------------------------------ energy
