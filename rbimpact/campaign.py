@@ -28,9 +28,11 @@ What is checked (``check_result``), with tolerances scaled to the scene:
   events, "max_events" and every other error are failures;
 * no body below a plane (or two round bodies overlapping) by more than
   ``PEN_RTOL * L + PEN_ATOL`` at densely sampled times (every event, midpoints, a uniform
-  grid; each local minimum refined);
+  grid; each local minimum refined); ``PEN_RTOL_INTEGRATED`` for a scene with integrated
+  motion (a pivot phase, 3D flight with general inertia);
 * energy: for a law that cannot create energy, the sampled total energy never rises by
-  more than ``ENERGY_RTOL * E_scale`` and no instant's impacts (summed over its cluster)
+  more than ``ENERGY_RTOL * E_scale`` (``ENERGY_RTOL_INTEGRATED`` with integrated motion)
+  and no instant's impacts (summed over its cluster)
   gain more than that, with ``E_scale`` the scene's energy above its lowest state (kinetic
   plus ``m |g| (h + L)``). The simultaneous policy's joint Newton solve is not the pair
   law and may create energy for ``e > 0`` (``rbimpact.simulation``): there the check applies
@@ -74,7 +76,17 @@ PEN_RTOL = 1e-9
 PEN_ATOL = 1e-12
 """Absolute floor of the penetration tolerance (m)."""
 ENERGY_RTOL = 1e-12
-"""Energy that a never-gain law may appear to create, relative to the scene's energy scale."""
+"""Energy that a never-gain law may appear to create, relative to the scene's energy scale,
+in a scene whose motion is exact (closed-form flight, impacts, rest, slide, roll)."""
+ENERGY_RTOL_INTEGRATED = 1e-9
+"""The same for a scene with integrated motion (a pivot phase, or 3D flight with general
+inertia), whose integrators hold energy per step to their own tolerances (2D pivot pieces
+``PIECE_ETOL`` 1e-13 m V^2; 3D ``contact_tol`` 1e-10, ``rot_tol`` 1e-12): a long frictionless
+3D phase drifts by a few ``contact_tol`` (5e-10 seen on a 3 s capsule slide)."""
+PEN_RTOL_INTEGRATED = 1e-7
+"""Penetration tolerance relative to L in a scene with integrated motion: the 3D contact
+integration holds the contact to ``contact_tol`` (1e-10 L) per step, the 2D pivot pieces to
+``PIECE_LTOL`` (1e-10 L); a phase of many steps drifts by their sum (1.1e-8 L seen)."""
 REST_SPEED_RTOL = 1e-9
 """A body is at rest at the end when every point moves slower than this times sqrt(|g| L)."""
 SUPPORT_RTOL = 1e-7
@@ -379,7 +391,9 @@ def check_result(spec, sim, res, note):
     t = _sample_times(res, N_SAMPLES)
     s = res.sample(t)
     gaps = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
-    pen_tol = PEN_RTOL * L + PEN_ATOL
+    integrated = bool(np.any(res.events["kind"] == "pivot")) or (
+        dim == 3 and spec["shape"] != "sphere")
+    pen_tol = (PEN_RTOL_INTEGRATED if integrated else PEN_RTOL) * L + PEN_ATOL
     worst = 0.0
     for key, g in gaps.items():
         gmin = float(g.min())
@@ -408,9 +422,10 @@ def check_result(spec, sim, res, note):
         gain = max(gain, float(np.bincount(inv, weights=imp["dE"]).max()) / E_scale)
     joint = spec["policy"] == "simultaneous" and len(imp) and np.any(imp["cluster"] > 1)
     safe = spec["law"] in NEVER_GAIN and (not joint or spec["params"]["e"] == 0.0)
-    if safe and gain > ENERGY_RTOL:
+    etol = ENERGY_RTOL_INTEGRATED if integrated else ENERGY_RTOL
+    if safe and gain > etol:
         problems.append(f"energy created: {gain:.3g} of the scene's energy scale "
-                        f"{E_scale:.3g} J (> {ENERGY_RTOL:g})")
+                        f"{E_scale:.3g} J (> {etol:g})")
     # a dissipative scene at rest must rest stably
     p = spec["params"]
     if (res.status == "done" and p["e"] < 1.0 and p["mu"] > 0.0
