@@ -1964,6 +1964,12 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             continue
         if not _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex):
             continue
+        for d in range(nc):
+            if c_i[d, CI_TYPE] == 0 and c_i[d, CI_A] == i and c_i[d, CI_B] != p:
+                # touching a second plane at this instant: settling on p alone would ignore
+                # it (a ball in a groove was snapped into the other plane, creating energy)
+                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 3.0, 0.0, 0.0)
+                return ERR_UNSUPPORTED
         after = planes[p, 0] * st[i, 7] + planes[p, 1] * st[i, 8] + planes[p, 2] * st[i, 9]
         before = c_f[c, CF_VCMN]
         dt = 0.0
