@@ -1,6 +1,9 @@
-"""Persistent one-corner contact in 2D: a body pivoting on one of its vertices on a plane,
-sticking or sliding with Coulomb friction, integrated with error control and event
-location (the 2D counterpart of ``pivot3d``; used by ``stepper2d``'s ``PM_PIVOT``).
+"""Persistent one-point contact in 2D: a body pivoting on one of its vertices on a plane,
+or an ellipse rolling / sliding on a plane on its curved boundary, sticking or sliding
+with Coulomb friction, integrated with error control and event location (the 2D
+counterpart of ``pivot3d``; used by ``stepper2d``'s ``PM_PIVOT``). The held feature is
+``w[CP_KIND]``: ``KIND_VERTEX`` (below) or ``KIND_ELLIPSE`` (section "Ellipse"); the
+integrator, the events and the recorded pieces are the same for both.
 
 Model (Newton-Euler with one unilateral contact and Coulomb friction; e.g. Pfeiffer &
 Glocker, *Multibody Dynamics with Unilateral Contacts*, 1996, ch. 6). Plane ``n . q >= d``
@@ -22,6 +25,32 @@ force ``lam n + f t`` at the contact point, ``m a = m g + lam n + f t`` and
   ``D = I + m xi kap``, ``lam = m I (w^2 eta - g_n) / D``, ``dw/dt = kap lam / I``,
   ``d2u/dt2 = g_t + f/m - eta dw/dt - w^2 xi``. ``D / (m I) = W_NN - mu sig W_NT``: ``D <= 0``
   is the Painleve paradox (no solution in this model): ``PV_PAINLEVE``.
+
+Ellipse (``KIND_ELLIPSE``: semi-axes ``a`` on the body x axis, ``b`` on y, centred on the
+centre of mass; rolling or sliding on a curved boundary, DESIGN §6a). With the body-frame
+plane normal ``nb = (c n_x + s n_y, -s n_x + c n_y)`` (``c, s`` of the angle; ``dnb0/dangle =
+nb1``, ``dnb1/dangle = -nb0``) the support ``h = sqrt(a^2 nb0^2 + b^2 nb1^2)`` is the height of
+the centre above the plane, ``h' = (a^2 - b^2) nb0 nb1 / h``, ``h'' = ((a^2 - b^2) (nb1^2 -
+nb0^2) - h'^2) / h`` (``ellipse_support3``; ``h + h'' = a^2 b^2 / h^3 > 0`` is the radius of
+curvature at the contact point). The contact point's arm (from the centre of mass) has
+normal component ``-h`` and tangential component ``-h'``, so the torque of ``lam n + f t`` is
+``h f - h' lam``. There is no material contact point, so the reduced coordinates are
+``y = (u, angle, du/dt, w)`` with ``u = t . x`` (the centre's tangential coordinate); the
+centre is ``x = u t + (d + h) n``, ``v = (du/dt) t + h' w n`` (the constraint holds exactly),
+and the slip of the contact point is ``v_T = du/dt + h w``. Newton-Euler:
+``m d2u/dt2 = m g_t + f``, ``m (h'' w^2 + h' dw/dt) = m g_n + lam``, ``I dw/dt = h f - h' lam``:
+
+* **rolling** (sticking, ``v_T = 0``, ``d2u/dt2 = -h dw/dt - h' w^2``): ``dw/dt (I + m (h^2 +
+  h'^2)) = -m h' w^2 (h + h'') - m h g_t + m h' g_n``, ``f = m (d2u/dt2 - g_t)``,
+  ``lam = m (h'' w^2 + h' dw/dt - g_n)`` (the Lagrangian of rolling without slip:
+  ``T = (I + m (h^2 + h'^2)) w^2 / 2``, ``V = -m g_n h - m g_t u``);
+* **sliding** along ``sig t``: ``f = -mu sig lam``, ``kap = h' + mu sig h``, ``D = I + m h' kap``,
+  ``lam = m I (h'' w^2 - g_n) / D``, ``dw/dt = -kap lam / I``, ``d2u/dt2 = g_t + f / m``;
+  ``D / (m I) = W_NN - mu sig W_NT`` and ``D <= 0`` is ``PV_PAINLEVE``.
+
+The events are those of a vertex (lift-off, stick -> slip, slip -> stick or reverse, and
+the gap ``n_q . x - d_q - h_q(angle)`` of the ellipse to every other plane q). A rough
+ellipse rolling on a level plane rocks for ever (rolling is conservative).
 
 The normal force does no work (``v_N = 0``) and the friction force works ``f v_T <= 0``:
 the motion never creates energy. Frictionless sliding (``mu = 0``) conserves energy and the
@@ -51,7 +80,10 @@ chosen so that, against the integrated solution, the piece's energy deviates by 
 ``PIECE_ETOL m V^2``, its points (centre of mass and every point of the body within
 ``L``) by at most ``PIECE_LTOL L`` and their velocities by at most ``PIECE_VTOL V``; so the
 sampled trajectory never creates energy nor penetrates beyond those bounds (leading
-errors: energy and velocity ``O(h^2)``, position ``O(h^3)``).
+errors: energy and velocity ``O(h^2)``, position ``O(h^3)``). A held ellipse uses
+``PIECE_ETOL_CURVED`` instead of ``PIECE_ETOL``: its phase has no end (an ellipse rocks for
+ever), and a piece's energy deviation, first order in its velocity deviation, is what sets
+the piece length.
 """
 import math
 
@@ -79,26 +111,29 @@ CP_PX = 8       # body-frame vertex p (m)
 CP_PY = 9
 CP_MU = 10      # friction coefficient
 CP_SIG = 11     # 0: sticking; +1 / -1: sliding along +t / -t
-CP_L = 12       # body size L (m): largest |p_k| + rad
+CP_L = 12       # body size L (m): largest |p_k| + rad (an ellipse: max(a, b))
 CP_V = 13       # velocity scale V (m/s)
-N_CP = 16
-W_TOL = 16      # integrator: tolerance, step, next step, largest step, step start (s)
-W_H = 17
-W_HNEXT = 18
-W_HMAX = 19
-W_S0 = 20
-W_SC = 24       # 24:28 error scales of (u, angle, du/dt, w)
-W_Y = 28        # step start
-W_YT = 32       # stage argument
-W_Y1 = 36       # step end
-W_K = 40        # 40:68 seven stages
-W_RC = 68       # 68:88 dense output
-W_YA = 88       # scratch states (4 each)
-W_YB = 92
-W_ROW = 96      # 96:105 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
-W_ROWB = 105    # 105:114 a second one
-W_ROWC = 114    # 114:123 a third one
-N_W = 123
+CP_KIND = 14    # held feature: KIND_VERTEX (p, rad) or KIND_ELLIPSE (the curve a, b)
+CP_EA = 15      # ellipse semi-axes a (body x), b (body y) (m)
+CP_EB = 16
+N_CP = 20
+W_TOL = 20      # integrator: tolerance, step, next step, largest step, step start (s)
+W_H = 21
+W_HNEXT = 22
+W_HMAX = 23
+W_S0 = 24
+W_SC = 28       # 28:32 error scales of (u, angle, du/dt, w)
+W_Y = 32        # step start
+W_YT = 36       # stage argument
+W_Y1 = 40       # step end
+W_K = 44        # 44:72 seven stages
+W_RC = 72       # 72:92 dense output
+W_YA = 92       # scratch states (4 each)
+W_YB = 96
+W_ROW = 100     # 100:109 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
+W_ROWB = 109    # 109:118 a second one
+W_ROWC = 118    # 118:127 a third one
+N_W = 127
 NY = 4
 
 # ---- tolerances (named, dimensionless unless stated) -------------------------------------
@@ -106,6 +141,10 @@ PIVOT_TOL = 1e-12   # RK error tolerance per step, relative to the scales (L, 1,
 MAX_ANGLE = 0.05    # rad of rotation (or of sqrt(|g|/L) time) per step at most
 PIECE_ETOL = 1e-13  # energy deviation of a recorded piece, relative to m V^2 (the drop
 #                    campaign holds energy to 1e-12 of the scene energy: 1e-10 was too loose)
+PIECE_ETOL_CURVED = 1e-11  # the same for a held ellipse (KIND_ELLIPSE): it may stay held
+#                    for the whole run (rocking for ever), and the pieces needed grow as
+#                    PIECE_ETOL^-1/2 (1e-13: 1.7e6 pieces, 150 MB, per second of rocking); the
+#                    sampled energy stays within 1e-11 m V^2 (~1e-10 of the scene's energy)
 PIECE_LTOL = 1e-10  # point deviation of a recorded piece, relative to L
 PIECE_VTOL = 1e-9   # point velocity deviation of a recorded piece, relative to V
 PIECE_BUDGET = 512  # recorded pieces per call of pivot_advance at most (buffer margin)
@@ -115,6 +154,10 @@ GAP_ARM = 1e-12     # gap events armed below GAP_ARM L
 EVENT_ITER = 200    # secant/bisection iterations locating an event on the dense output
 MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (PI_TOO_MANY_STEPS)
 PIECE_ITER = 60     # shrinks of one piece at most (then it is accepted as is)
+
+# held features (w[CP_KIND])
+KIND_VERTEX = 0     # a vertex p (body frame) with radius rad
+KIND_ELLIPSE = 1    # the boundary of the ellipse (a, b) centred on the centre of mass
 
 # force codes
 PV_OK = 0
@@ -150,11 +193,60 @@ def _arm(w, th):
     return rx, ry, ny * rx - nx * ry, nx * rx + ny * ry
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def ellipse_support3(ea, eb, th, nx, ny):
+    """Support of the ellipse (semi-axes ea, eb on the body axes, body angle th) along
+    ``-n``: the height ``h`` (m) of its centre above its tangent line with normal n, and
+    ``h' = dh/dth`` (m/rad), ``h'' = d2h/dth2`` (m/rad^2). With the body-frame normal
+    ``nb = (c n_x + s n_y, -s n_x + c n_y)`` (``dnb0/dth = nb1``, ``dnb1/dth = -nb0``):
+    ``h^2 = a^2 nb0^2 + b^2 nb1^2``, ``h h' = (a^2 - b^2) nb0 nb1``,
+    ``h h'' + h'^2 = (a^2 - b^2) (nb1^2 - nb0^2)``."""
+    c = math.cos(th)
+    s = math.sin(th)
+    n0 = c * nx + s * ny
+    n1 = -s * nx + c * ny
+    a2 = ea * ea
+    b2 = eb * eb
+    h = math.sqrt(a2 * n0 * n0 + b2 * n1 * n1)
+    h1 = (a2 - b2) * n0 * n1 / h
+    h2 = ((a2 - b2) * (n1 * n1 - n0 * n0) - h1 * h1) / h
+    return h, h1, h2
+
+
+@njit(cache=True, _nrt=False)
+def _ellipse_forces(w, y1, y3):
+    """``pivot_forces`` for the held ellipse (module docstring, "Ellipse")."""
+    m = w[CP_M]
+    inertia = w[CP_I]
+    gn = w[CP_GN]
+    gt = w[CP_GT]
+    sig = w[CP_SIG]
+    h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, w[CP_NX], w[CP_NY])
+    om2 = y3 * y3
+    if sig == 0.0:
+        wd = m * (h1 * gn - h * gt - h1 * om2 * (h + h2)) / (inertia + m * (h * h + h1 * h1))
+        lam = m * (h2 * om2 + h1 * wd - gn)
+        ud = -h * wd - h1 * om2
+        f = m * (ud - gt)
+        return PV_OK, lam, f, ud, wd
+    mu = w[CP_MU]
+    kap = h1 + mu * sig * h
+    D = inertia + m * h1 * kap
+    if not D > 0.0:
+        return PV_PAINLEVE, 0.0, 0.0, 0.0, 0.0
+    lam = m * inertia * (h2 * om2 - gn) / D
+    wd = -kap * lam / inertia
+    f = -mu * sig * lam
+    return PV_OK, lam, f, gt + f / m, wd
+
+
 @njit(cache=True, _nrt=False)
 def pivot_forces(w, y0, y1, y2, y3):
     """Contact force and accelerations at the reduced state (u, angle, du/dt, w).
     Returns (code, lam (N), f (N), d2u/dt2 (m/s^2), dw/dt (rad/s^2)); see the module
     docstring for the equations."""
+    if w[CP_KIND] == KIND_ELLIPSE:
+        return _ellipse_forces(w, y1, y3)
     m = w[CP_M]
     inertia = w[CP_I]
     gn = w[CP_GN]
@@ -188,6 +280,22 @@ def pivot_row(w, y0, y1, y2, y3, row):
     ny = w[CP_NY]
     tx = ny
     ty = -nx
+    if w[CP_KIND] == KIND_ELLIPSE:
+        # centre at u t + (d + h) n, velocity (du/dt) t + h' w n
+        h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, nx, ny)
+        z = w[CP_D] + h
+        row[0] = y0 * tx + z * nx
+        row[1] = y0 * ty + z * ny
+        row[2] = y1
+        row[3] = y2 * tx + h1 * y3 * nx
+        row[4] = y2 * ty + h1 * y3 * ny
+        row[5] = y3
+        code, lam, f, ud, wd = pivot_forces(w, y0, y1, y2, y3)
+        an = h2 * y3 * y3 + h1 * wd
+        row[6] = ud * tx + an * nx
+        row[7] = ud * ty + an * ny
+        row[8] = wd
+        return code
     rx, ry, xi, eta = _arm(w, y1)
     h = w[CP_D] + w[CP_RAD]
     row[0] = y0 * tx + h * nx - rx
@@ -209,6 +317,12 @@ def pivot_reduce(w, row, out):
     """Reduced state (u, angle, du/dt, w) of a full state row (vertex on the plane)."""
     nx = w[CP_NX]
     ny = w[CP_NY]
+    if w[CP_KIND] == KIND_ELLIPSE:
+        out[0] = ny * row[0] - nx * row[1]
+        out[1] = row[2]
+        out[2] = ny * row[3] - nx * row[4]
+        out[3] = row[5]
+        return
     rx, ry, xi, eta = _arm(w, row[2])
     out[0] = ny * (row[0] + rx) - nx * (row[1] + ry)
     out[1] = row[2]
@@ -228,11 +342,25 @@ def _energy_row(w, row):
 @njit(cache=True, _nrt=False)
 def slip_velocity(w, row):
     """Slip velocity v_T (m/s) of the held contact point of a state row."""
+    if w[CP_KIND] == KIND_ELLIPSE:
+        h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], row[2], w[CP_NX], w[CP_NY])
+        return w[CP_NY] * row[3] - w[CP_NX] * row[4] + h * row[5]
     rx, ry, xi, eta = _arm(w, row[2])
     rad = w[CP_RAD]
     cx = rx - rad * w[CP_NX]
     cy = ry - rad * w[CP_NY]
     return w[CP_NY] * (row[3] - row[5] * cy) - w[CP_NX] * (row[4] + row[5] * cx)
+
+
+@njit(cache=True, _nrt=False)
+def pivot_slip_rate(w, y1, y3, ud, wd):
+    """Rate of change (m/s^2) of the slip v_T of the held contact point at the reduced
+    state (angle y1, w y3) with accelerations (ud, wd) (``pivot_forces``): a vertex
+    ``ud + rad wd``, the ellipse ``ud + h wd + h' w^2``."""
+    if w[CP_KIND] == KIND_ELLIPSE:
+        h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, w[CP_NX], w[CP_NY])
+        return ud + h * wd + h1 * y3 * y3
+    return ud + wd * w[CP_RAD]
 
 
 # ------------------------------------------------------------------ integrator
@@ -319,6 +447,9 @@ def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
             return w[CP_MU] * lam - abs(f)
         if w[CP_MU] == 0.0:
             return math.inf
+        if w[CP_KIND] == KIND_ELLIPSE:
+            h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, w[CP_NX], w[CP_NY])
+            return w[CP_SIG] * (y2 + y3 * h)
         return w[CP_SIG] * (y2 + y3 * w[CP_RAD])
     q = (e - 2) // nv
     k = (e - 2) % nv
@@ -326,6 +457,16 @@ def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
         return math.inf
     nx = w[CP_NX]
     ny = w[CP_NY]
+    if w[CP_KIND] == KIND_ELLIPSE:
+        # the ellipse's gap to plane q: n_q . x - d_q - h_q(angle)
+        ea = w[CP_EA]
+        eb = w[CP_EB]
+        h, h1, h2 = ellipse_support3(ea, eb, y1, nx, ny)
+        z = w[CP_D] + h
+        x = y0 * ny + z * nx
+        yy = -y0 * nx + z * ny
+        hq, hq1, hq2 = ellipse_support3(ea, eb, y1, planes[q, 0], planes[q, 1])
+        return planes[q, 0] * x + planes[q, 1] * yy - planes[q, 2] - hq
     rx, ry, xi, eta = _arm(w, y1)
     h = w[CP_D] + w[CP_RAD]
     x = y0 * ny + h * nx - rx
@@ -436,7 +577,8 @@ def _first_event(w, sa, sb, ne, verts, v0, nv, planes, off, p0, k0, t0, rtol, at
 @njit(cache=True, _nrt=False)
 def _piece_dev(w, sa, h):
     """Deviation of the velocity-interpolating piece from the integrated solution over
-    [sa, sa + h]: (energy deviation / (PIECE_ETOL m V^2), max(point deviation /
+    [sa, sa + h]: (energy deviation / (PIECE_ETOL m V^2; PIECE_ETOL_CURVED for an
+    ellipse), max(point deviation /
     (PIECE_LTOL L), point velocity deviation / (PIECE_VTOL V))), the larger of the values
     at h/2 and h. The piece row (start state and accelerations) is left in w[W_ROW]."""
     row = w[W_ROW:W_ROW + 9]
@@ -449,7 +591,10 @@ def _piece_dev(w, sa, h):
     for j in range(3):
         row[6 + j] = (rb[3 + j] - row[3 + j]) / h
     L = w[CP_L]
-    etol = PIECE_ETOL * w[CP_M] * w[CP_V] * w[CP_V]
+    if w[CP_KIND] == KIND_ELLIPSE:
+        etol = PIECE_ETOL_CURVED * w[CP_M] * w[CP_V] * w[CP_V]
+    else:
+        etol = PIECE_ETOL * w[CP_M] * w[CP_V] * w[CP_V]
     ltol = PIECE_LTOL * L
     vtol = PIECE_VTOL * w[CP_V]
     de = 0.0

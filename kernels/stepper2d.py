@@ -61,11 +61,13 @@ held state (the unfinished normal energy, below the threshold, is dropped).
 
 Integrated pivot contact (``PM_PIVOT``, ``kernels/pivot2d.py``)
 --------------------------------------------------------------
-When, after the impacts of an instant, a vertex of a polygon (or a rod end) touches a
-plane pushing the body with a normal speed ``v_N`` such that ``v_N^2 < 2 |g''| rest_length``
-(or ``zeno_speed^2``) while its free-flight gap accelerates into the plane (``g'' < 0``),
-and the body is not accumulating onto a face, its impacts would accumulate at that corner
-while the body turns about it. Instead, its tiny normal velocity is removed by a normal
+When, after the impacts of an instant, a vertex of a polygon (or a rod end), or the
+boundary of an ellipse, touches a plane pushing the body with a normal speed ``v_N`` such
+that ``v_N^2 < 2 |g''| rest_length`` (or ``zeno_speed^2``) while its free-flight gap
+accelerates into the plane (``g'' < 0``), and the body is not accumulating onto a face (an
+ellipse: onto its rest), its impacts would accumulate at that point while the body turns
+about it (an ellipse: rolls or slides on its curved boundary, the contact point moving on
+it). Instead, its tiny normal velocity is removed by a normal
 impulse (and, when its slip is below the accumulation speed too and ``mu > 0``, its slip by
 an impulse ``W P = -v``: both never add energy, ``dE = -v . W^-1 v / 2``), and the body moves
 with that vertex held on the plane, sticking or sliding under Coulomb friction (event
@@ -78,7 +80,13 @@ vanishes ("stick" after a slip-removing impulse of the integration's round-off, 
 the other way); another vertex reaches a plane: an impact, resolved by the pair law with
 the held vertex in its cluster (it is resolved too if the impact drives it into the plane),
 after which the rules above apply again (a face landing below the accumulation energy
-settles onto the face as before).
+settles onto the face as before). An ellipse is held the same way (``pivot2d.KIND_ELLIPSE``;
+``pm[i, 2] == 0``; its released flight search is ``_released_toi_ellipse``); a rough
+ellipse that settles onto its rest while sliding faster than the accumulation speed (or on
+a slope friction cannot hold) is held from there too (``_persist_setup`` returns ``RC_TIP``,
+as a tipping face). A rough ellipse on a level plane then rocks for ever (rolling is
+conservative). Impacts accumulating at a point of a disk (on a disk) remain
+``ERR_CHATTER``.
 """
 import math
 
@@ -103,10 +111,11 @@ from .common import P_E, P_MU
 from .decisions import perforates
 from .dispatch import resolve_2d
 from .flight2d import body_energy, fly_into, fly_row
-from .pivot2d import (CP_D, CP_GN, CP_GT, CP_I, CP_L, CP_M, CP_MU, CP_NX, CP_NY, CP_PX,
-                      CP_PY, CP_RAD, CP_SIG, N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
-                      PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_YA,
-                      pivot_advance, pivot_forces, pivot_reduce)
+from .pivot2d import (CP_D, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_KIND, CP_L, CP_M, CP_MU,
+                      CP_NX, CP_NY, CP_PX, CP_PY, CP_RAD, CP_SIG, KIND_ELLIPSE, KIND_VERTEX,
+                      N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP, PI_OK,
+                      PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_YA, ellipse_support3,
+                      pivot_advance, pivot_forces, pivot_reduce, pivot_slip_rate)
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
                     disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
 from .wedge2d import two_contact_rest
@@ -489,7 +498,10 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
         d = planes[p, 2]
         best = INF
         for k in range(nv):
-            if rel and p == pm[i, 1] and k == pm[i, 2]:
+            if rel and p == pm[i, 1] and k == pm[i, 2] and kind == FEAT_ELLIPSE:
+                s, code = _released_toi_ellipse(row, ea, eb, nx, ny, d, t_now, S, tolf,
+                                                toli, tmp[1])
+            elif rel and p == pm[i, 1] and k == pm[i, 2]:
                 s, code = _released_toi(row, verts[v0 + k, 0], verts[v0 + k, 1], rad, nx,
                                         ny, d, t_now, S, tolf, toli, tmp[1])
             else:
@@ -538,6 +550,44 @@ def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
         fly_into(row, s0, tmp)
         src = tmp
     s, code = plane_feature_toi(FEAT_VERTEX, src, px, py, rad, 0.0, 0.0, nx, ny, d, t0 + s0,
+                                S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    return s0 + s, code
+
+
+@njit(cache=True, _nrt=False)
+def _released_toi_ellipse(row, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
+    """``_released_toi`` for an ellipse released from the plane (n, d) at t0 (its held
+    contact's normal force vanished): in flight ``g(s) = n.x(s) - d - h(angle0 + w s)``
+    (``h`` the support, ``pivot2d.ellipse_support3``) with ``n.x`` exactly quadratic and
+    ``g(0) = g'(0) = g''(0) = 0`` (to round-off), so ``g(s) >= g3 s^3 / 6 - M4 s^4 / 24``
+    with ``g3 = -h3 w^3``, ``M4 = w^4 B4`` and ``B4 >= |h4|`` over all angles (``hk`` the
+    k-th derivative of ``h`` in the angle). The radius of curvature at the contact point is
+    ``h + h2 = P / h^3``, ``P = a^2 b^2``, so ``h3 = -h1 (1 + 3 P / h^4)`` and
+    ``h4 = -h2 (1 + 3 P / h^4) + 12 P h1^2 / h^5``; with ``hm = min(a, b) <= h <= hM =
+    max(a, b)``: ``|h1| <= (hM^2 - hm^2) / (2 hm)``, ``|h2| <= (hM^2 - hm^2) / hm``. The
+    search starts at ``s0 = 2 g3 / M4`` (the gap is positive on ``(0, s0]``); from 0 when
+    ``g3 <= 0``."""
+    w = row[5]
+    h, h1, h2 = ellipse_support3(ea, eb, row[2], nx, ny)
+    P = ea * ea * eb * eb
+    hm = min(ea, eb)
+    hM = max(ea, eb)
+    g3 = w * w * w * h1 * (1.0 + 3.0 * P / (h * h * h * h))
+    K1 = (hM * hM - hm * hm) / (2.0 * hm)
+    K2 = (hM * hM - hm * hm) / hm
+    hm4 = hm * hm * hm * hm
+    B4 = K2 * (1.0 + 3.0 * P / hm4) + 12.0 * P * K1 * K1 / (hm4 * hm)
+    M4 = w * w * w * w * B4
+    s0 = 0.0
+    src = row
+    if g3 > 0.0 and M4 > 0.0:
+        s0 = 2.0 * g3 / M4
+        if s0 >= S:
+            return INF, TOI_OK
+        fly_into(row, s0, tmp)
+        src = tmp
+    s, code = plane_feature_toi(FEAT_ELLIPSE, src, 0.0, 0.0, 0.0, ea, eb, nx, ny, d, t0 + s0,
                                 S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                 tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
     return s0 + s, code
@@ -805,8 +855,13 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
                 aT = 0.0
                 mode = PM_REST
             else:
+                # a rough ellipse sliding (or on a slope friction cannot hold) rolls and
+                # rocks: held on its boundary from here (integrated contact, entered by the
+                # caller through RC_TIP, as from a tipping face)
                 _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], vT, gt, mu)
-                return ERR_ELLIPSE_SLIDE
+                pm[i, 1] = p
+                pm[i, 2] = 0
+                return RC_TIP
     st[i, 6] = aT * tx
     st[i, 7] = aT * ty
     st[i, 8] = al
@@ -992,6 +1047,17 @@ def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
     w[CP_PY] = verts[v0 + pm[i, 2], 1]
     w[CP_MU] = law_par[bp_law[i, p], P_MU]
     w[CP_SIG] = float(pm[i, 3])
+    if bint[i, 0] == SH_ELLIPSE:
+        # held on its curved boundary (pivot2d, KIND_ELLIPSE)
+        w[CP_KIND] = KIND_ELLIPSE
+        w[CP_EA] = bflt[i, 3]
+        w[CP_EB] = bflt[i, 4]
+        w[CP_RAD] = 0.0
+        w[CP_PX] = 0.0
+        w[CP_PY] = 0.0
+        w[CP_L] = max(bflt[i, 3], bflt[i, 4])
+        return
+    w[CP_KIND] = KIND_VERTEX
     L = 0.0
     for k in range(bint[i, 2]):
         L = max(L, math.hypot(verts[v0 + k, 0], verts[v0 + k, 1]))
@@ -1005,7 +1071,7 @@ def _pv_state(i, st, w):
     y = w[W_YA:W_YA + 4]
     pivot_reduce(w, st[i], y)
     code, lam, f, ud, wd = pivot_forces(w, y[0], y[1], y[2], y[3])
-    return code, lam, f, ud + wd * w[CP_RAD]
+    return code, lam, f, pivot_slip_rate(w, y[1], y[3], ud, wd)
 
 
 @njit(cache=True, _nrt=False)
@@ -1080,7 +1146,14 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     nx = planes[p, 0]
     ny = planes[p, 1]
     gn = nx * grav[0] + ny * grav[1]
-    if not gn < 0.0:
+    # the normal acceleration that pushes the contact into the plane (m/s^2): gravity's;
+    # an ellipse is also held on a plane gravity does not push (a wall) when its free gap
+    # accelerates into it (its rotation: n . g - h'' w^2 < 0)
+    gz = -gn
+    if bint[i, 0] == SH_ELLIPSE and not gn < 0.0:
+        h, h1, h2 = ellipse_support3(bflt[i, 3], bflt[i, 4], st[i, 2], nx, ny)
+        gz = h2 * st[i, 5] * st[i, 5] - gn
+    if not gz > 0.0:
         return 1
     pm[i, 0] = PM_PIVOT
     pm[i, 1] = p
@@ -1090,7 +1163,7 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
     mu = w[CP_MU]
-    vz = math.sqrt(_vz2(tolf, -gn))
+    vz = math.sqrt(_vz2(tolf, gz))
     if mu > 0.0 and abs(viT) <= vz:
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, True)
         rc = _pv_choose(i, st, w, pm)
@@ -1794,8 +1867,9 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
             settled = True
             break
         if not settled:
-            # impacts accumulating at one point: a polygon (or rod) vertex on a plane is
-            # held there (integrated pivot contact); the most strongly pushed one if several
+            # impacts accumulating at one point: a polygon (or rod) vertex, or an ellipse's
+            # boundary, on a plane is held there (integrated pivot contact); the most
+            # strongly pushed one if several
             hold = -1
             amin = 0.0
             for c in range(nc):
@@ -1806,7 +1880,7 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
                 if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                    if c_i[c, CI_TYPE] != 0 or bint[i, 0] != SH_POLY:
+                    if c_i[c, CI_TYPE] != 0 or bint[i, 0] == SH_DISK:
                         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
                                  c_f[c, CF_PY], vN, acc, 0.0)
                         return ERR_CHATTER

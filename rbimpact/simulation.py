@@ -72,8 +72,8 @@ What the stepper does
     decelerates (event "rest" when it stops; "slide" if it then slides back down), provided
     neither face corner would lift (tipping raises ``SimulationError``);
   - an ellipse rests (residual tangential speed below ``zeno_speed`` is absorbed), or
-    slides if frictionless; a rough sliding ellipse would roll and rock (no closed form):
-    ``SimulationError``.
+    slides if frictionless; a rough sliding ellipse rolls and rocks: it is held on the
+    plane and its motion integrated (as below, event "pivot").
 
   A body in persistent contact hit by an impulse (a wall, another disk) keeps the contact
   when its normal (and, not for a disk, rotational) kinetic energy stays below
@@ -81,10 +81,13 @@ What the stepper does
   approach into the plane is then resolved as an impact at the same instant.
   Impacts accumulating at a *single point* (normal speed after impact below
   ``sqrt(2 |g''| rest_length)`` while the gap is accelerating into the plane): at a vertex
-  of a box or a rod the body is then held on it ("pivot") and its motion, which has no
-  closed form, is integrated with Coulomb friction (stick, slide, lift-off, landing of
-  another vertex; ``kernels/pivot2d.py``); on a disk or an ellipse (rolling) the run stops
-  with ``SimulationError``.
+  of a box or a rod, or on the boundary of an ellipse, the body is then held there
+  ("pivot": mode 2 sticking, i.e. rolling without slip for an ellipse, mode 1 sliding)
+  and its motion, which has no closed form, is integrated with Coulomb friction (stick,
+  slide, lift-off, landing of another vertex or of the ellipse on another plane;
+  ``kernels/pivot2d.py``); a rough ellipse on a level floor rocks for ever (rolling is
+  conservative). At a point of a disk (against another disk) the run stops with
+  ``SimulationError``.
 * **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
   below ``-gap_tol``), a time-of-impact search that does not converge, or ``stall_events``
   consecutive events at one instant raise ``SimulationError`` / ``NoSolutionError``; the
@@ -424,10 +427,11 @@ class Simulation:
                 f"{at}, {pt}: normal speed after the impact {err[5]:.3g} m/s while the gap "
                 f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would roll on "
                 f"that point in persistent contact: integrated at a vertex of a box or a rod "
-                f"(pivot), not supported for a disk or an ellipse")
+                f"and on an ellipse (pivot), not supported for a disk")
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
-                f"Painleve: {body} held on a vertex on {self._where(b)} {at} (centre of mass "
+                f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "
+                f"(centre of mass "
                 f"({err[3]:.9g}, {err[4]:.9g})) has no consistent contact force with friction "
                 f"mu = {err[5]:g}: sliding needs W_NN - mu s W_NT > 0")
         elif rc == k.ERR_PIVOT_STEPS:
