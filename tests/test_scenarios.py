@@ -508,10 +508,12 @@ def test_run_scenario_help():
 def test_run_scenario_stepper_error_keeps_the_partial_summary():
     from rbimpact import SimulationError
     with pytest.raises(SimulationError) as info:
-        # an ellipse comes to rolling contact: 2D integrates persistent contact only at a
-        # vertex (pivot2d), so its impacts accumulate (the documented SimulationError)
-        run_scenario("bouncing_ellipse", settings=["e=0.3"], t_end=5.0)
+        # a rod landing flat under the simultaneous policy with Brach's e < 0: the joint
+        # Newton solve needs 0 <= e <= 1 (the documented SimulationError)
+        run_scenario("falling_rod", law="brach", settings=["e=-0.5", "angle=0.0"],
+                     t_end=5.0)
     msg = str(info.value)
-    assert "impacts accumulate at a single contact point" in msg
+    assert "simultaneous policy needs 0 <= e <= 1" in msg
+    assert info.value.result.status == "joint_e"
     assert "the run up to the error" in msg and "status: stopped by the error" in msg
     assert info.value.result is not None and info.value.result.t_end < 5.0
