@@ -33,10 +33,11 @@ cluster    number of contacts resolved together at that instant (1: a single con
 
 Trajectories are stored as segments of exact constant-acceleration motion, so
 ``sample(times)`` is exact (to round-off) at any time in ``[t_start, t_end]``, except
-while a vertex is held on a plane ("pivot" to the next event): that motion has no closed
-form, and it is recorded as short constant-acceleration pieces within stated tolerances of
-the integrated solution (``pivot2d.PIECE_ETOL`` 1e-13 m V^2 in energy, ``PIECE_LTOL``
-1e-10 L in position, ``PIECE_VTOL`` 1e-9 V in velocity).
+while a vertex or an ellipse is held on a plane ("pivot" to the next event): that motion
+has no closed form, and it is recorded as short constant-acceleration pieces within stated
+tolerances of the integrated solution (``pivot2d.PIECE_ETOL`` 1e-13 m V^2 in energy,
+``PIECE_ETOL_CURVED`` 1e-11 m V^2 for an ellipse, ``PIECE_LTOL`` 1e-10 L in position,
+``PIECE_VTOL`` 1e-9 V in velocity).
 """
 
 import numpy as np

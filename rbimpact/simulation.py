@@ -69,8 +69,10 @@ What the stepper does
     exact closed form), then rolls (or rests, "rest", when nothing moves and the plane is
     level); on an incline where friction cannot hold rolling it keeps sliding;
   - a polygon or rod rests on its face if ``|g_t| <= mu |g_n|`` ("rest"), else slides and
-    decelerates (event "rest" when it stops; "slide" if it then slides back down), provided
-    neither face corner would lift (tipping raises ``SimulationError``);
+    decelerates (event "rest" when it stops; "slide" if it then slides back down); a slip
+    slower than the accumulation speed with friction that holds it sticks at once; when a
+    face corner's normal force would turn negative (tipping) the body pivots on the loaded
+    corner (event "pivot", below);
   - an ellipse rests (residual tangential speed below ``zeno_speed`` is absorbed), or
     slides if frictionless; a rough sliding ellipse rolls and rocks: it is held on the
     plane and its motion integrated (as below, event "pivot").
@@ -88,10 +90,31 @@ What the stepper does
   ``kernels/pivot2d.py``); a rough ellipse on a level floor rocks for ever (rolling is
   conservative). At a point of a disk (against another disk) the run stops with
   ``SimulationError``.
+  A body whose motion is below the accumulation threshold after the impacts of an instant
+  and that touches two different planes on which it can rest in static equilibrium with
+  Coulomb friction (``kernels/wedge2d.py``: exact two-contact test) rests there (event
+  "rest", mode 5): a box wedged in a groove, a disk in a corner.
+* **Contact modes** (DESIGN §6a; the README's table says which are built in 2D and 3D):
+
+  ======================  ================================  =================================
+  mode                    what is integrated                events that leave it
+  ======================  ================================  =================================
+  flight                  exact quadratic motion            impact
+  impact                  the pair law / the policy         (instantaneous)
+  accumulation (Zeno)     jump to t_inf, held on the plane  -> rest, slide or roll
+  rest / slide on a face  nothing / constant deceleration   stop, tipping -> pivot
+  rest on two planes      nothing (static equilibrium)      an impulse (release)
+  disk roll / slide       exact closed form                 slip stops (roll), impact
+  pivot: vertex, ellipse  integrated (pivot2d)              lift-off, stick <-> slip, landing
+  ======================  ================================  =================================
+
+  Perforation is decided by the law (Brach's e < 0), never by the sign of a round-off
+  post-impact normal velocity (``kernels/decisions.py``).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
   below ``-gap_tol``), a time-of-impact search that does not converge, or ``stall_events``
   consecutive events at one instant raise ``SimulationError`` / ``NoSolutionError``; the
-  exception carries the partial ``Result`` as ``exc.result``. Reaching ``max_events``
+  exception carries the partial ``Result`` as ``exc.result``, whose ``status`` names the
+  failure ("missed", "stall", "no_solution", ...). Reaching ``max_events``
   before ``t_end`` stops early (after the instant in progress), warns, and returns a
   ``Result`` with ``status == "max_events"``.
 
