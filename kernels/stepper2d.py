@@ -1585,13 +1585,16 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
                         bflt[i, 3], bflt[i, 4], planes[p, 0], planes[p, 1], planes[p, 2],
                         tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                         tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+                    g, gd = feature_gap(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
+                                        bflt[i, 2], bflt[i, 3], bflt[i, 4], planes[p, 0],
+                                        planes[p, 1], planes[p, 2], t - tref[i])
                     if not (tref[i] + s <= tw):
-                        g, gd = feature_gap(kind, st[i], verts[v0 + k, 0],
-                                            verts[v0 + k, 1], bflt[i, 2], bflt[i, 3],
-                                            bflt[i, 4], planes[p, 0], planes[p, 1],
-                                            planes[p, 2], t - tref[i])
                         if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
                             continue
+                    elif g > tolf[TF_GAP_TOL]:
+                        # a root from the segment start that is not a touch now (the
+                        # tangency a released vertex starts from): not in this instant
+                        continue
                 if nc >= MAXC:
                     _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], MAXC, 0.0, 0.0)
                     return ERR_TOO_MANY
