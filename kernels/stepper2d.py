@@ -541,18 +541,8 @@ def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
     w = row[5]
     g3 = -w * w * w * (ny * rx - nx * ry)
     M4 = w * w * w * w * math.hypot(px, py)
-    s0 = 0.0
-    src = row
-    if g3 > 0.0 and M4 > 0.0:
-        s0 = 2.0 * g3 / M4
-        if s0 >= S:
-            return INF, TOI_OK
-        fly_into(row, s0, tmp)
-        src = tmp
-    s, code = plane_feature_toi(FEAT_VERTEX, src, px, py, rad, 0.0, 0.0, nx, ny, d, t0 + s0,
-                                S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
-    return s0 + s, code
+    return _search_past(row, g3, M4, FEAT_VERTEX, px, py, rad, 0.0, 0.0, nx, ny, d, t0, S,
+                        tolf, toli, tmp)
 
 
 @njit(cache=True, _nrt=False)
@@ -579,6 +569,15 @@ def _released_toi_ellipse(row, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
     hm4 = hm * hm * hm * hm
     B4 = K2 * (1.0 + 3.0 * P / hm4) + 12.0 * P * K1 * K1 / (hm4 * hm)
     M4 = w * w * w * w * B4
+    return _search_past(row, g3, M4, FEAT_ELLIPSE, 0.0, 0.0, 0.0, ea, eb, nx, ny, d, t0, S,
+                        tolf, toli, tmp)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
+    """The flight search of a feature released at t0 with ``g(s) >= g3 s^3 / 6 - M4 s^4 /
+    24``: from ``s0 = 2 g3 / M4`` (the gap is positive on ``(0, s0]``), from 0 when
+    ``g3 <= 0``. Returns ``(s, code)`` as ``plane_feature_toi``."""
     s0 = 0.0
     src = row
     if g3 > 0.0 and M4 > 0.0:
@@ -587,9 +586,9 @@ def _released_toi_ellipse(row, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
             return INF, TOI_OK
         fly_into(row, s0, tmp)
         src = tmp
-    s, code = plane_feature_toi(FEAT_ELLIPSE, src, 0.0, 0.0, 0.0, ea, eb, nx, ny, d, t0 + s0,
-                                S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    s, code = plane_feature_toi(kind, src, px, py, rad, ea, eb, nx, ny, d, t0 + s0, S - s0,
+                                tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                                toli[TI_TOI_MAXIT])
     return s0 + s, code
 
 

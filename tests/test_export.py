@@ -1,6 +1,5 @@
 """Exports of a run's events: the vectorized CSV against the former row-by-row writer,
 to_pandas / to_parquet, the optional-dependency messages, and what ``import rbimpact`` loads."""
-import csv
 import subprocess
 import sys
 
@@ -11,15 +10,10 @@ from rbimpact import scenarios
 
 
 def reference_csv(res, path):
-    """The CSV writer as it was before it was vectorized (csv.writer, repr of floats)."""
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(res.FIELDS_CSV)
-        for ev in res.events:
-            vectors = [float(x) for name in res._EVENT_VECTORS for x in ev[name]]
-            row = (float(ev["t"]), str(ev["kind"]), int(ev["a"]), int(ev["b"]), *vectors,
-                   int(ev["mode"]), float(ev["dE"]), int(ev["cluster"]))
-            w.writerow([repr(x) if isinstance(x, float) else x for x in row])
+    """The CSV writer as it was before it was vectorized (csv.writer, repr of floats): the
+    row-by-row reference that ``rbimpact bench sweep`` also times."""
+    from rbimpact.bench import _csv_rowwise
+    _csv_rowwise(res, path)
 
 
 @pytest.fixture(scope="module")
