@@ -194,6 +194,7 @@ ERR_TOO_MANY = -11
 ERR_JOINT_E = -12
 ERR_PAINLEVE = -13   # a held vertex would slide with no solution (Painleve), see pivot2d
 ERR_PIVOT_STEPS = -14  # the pivot integrator exceeded its step limit
+ERR_TWO_PLANES = -15   # accumulating on one plane while touching another (not supported)
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
 #: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
@@ -1792,6 +1793,54 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
     return True
 
 
+@njit(cache=True, _nrt=False)
+def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
+                       ev_t, ev_i, ev_f, cnt, err):
+    """Disk i's impacts accumulate on plane p: if it also touches another plane q (gap
+    within gap_tol) and does not leave it, the accumulation on p alone would ignore q (a disk
+    in a groove gained 1e-7 of the scene's energy, status 'done'). It rests on p and q when
+    that is a static equilibrium (event "rest", PM_WEDGED; returns 1), else the run stops
+    (ERR_TWO_PLANES: rolling or sliding on two planes is not built). Returns 0 when no
+    second plane is touched."""
+    rad = bflt[i, 2]
+    m = bflt[i, 0]
+    for q in range(planes.shape[0]):
+        if q == p:
+            continue
+        nqx = planes[q, 0]
+        nqy = planes[q, 1]
+        g = nqx * st[i, 0] + nqy * st[i, 1] - rad - planes[q, 2]
+        if g > tolf[TF_GAP_TOL]:
+            continue
+        if g < -tolf[TF_GAP_TOL]:
+            _set_err(err, t, i, -1 - q, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+            return ERR_MISSED       # already inside q: never rest there
+        vq = nqx * st[i, 3] + nqy * st[i, 4]
+        if vq * vq > _vz2(tolf, math.hypot(grav[0], grav[1])) and vq > 0.0:
+            continue        # leaving q
+        npx = planes[p, 0]
+        npy = planes[p, 1]
+        if two_contact_rest(m, grav[0], grav[1], -rad * npx, -rad * npy, npx, npy,
+                            law_par[bp_law[i, p], P_MU], -rad * nqx, -rad * nqy, nqx, nqy,
+                            law_par[bp_law[i, q], P_MU]):
+            e0 = _energy(st, bflt, grav, i)
+            vN = npx * st[i, 3] + npy * st[i, 4]
+            vT = npy * st[i, 3] - npx * st[i, 4] + st[i, 5] * rad
+            for j in range(3, 9):
+                st[i, j] = 0.0
+            pm[i, 0] = PM_WEDGED
+            pm[i, 1] = p
+            tz[i] = INF
+            ttr[i] = INF
+            _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_WEDGED, 0,
+                 st[i, 0] - rad * npx, st[i, 1] - rad * npy, npx, npy, vN, vT, 0.0, 0.0,
+                 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
+            return 1
+        _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], float(q), g, 0.0)
+        return ERR_TWO_PLANES
+    return 0
+
+
 @njit(cache=True, _nrt=False, inline="always")
 def _wedge_pair(m, grav, r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x, n2y, mu2):
     """Contacts on two different planes on which the body rests statically."""
@@ -1855,6 +1904,14 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
             if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
                     and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
                 continue
+            if bint[i, 0] == SH_DISK:
+                rc = _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm,
+                                        tz, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+                if rc == 1:
+                    settled = True      # wedged between p and a second plane
+                    break
             after = nx * st[i, 3] + ny * st[i, 4]
             before = c_f[c, CF_VCMN]
             dt = 0.0

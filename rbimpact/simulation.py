@@ -461,6 +461,12 @@ class Simulation:
             exc = SimulationError(
                 f"{body} held on a vertex on {self._where(b)}: the pivot integrator reached "
                 f"its step limit {at} (centre of mass ({err[3]:.9g}, {err[4]:.9g}))")
+        elif rc == k.ERR_TWO_PLANES:
+            exc = SimulationError(
+                f"{body} accumulates on {self._where(b)} {at} while it touches plane "
+                f"{int(err[5])} too and cannot rest on both: persistent contact with two "
+                f"planes at once (rolling or sliding in a groove or a corner) is not "
+                f"supported")
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[6])} resolutions {at}")

@@ -215,3 +215,12 @@ def test_released_corner_does_not_join_a_later_instant():
     row = run_drop(2, 3345655047)
     assert row.verdict == "OK", row.note
     assert row.penetration <= row.pen_tol and row.energy_gain <= 1e-9
+
+
+def test_disk_accumulating_on_one_groove_plane_rests_on_both():
+    """A disk whose bounces on one plane of a groove accumulate while it touches the other
+    plane was settled on the first plane alone and gained 5.5e-7 of the scene's energy
+    (status 'done'); it now rests on both planes (static equilibrium, mode 5)."""
+    row = run_drop(2, 1348835874)
+    assert row.verdict == "OK", row.note
+    assert row.energy_gain <= ENERGY_RTOL
