@@ -188,7 +188,7 @@ ROLL_RTOL = 8.0 * 2.220446049250313e-16
 """A disk's contact-point slip vT + w r below ROLL_RTOL (|vT| + |w r|) is the round-off of
 that sum: the disk rolls (a slip that ended by friction otherwise restarts at 1e-17 m/s)."""
 TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lifts it (tips)
-ERR_ELLIPSE_SLIDE = -9
+# -9 is free: a rough ellipse settling while sliding is now held (pivot2d), not refused
 ERR_STALL = -10
 ERR_TOO_MANY = -11
 ERR_JOINT_E = -12
@@ -1757,10 +1757,10 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
             if (c_i[d, CI_TYPE] != 0 or c_i[d, CI_A] != i or c_i[d, CI_OFF] != 0
                     or c_i[d, CI_B] == c_i[c, CI_B]):
                 continue        # (two points of one plane: a face, see _rest_config)
-            if _wedge_pair(m, grav, c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
-                           c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU], c_f[d, CF_RAX],
-                           c_f[d, CF_RAY], c_f[d, CF_NX], c_f[d, CF_NY],
-                           law_par[c_i[d, CI_LAW], P_MU]):
+            if two_contact_rest(m, grav[0], grav[1], c_f[c, CF_RAX], c_f[c, CF_RAY],
+                                c_f[c, CF_NX], c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU],
+                                c_f[d, CF_RAX], c_f[d, CF_RAY], c_f[d, CF_NX],
+                                c_f[d, CF_NY], law_par[c_i[d, CI_LAW], P_MU]):
                 first = c
                 break
         if first >= 0:
@@ -1771,26 +1771,35 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
             q = pm[i, 1]
             rad = bflt[i, 2]
             mu_q = law_par[bp_law[i, q], P_MU]
-            if _wedge_pair(m, grav, c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
-                           c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU],
-                           -rad * planes[q, 0], -rad * planes[q, 1], planes[q, 0],
-                           planes[q, 1], mu_q):
+            if two_contact_rest(m, grav[0], grav[1], c_f[c, CF_RAX], c_f[c, CF_RAY],
+                                c_f[c, CF_NX], c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU],
+                                -rad * planes[q, 0], -rad * planes[q, 1], planes[q, 0],
+                                planes[q, 1], mu_q):
                 first = c
                 break
     if first < 0:
         return False
-    e0 = _energy(st, bflt, grav, i)
     viN, viT = _contact_velocity(st, c_i, c_f, first)
+    _wedge(i, c_i[first, CI_B], t, st, bflt, grav, pm, tz, ttr, c_f[first, CF_PX],
+           c_f[first, CF_PY], viN, viT, planes, ev_t, ev_i, ev_f, cnt)
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, px, py, viN, viT, planes, ev_t, ev_i, ev_f,
+           cnt):
+    """Body i comes to rest on two planes (PM_WEDGED, logged on plane p at the contact
+    point (px, py) with the contact velocity (viN, viT) it had): its remaining motion is
+    removed; event "rest" with the energy removed."""
+    e0 = _energy(st, bflt, grav, i)
     for j in range(3, 9):
         st[i, j] = 0.0
     pm[i, 0] = PM_WEDGED
-    pm[i, 1] = c_i[first, CI_B]
+    pm[i, 1] = p
     tz[i] = INF
     ttr[i] = INF
-    _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - c_i[first, CI_B], PM_WEDGED, 0,
-         c_f[first, CF_PX], c_f[first, CF_PY], c_f[first, CF_NX], c_f[first, CF_NY], viN,
-         viT, 0.0, 0.0, 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
-    return True
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_WEDGED, 0, px, py, planes[p, 0],
+         planes[p, 1], viN, viT, 0.0, 0.0, 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
 
 
 @njit(cache=True, _nrt=False)
@@ -1823,29 +1832,14 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
         if two_contact_rest(m, grav[0], grav[1], -rad * npx, -rad * npy, npx, npy,
                             law_par[bp_law[i, p], P_MU], -rad * nqx, -rad * nqy, nqx, nqy,
                             law_par[bp_law[i, q], P_MU]):
-            e0 = _energy(st, bflt, grav, i)
             vN = npx * st[i, 3] + npy * st[i, 4]
             vT = npy * st[i, 3] - npx * st[i, 4] + st[i, 5] * rad
-            for j in range(3, 9):
-                st[i, j] = 0.0
-            pm[i, 0] = PM_WEDGED
-            pm[i, 1] = p
-            tz[i] = INF
-            ttr[i] = INF
-            _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_WEDGED, 0,
-                 st[i, 0] - rad * npx, st[i, 1] - rad * npy, npx, npy, vN, vT, 0.0, 0.0,
-                 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
+            _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, st[i, 0] - rad * npx,
+                   st[i, 1] - rad * npy, vN, vT, planes, ev_t, ev_i, ev_f, cnt)
             return 1
         _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], float(q), g, 0.0)
         return ERR_TWO_PLANES
     return 0
-
-
-@njit(cache=True, _nrt=False, inline="always")
-def _wedge_pair(m, grav, r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x, n2y, mu2):
-    """Contacts on two different planes on which the body rests statically."""
-    return two_contact_rest(m, grav[0], grav[1], r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x,
-                            n2y, mu2)
 
 
 @njit(cache=True, _nrt=False)

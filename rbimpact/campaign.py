@@ -97,7 +97,6 @@ and the midpoints between events)."""
 MAX_EVENT_SAMPLES = 20_000
 """At most this many event times (and midpoints) are added to the samples."""
 
-NEVER_GAIN = ("smith", "chatterjee_ruina", "routh-energetic", "routh-poisson")
 
 
 def scene_seed(dim, seed, index):
@@ -324,17 +323,6 @@ def _sample_times(res, n):
     return np.unique(np.clip(t, t0, t1))
 
 
-def _kinetic(res, s, dim):
-    from .stability import _quat_rotate
-    if dim == 2:
-        return np.sum(0.5 * res.masses * (s["vx"] ** 2 + s["vy"] ** 2)
-                      + 0.5 * res.moments * s["omega"] ** 2, axis=1)
-    q = s["orientation"]
-    wb = _quat_rotate(q * np.array([1.0, -1.0, -1.0, -1.0]), s["angular_velocity"])
-    return np.sum(0.5 * res.masses * np.sum(s["velocity"] ** 2, axis=-1)
-                  + 0.5 * np.sum(res.inertias[None] * wb * wb, axis=-1), axis=1)
-
-
 def _supports(sim, s, k, dim, L):
     """Support analysis of body 0 on plane 0 at sample ``k``: (number of corners within
     SUPPORT_RTOL L of the plane, whether the centre of mass is over them, rounded)."""
@@ -383,7 +371,8 @@ def _supports(sim, s, k, dim, L):
 def check_result(spec, sim, res, note):
     """The invariants of one finished (or partial) run. Returns
     ``(problems, penetration, pen_tol, energy_gain)``: ``problems`` a list of strings."""
-    from .stability import _energy_from_sample, _gaps_2d, _gaps_3d, _refine
+    from .stability import (NEVER_GAIN, _energy_from_sample, _gaps_2d, _gaps_3d, _refine,
+                            kinetic_from_sample)
     dim, L = spec["dim"], spec["size"]
     problems = []
     if res is None or res.t_end <= res.t_start:
@@ -407,7 +396,7 @@ def check_result(spec, sim, res, note):
                         f"in {wkey[1]} {wkey[2]})")
     # energy
     E = _energy_from_sample(res, s, dim)
-    K0 = float(_kinetic(res, s, dim)[0])
+    K0 = float(kinetic_from_sample(res, s, dim)[0])
     g = GRAVITY
     if dim == 2:
         heights = s["y"][0]

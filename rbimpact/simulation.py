@@ -478,11 +478,6 @@ class Simulation:
             exc = SimulationError(f"{body} in persistent contact with {self._where(b)} {at} "
                                   f"would tip over (face normal forces {err[6]:.3g} N, "
                                   f"{err[7]:.3g} N): not supported")
-        elif rc == k.ERR_ELLIPSE_SLIDE:
-            exc = SimulationError(f"{body} settles on {self._where(b)} {at} sliding at "
-                                  f"{err[5]:.3g} m/s with friction mu = {err[7]:g}: a rough "
-                                  f"ellipse sliding on a plane rolls and rocks, which has no "
-                                  f"closed form and is not supported")
         elif rc == k.ERR_STALL:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
                                   f"{self.tolerances['stall_events']} consecutive events at "

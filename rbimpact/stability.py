@@ -1306,19 +1306,25 @@ def _gaps_3d(sim, s):
     return out
 
 
+def kinetic_from_sample(res, s, dim):
+    """Kinetic energy (J) of the sampled states ``s`` (``Result.sample``), per sample."""
+    if dim == 2:
+        return np.sum(0.5 * res.masses * (s["vx"] ** 2 + s["vy"] ** 2)
+                      + 0.5 * res.moments * s["omega"] ** 2, axis=1)
+    q = s["orientation"]
+    wb = _quat_rotate(q * np.array([1.0, -1.0, -1.0, -1.0]), s["angular_velocity"])
+    return np.sum(0.5 * res.masses * np.sum(s["velocity"] ** 2, axis=-1)
+                  + 0.5 * np.sum(res.inertias[None] * wb * wb, axis=-1), axis=1)
+
+
 def _energy_from_sample(res, s, dim):
+    """Kinetic plus gravitational energy (J) of the sampled states, per sample."""
     if dim == 2:
         g = res.gravity
-        return np.sum(0.5 * res.masses * (s["vx"] ** 2 + s["vy"] ** 2)
-                      + 0.5 * res.moments * s["omega"] ** 2
-                      - res.masses * (g[0] * s["x"] + g[1] * s["y"]), axis=1)
-    q = s["orientation"]
-    qc = q * np.array([1.0, -1.0, -1.0, -1.0])
-    wb = _quat_rotate(qc, s["angular_velocity"])
-    rot = 0.5 * np.sum(res.inertias[None] * wb * wb, axis=-1)
-    e = (0.5 * res.masses * np.sum(s["velocity"] ** 2, axis=-1) + rot
-         - res.masses * (s["position"] @ res.gravity))
-    return e.sum(axis=1)
+        pot = -np.sum(res.masses * (g[0] * s["x"] + g[1] * s["y"]), axis=1)
+    else:
+        pot = -np.sum(res.masses * (s["position"] @ res.gravity), axis=1)
+    return kinetic_from_sample(res, s, dim) + pot
 
 
 def _scale_length(s, dim):
