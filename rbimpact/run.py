@@ -133,6 +133,8 @@ def run_scenario(name, law=None, settings=(), t_end=None, out=None, plot=None):
         if not t > 0.0:
             raise ValueError(f"t_end must be a positive number of seconds, got {t_end!r}")
     t_end = sc.t_end if t_end is None else float(t_end)
+    if hasattr(sc, "report"):      # a many-body scenario (granular_gas) runs and reports itself
+        return sc.report(t_end=t_end, out=out, plot=plot)
 
     from .errors import NoSolutionError, SimulationError
     try:

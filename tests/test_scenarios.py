@@ -22,6 +22,8 @@ NAMES = ("billiards", "bouncing_ball", "bouncing_ellipse", "falling_rod", "perfo
          "rocking_block", "spinning_ball", "superball")
 # the 3D scenarios (tests/test_stepper3d.py runs them)
 NAMES_3D = ("die_toss", "spinning_ball_3d", "superball_3d", "tumbling_capsule")
+# many-body scenarios (rbimpact.manybody; tests/test_gas_physics.py runs them)
+NAMES_MANY = ("granular_gas",)
 CASES = [(name, law) for name in NAMES for law in scenarios.spec(name).laws]
 
 # Energy may not rise between two samples by more than this fraction of the run's energy
@@ -93,7 +95,7 @@ def test_runs_to_end_finite_and_no_energy_created(runs, name, law):
 
 
 def test_every_scenario_is_registered_with_its_laws():
-    assert scenarios.names() == tuple(sorted(NAMES + NAMES_3D))
+    assert scenarios.names() == tuple(sorted(NAMES + NAMES_3D + NAMES_MANY))
     for name in NAMES:
         s = scenarios.spec(name)
         assert s.default_law in s.laws
@@ -409,7 +411,7 @@ def test_register_rejects_bad_builders():
         @scenarios.register("bouncing_ball", laws=("routh",), summary="x", help={})
         def dup(law: str = "routh"):
             pass
-    assert scenarios.names() == tuple(sorted(NAMES + NAMES_3D))
+    assert scenarios.names() == tuple(sorted(NAMES + NAMES_3D + NAMES_MANY))
 
 
 def test_import_is_light():

@@ -1,0 +1,341 @@
+"""granular_gas: N disks (2D) or spheres (3D) in a box, run by the many-body engine
+(``rbimpact.manybody``), checked against kinetic theory (``rbimpact.gas_stats``)."""
+import math
+import time
+from dataclasses import dataclass, field
+import typing
+
+import numpy as np
+
+from . import ALL_LAWS, LAW_PARAMS, positive, nonnegative, register
+
+DESCRIPTION = """\
+A granular gas: `n` disks (dim = 2) or spheres (dim = 3) of radius `radius` (m) and mass
+`mass` (kg) at random non-overlapping positions in a square (cubic) box sized for the
+packing fraction `packing`, with Maxwellian velocities of temperature `temperature` (J,
+k_B = 1: kinetic energy dim T / 2 per body) and zero total momentum (`start=equal_speeds`:
+the same speeds, every body at sqrt(dim T / m), in the same random directions: a
+non-Maxwellian start that relaxes). Body-body impacts use the law with `e` (and `mu`,
+`e_t` for rough bodies); the box walls are the engine's. The run is a many-body
+event-driven run (rbimpact.manybody.run_gas), not the single-body stepper; it lasts about
+`collisions` body-body collisions per particle (predicted by the Enskog frequency and, for
+e < 1, Haff's law), or `--t-end`.
+
+Printed: impacts (body-body collisions and wall hits), the collision frequency per
+particle 2 C / (N t) against the Enskog value integrated over the measured T(t)
+(Henderson's g(sigma) for disks, Carnahan-Starling for spheres; the density is N / V of
+the whole box, so walls bias it by a few per cent), energy at start and end; for e = 1 the
+Maxwell-Boltzmann test of the velocities of the second half of the run (snapshots at least
+2 collision times apart), for e < 1 Haff's time tau fitted to T(t) against its theory
+1/tau = (1 - e^2) omega_E(T0) / (2 dim) (smooth particles: mu = 0). `--plot`: the speed
+distribution against Maxwell-Boltzmann, and T(t) against Haff's law (e < 1) or the excess
+kurtosis of the velocities against time (e = 1). `--out`: the series t, T(t) as CSV."""
+
+#: snapshots of a run (the series T(t) and the samples of the velocity distribution)
+N_SNAPSHOTS = 200
+#: snapshot memory cap: at most this many floats in snap_v (80 MB)
+SNAP_FLOATS = 10_000_000
+#: velocity samples of the Maxwell-Boltzmann test are this many collision times apart
+MB_SPACING = 2.0
+
+
+@dataclass(frozen=True)
+class GasScenario:
+    """A built granular gas, ready to run with ``rbimpact.manybody``.
+
+    ``name``, ``description``, ``params`` (the values used), ``laws``, ``t_end`` (s, from
+    ``collisions``), ``law_params`` (what the law takes), ``theory``: number density
+    ``n`` (1/m^dim), diameter ``sigma`` (m), ``T0`` (J), Enskog frequency ``omega0`` (1/s)
+    at T0 and Haff's ``tau`` (s, inf for e = 1).
+    """
+
+    name: str
+    description: str
+    params: typing.Mapping
+    laws: tuple
+    t_end: float
+    law_params: typing.Mapping
+    theory: typing.Mapping = field(default_factory=dict)
+
+    def make_state(self):
+        """The initial ``GasState`` (``manybody.random_gas``; equal speeds if asked)."""
+        from rbimpact import manybody
+        p = self.params
+        state = manybody.random_gas(
+            p["n"], dim=p["dim"], packing=p["packing"], radius=p["radius"],
+            mass=p["mass"], law=p["law"], seed=p["seed"], temperature=p["temperature"],
+            gravity=p["gravity"], rough=p["rough"], **self.law_params)
+        if p["start"] == "equal_speeds":
+            v = np.asarray(state.v)
+            s = np.linalg.norm(v, axis=1, keepdims=True)
+            v[:] = v / np.where(s > 0, s, 1.0) * math.sqrt(p["dim"] * p["temperature"]
+                                                          / p["mass"])
+        return state
+
+    def simulate(self, t_end=None, **run_kwargs):
+        """Run the gas to ``t_end`` (s, default ``self.t_end``); returns the ``GasResult``.
+        Keywords go to ``manybody.run_gas``."""
+        from rbimpact import manybody
+        return manybody.run_gas(self.make_state(),
+                                t_end=self.t_end if t_end is None else t_end, **run_kwargs)
+
+    def report(self, t_end=None, out=None, plot=None):
+        """Run with snapshots and return the summary text of ``rbimpact run``; ``out``:
+        write t, T(t) (CSV), ``plot``: the figure (needs matplotlib)."""
+        from rbimpact import manybody
+        t_end = self.t_end if t_end is None else float(t_end)
+        state = self.make_state()
+        e0 = kinetic_energy(state.v, state.w, state.mass, state.inertia)
+        n, dim = np.shape(state.v)
+        ns = max(10, min(N_SNAPSHOTS, SNAP_FLOATS // (n * dim)))
+        t0 = time.perf_counter()
+        res = manybody.run_gas(state, t_end=t_end, record="none", snapshot_dt=t_end / ns)
+        wall = time.perf_counter() - t0
+        a = analyse(self, state, res, e0)
+        lines = [summary_text(self, res, a, wall, t_end)]
+        unwritten = []      # as rbimpact.run: the summary survives a failed write
+        for what, path, write, done in (
+                ("out", out, write_series, "series t, T(t) written to {}"),
+                ("plot", plot, lambda f, a: plot_gas(f, self, a), "plot written to {}")):
+            if path:
+                try:
+                    write(path, a)
+                    lines.append(done.format(path))
+                except OSError as exc:
+                    unwritten.append((what, path, exc))
+        text = "\n".join(lines)
+        if unwritten:
+            from rbimpact.errors import OutputError
+            raise OutputError("; ".join(f"could not write {w} {str(p)!r}: "
+                                        f"{exc.strerror or exc}" for w, p, exc in unwritten),
+                              summary=text, paths=[p for _, p, _ in unwritten])
+        return text
+
+
+def kinetic_energy(v, w, mass, inertia):
+    """Translational plus rotational kinetic energy (J) of bodies with velocities ``v``
+    (n, dim), angular velocities ``w`` ((n,) in 2D, (n, 3) in 3D), masses and moments of
+    inertia (scalars or one per body)."""
+    v = np.asarray(v, dtype=float)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), (v.shape[0],))
+    e = 0.5 * float(np.sum(m * np.sum(v * v, axis=1)))
+    if w is not None and inertia is not None:
+        w = np.asarray(w, dtype=float).reshape(v.shape[0], -1)
+        inertia = np.broadcast_to(np.asarray(inertia, dtype=float), (v.shape[0],))
+        e += 0.5 * float(np.sum(inertia * np.sum(w * w, axis=1)))
+    return e
+
+
+def _series(state, res):
+    """Snapshot times and velocities, with the initial state first if it is missing."""
+    t = np.asarray(getattr(res, "snap_t", np.zeros(0)), dtype=float)
+    v = np.asarray(getattr(res, "snap_v", np.zeros((0,) + np.shape(state.v))), dtype=float)
+    if t.size == 0 or t[0] > 0.0:
+        t = np.concatenate([[0.0], t])
+        v = np.concatenate([np.asarray(state.v, dtype=float)[None], v])
+    return t, v
+
+
+def analyse(sc, state, res, e0):
+    """Kinetic-theory figures of a run (dict): temperatures, collision frequency against
+    Enskog, Maxwell-Boltzmann test (e = 1), Haff fit (e < 1)."""
+    from rbimpact import gas_stats as gs
+    p, th = sc.params, sc.theory
+    m, dim, N = p["mass"], p["dim"], p["n"]
+    t, V = _series(state, res)
+    T = np.array([gs.temperature(vk, m) for vk in V])
+    t_run = float(res.t)
+    n_coll = int(res.n_collisions)
+    # Enskog prediction over the measured T(t): N/2 int omega_E(T(t)) dt
+    om = np.array([gs.enskog_frequency(th["n"], th["sigma"], Tk, m, dim) for Tk in T])
+    keep = t <= t_run
+    tk, omk = t[keep], om[keep]
+    if tk[-1] < t_run:      # the last piece to t_run at the last temperature
+        tk, omk = np.append(tk, t_run), np.append(omk, omk[-1])
+    predicted = 0.5 * N * float(np.trapezoid(omk, tk))
+    a = dict(t=t, T=T, t_run=t_run, n_collisions=n_coll, n_wall=int(res.n_wall),
+             box=np.asarray(state.box, dtype=float), e0=e0, e1=kinetic_energy(res.v, res.w, state.mass, state.inertia),
+             omega=gs.collision_frequency(n_coll, N, t_run) if t_run > 0 else math.nan,
+             omega_enskog=2.0 * predicted / (N * t_run) if t_run > 0 else math.nan,
+             ratio=n_coll / predicted if predicted > 0 else math.nan,
+             V=V, mb=None, haff=None, kurtosis=np.array([gs.excess_kurtosis(vk).mean()
+                                                         for vk in V]))
+    # velocity samples: second half of the run, MB_SPACING collision times apart, each
+    # snapshot scaled to unit temperature (the gas cools when e < 1)
+    tc = 1.0 / th["omega0"]
+    pick, last = [], -math.inf
+    for k, tk_ in enumerate(t):
+        if tk_ >= 0.5 * t_run and tk_ - last >= MB_SPACING * tc * math.sqrt(T[0] / T[k]):
+            pick.append(k)
+            last = tk_
+    if not pick:
+        pick = [len(t) - 1]
+    scaled = np.concatenate([V[k] / math.sqrt(T[k] / m) for k in pick])
+    a["samples"] = scaled
+    a["sample_t"] = t[pick]
+    # scaled components have unit variance: temperature m (J) for mass m
+    a["mb"] = gs.maxwell_boltzmann_test(scaled, mass=m, T=m)
+    if p["e"] < 1.0 and len(t) >= 3:
+        a["haff"] = gs.fit_haff(t, T)
+    return a
+
+
+def summary_text(sc, res, a, wall, t_end):
+    p, th = sc.params, sc.theory
+    from rbimpact.scenarios import spec
+    defaults = spec("granular_gas").params
+    changed = {k: v for k, v in p.items() if k != "law" and v != defaults[k].default}
+    law_text = ", ".join(f"{k}={v!r}" if isinstance(v, str) else f"{k}={v:g}"
+                         for k, v in sc.law_params.items())
+    shape = "disks" if p["dim"] == 2 else "spheres"
+    box = np.asarray(a["box"])
+    lines = [
+        "scenario: granular_gas: " + spec("granular_gas").summary,
+        f"law: {p['law']} ({law_text}); many-body engine rbimpact.manybody"
+        + (f", inelastic collapse: {th['collapse']}" if th.get("collapse") else ""),
+    ]
+    if changed:
+        lines.append("settings: " + ", ".join(f"{k}={v}" for k, v in changed.items()))
+    lines += [
+        f"gas: {p['n']} {shape} (dim {p['dim']}), radius {p['radius']:g} m, packing "
+        f"{p['packing']:g} in a box " + " x ".join(f"{b:.4g}" for b in box) + " m, "
+        f"T0 = {a['T'][0]:.6g} J, start {p['start']}, seed {p['seed']}",
+        f"status: ran to t = {a['t_run']:.6g} s of {t_end:.6g} s",
+        f"impacts: {a['n_collisions']} body-body collisions "
+        f"({2 * a['n_collisions'] / p['n']:.1f} per particle), {a['n_wall']} wall hits",
+        f"collision frequency per particle: {a['omega']:.6g} /s measured, Enskog "
+        f"{a['omega_enskog']:.6g} /s (ratio {a['ratio']:.4f}; g(sigma) = {th['g']:.5f}, "
+        f"n = N/V of the whole box, over the measured T(t))",
+        f"energy: start {a['e0']:.6g} J, end {a['e1']:.6g} J (change "
+        f"{a['e1'] - a['e0']:+.6g} J, relative {(a['e1'] - a['e0']) / a['e0']:+.3g})",
+    ]
+    mb = a["mb"]
+    what = ("Maxwell-Boltzmann test" if p["e"] >= 1.0 else
+            "velocities scaled by sqrt(T(t)) against Maxwell-Boltzmann (the homogeneous "
+            "cooling state deviates slightly)")
+    lines.append(f"{what}: p = {mb.p_value:.3g} (KS components p = "
+                 + ", ".join(f"{x:.3g}" for x in mb.component_p)
+                 + f"; speeds p = {mb.speed_p:.3g}); excess kurtosis "
+                 + ", ".join(f"{k:+.3f}" for k in mb.kurtosis)
+                 + f" (+-{mb.kurtosis_se:.3f}); {mb.n} samples from {len(a['sample_t'])} "
+                 f"snapshots, t >= {a['sample_t'][0]:.4g} s")
+    if a["haff"] is not None:
+        h = a["haff"]
+        lines.append(
+            f"Haff's law: tau fitted {h.tau:.6g} s (+-{h.tau_se:.2g}, rms log residual "
+            f"{h.rms:.3g}), theory {th['tau']:.6g} s (ratio {h.tau / th['tau']:.4f}; "
+            f"smooth particles{'' if p['mu'] == 0 else ', mu > 0 also dissipates'}); "
+            f"T(end)/T0 = {a['T'][-1] / a['T'][0]:.4g}")
+    rate = (a["n_collisions"] + a["n_wall"]) / wall if wall > 0 else math.nan
+    lines.append(f"run time: {wall:.3g} s ({rate:.3g} impacts/s, includes any compilation)")
+    return "\n".join(lines)
+
+
+def write_series(path, a):
+    with open(path, "w") as f:
+        f.write("t_s,T_J\n")
+        for tk, Tk in zip(a["t"], a["T"]):
+            f.write(f"{tk!r},{Tk!r}\n")
+
+
+def plot_gas(path, sc, a):
+    """Speed distribution against Maxwell-Boltzmann; T(t) against Haff (e < 1) or the
+    excess kurtosis of the velocities against time (e = 1)."""
+    from rbimpact import gas_stats as gs
+    from rbimpact.result_base import pyplot
+    plt = pyplot("rbimpact run granular_gas --plot")
+    p, th = sc.params, sc.theory
+    m, dim = p["mass"], p["dim"]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    s = np.linalg.norm(a["samples"], axis=1)
+    bins = int(np.clip(np.sqrt(s.size) / 2.0, 15, 80))
+    ax1.hist(s, bins=bins, density=True, alpha=0.6, label=f"{s.size} speeds (scaled to T)")
+    x = np.linspace(0, s.max() * 1.05, 400)
+    ax1.plot(x, gs.speed_pdf(x, m, m, dim), "k-",
+             label="Maxwell-Boltzmann (" + ("Rayleigh" if dim == 2 else "Maxwell") + ")")
+    if a["V"].shape[0]:
+        s0 = np.linalg.norm(a["V"][0] / math.sqrt(a["T"][0] / m), axis=1)
+        ax1.hist(s0, bins=bins, density=True, histtype="step", color="tab:red",
+                 label="t = 0")
+    ax1.set_xlabel("speed / sqrt(T/m)")
+    ax1.set_ylabel("probability density")
+    ax1.set_title(f"Maxwell-Boltzmann test: p = {a['mb'].p_value:.3g}")
+    ax1.legend(fontsize=8)
+    t, T = a["t"], a["T"]
+    if a["haff"] is not None:
+        ok = t > 0
+        ax2.loglog(t[ok], T[ok], "o", ms=3, label="simulation")
+        ax2.loglog(t[ok], gs.haff_temperature(t[ok], T[0], th["tau"]), "k-",
+                   label=f"Haff, theory tau = {th['tau']:.4g} s")
+        ax2.loglog(t[ok], gs.haff_temperature(t[ok], a["haff"].T0, a["haff"].tau), "r--",
+                   label=f"Haff, fitted tau = {a['haff'].tau:.4g} s")
+        ax2.set_ylabel("T (J)")
+    else:
+        ax2.plot(t, a["kurtosis"], ".", ms=3, label="mean over components")
+        ax2.axhline(0.0, color="k", lw=1, label="Maxwell-Boltzmann")
+        ax2.set_ylabel("excess kurtosis of the velocity components")
+    ax2.set_xlabel("t (s)")
+    ax2.legend(fontsize=8)
+    fig.suptitle(f"granular_gas: N = {p['n']}, dim {dim}, packing {p['packing']:g}, "
+                 f"{p['law']} e = {p['e']:g}, collision ratio to Enskog {a['ratio']:.4f}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+@register("granular_gas", laws=ALL_LAWS,
+          summary="a granular gas of disks or spheres in a box (many-body engine) against "
+                  "Maxwell-Boltzmann, Enskog and Haff",
+          help={"n": "number of bodies, >= 2",
+                "dim": "2 (disks) or 3 (spheres)",
+                "packing": "packing fraction (-), in (0, 0.5)",
+                "radius": "body radius (m), > 0",
+                "mass": "body mass (kg), > 0",
+                "temperature": "initial temperature T0 (J, k_B = 1), > 0",
+                "seed": "random seed of positions and velocities, >= 0",
+                "gravity": "gravity (m/s^2) along -y, >= 0",
+                "rough": "rough bodies: friction couples rotation (mu, e_t)",
+                "start": "initial velocities: maxwellian or equal_speeds",
+                "collisions": "run length in body-body collisions per particle (Enskog, "
+                              "Haff), > 0"},
+          choices={"start": ("maxwellian", "equal_speeds")})
+def build(law: str = "kane_levinson", e: float = 1.0, mu: float = 0.0, e_t: float = 0.0,
+          restitution: str = "energetic", n: int = 1024, dim: int = 2,
+          packing: float = 0.15, radius: float = 0.5, mass: float = 1.0,
+          temperature: float = 1.0, seed: int = 0, gravity: float = 0.0,
+          rough: bool = False, start: str = "maxwellian", collisions: float = 50.0):
+    from rbimpact import gas_stats as gs
+    from rbimpact.laws import LAWS
+    positive("granular_gas", radius=radius, mass=mass, temperature=temperature,
+             collisions=collisions)
+    nonnegative("granular_gas", gravity=gravity, seed=seed)
+    if n < 2:
+        raise ValueError(f"scenario 'granular_gas': n must be >= 2, got {n}")
+    if dim not in (2, 3):
+        raise ValueError(f"scenario 'granular_gas': dim must be 2 or 3, got {dim}")
+    if not 0.0 < packing < 0.5:
+        raise ValueError(f"scenario 'granular_gas': packing must be in (0, 0.5), got "
+                         f"{packing}")
+    values = dict(law=law, e=e, mu=mu, e_t=e_t, restitution=restitution, n=n, dim=dim,
+                  packing=packing, radius=radius, mass=mass, temperature=temperature,
+                  seed=seed, gravity=gravity, rough=rough, start=start,
+                  collisions=collisions)
+    takes = LAWS[law].params
+    lp = {k: values[k] for k in LAW_PARAMS if k in takes}
+    sigma = 2.0 * radius
+    dens = gs.number_density(packing, sigma, dim)
+    box_side = (n / dens) ** (1.0 / dim)
+    omega0 = gs.enskog_frequency(dens, sigma, temperature, mass, dim)
+    tau = gs.haff_tau(min(max(e, 0.0), 1.0), dens, sigma, temperature, mass, dim)
+    # t_end: `collisions` per particle; with Haff cooling int omega dt = omega0 tau ln(1+t/tau)
+    if math.isinf(tau):
+        t_end = collisions / omega0
+    else:
+        x = collisions / (omega0 * tau)
+        t_end = tau * math.expm1(x) if x < 700 else math.inf
+        if not math.isfinite(t_end):
+            raise ValueError(f"scenario 'granular_gas': {collisions} collisions per particle "
+                             f"take longer than any time at e = {e}; ask for fewer")
+    theory = dict(n=dens, sigma=sigma, T0=temperature, omega0=omega0, tau=tau,
+                  g=gs.contact_value(packing, dim), box=(box_side,) * dim)
+    return GasScenario("granular_gas", DESCRIPTION, values, ALL_LAWS, t_end, lp, theory)
