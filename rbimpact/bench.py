@@ -75,18 +75,53 @@ def _median_time(fn, repeat):
 
 
 def bench_laws(n=1_000_000, repeat=7):
-    """Rows of batched throughput per law and dimension; one thread and all threads."""
+    """Rows of batched throughput per law and dimension (contacts/s).
+
+    Per law: a minimal Numba loop on the same data (one thread: read ``v`` and the upper
+    triangle of ``W``, call the law's scalar core, store ``P`` and the mode; no
+    validation, no ``v_f``, ``dE`` or energy flag) and the public ``Law.resolve_batch``
+    (validation, ``v_f``, ``dE``, energy flags, output allocation), one thread and all
+    threads. Ratios: against a plain copy of the arrays, NumPy Kane & Levinson 2D, and
+    (``vs_minimal``) the minimal loop, all measured in this run."""
     import numba
-    from .kernels.batch import batch_2d, batch_3d
+    from numba import njit
+    from .kernels.batch import CORES_2D, CORES_3D
     from .laws import Law
     from .numpy_laws import kane_levinson_2d_numpy
 
+    def minimal_loop(core, d):
+        """The reference: the law's core in a plain loop (compiled here, not cached)."""
+        if d == 2:
+            @njit(error_model="numpy")
+            def loop(v, W, prm, P, mode):
+                e, mu, et, rest, tol = prm[0], prm[1], prm[2], prm[3], prm[4]
+                for i in range(v.shape[0]):
+                    m, p0, p1 = core(v[i, 0], v[i, 1], W[i, 0, 0], W[i, 0, 1], W[i, 1, 1],
+                                     e, mu, et, rest, tol)
+                    mode[i] = m
+                    P[i, 0] = p0
+                    P[i, 1] = p1
+            return loop
+
+        @njit(error_model="numpy")
+        def loop3(v, W, prm, P, mode):
+            e, mu, et, rest, tol = prm[0], prm[1], prm[2], prm[3], prm[4]
+            for i in range(v.shape[0]):
+                m, p0, p1, p2 = core(v[i, 0], v[i, 1], v[i, 2], W[i, 0, 0], W[i, 0, 1],
+                                     W[i, 0, 2], W[i, 1, 1], W[i, 1, 2], W[i, 2, 2],
+                                     e, mu, et, rest, tol)
+                mode[i] = m
+                P[i, 0] = p0
+                P[i, 1] = p1
+                P[i, 2] = p2
+        return loop3
+
     rows = []
     threads_all = numba.config.NUMBA_NUM_THREADS
-    for d, batch in ((2, batch_2d), (3, batch_3d)):
+    for d, cores in ((2, CORES_2D), (3, CORES_3D)):
         nd = n if d == 2 else n // 4
         v, W = random_contacts(nd, d)
-        P, vf, dE = np.empty((nd, d)), np.empty((nd, d)), np.empty(nd)
+        P, vf = np.empty((nd, d)), np.empty((nd, d))
         mode = np.empty(nd, dtype=np.int64)
         vc, Wc = np.empty_like(v), np.empty_like(W)
 
@@ -104,19 +139,29 @@ def bench_laws(n=1_000_000, repeat=7):
             rows.append({"item": "NumPy kane_levinson 2D", "dim": 2, "threads": 1,
                          "contacts_per_s": nd / t_np, "vs_copy": t_copy / t_np,
                          "vs_numpy_kl2d": 1.0})
+
+        def row(item, threads, t, t_min=None):
+            r = {"item": item, "dim": d, "threads": threads, "contacts_per_s": nd / t,
+                 "vs_copy": t_copy / t}
+            if d == 2:
+                r["vs_numpy_kl2d"] = t_np / t
+            if t_min is not None:
+                r["vs_minimal"] = t_min / t
+            return r
+
         for name, params in LAW_SETTINGS.items():
             law = Law(name, **params)
-            table = law.params[None, :]
-            for threads in sorted({1, threads_all}):
-                numba.set_num_threads(threads)
-                t = _median_time(lambda: batch(law.law_id, v, W, table, P, vf, dE, mode),
-                                 repeat)
-                row = {"item": f"{name} {d}D", "dim": d, "threads": threads,
-                       "contacts_per_s": nd / t, "vs_copy": t_copy / t}
-                if d == 2:
-                    row["vs_numpy_kl2d"] = t_np / t
-                rows.append(row)
-            numba.set_num_threads(threads_all)
+            loop = minimal_loop(cores[law.law_id], d)
+            numba.set_num_threads(1)
+            try:
+                t_min = _median_time(lambda: loop(v, W, law.params, P, mode), repeat)
+                rows.append(row(f"minimal loop {name} {d}D", 1, t_min))
+                for threads in sorted({1, threads_all}):
+                    numba.set_num_threads(threads)
+                    t = _median_time(lambda: law.resolve_batch(v, W), repeat)
+                    rows.append(row(f"{name} {d}D", threads, t, t_min))
+            finally:
+                numba.set_num_threads(threads_all)
     return rows
 
 
@@ -455,13 +500,17 @@ def _print_compile(rows):
 
 
 def _print_laws(rows):
-    print("Batched law throughput (median of repeats; ratios measured in this run)")
-    print(f"{'item':<34}{'threads':>8}{'M contacts/s':>14}{'x NumPy KL2D':>14}{'of copy':>10}")
+    print("Batched law throughput (median of repeats; ratios measured in this run).")
+    print("'<law> <d>D' is the public Law.resolve_batch (validation, v_f, dE, energy flags);")
+    print("'of minimal' compares it with the minimal Numba loop over the same law core")
+    print(f"{'item':<36}{'threads':>8}{'M contacts/s':>14}{'x NumPy KL2D':>14}{'of copy':>10}"
+          f"{'of minimal':>12}")
     for r in rows:
         ratio = f"{r['vs_numpy_kl2d']:.1f}" if "vs_numpy_kl2d" in r else ""
         copy = f"{100 * r['vs_copy']:.0f}%" if "vs_copy" in r else ""
-        print(f"{r['item']:<34}{r['threads']:>8}{r['contacts_per_s'] / 1e6:>14.1f}"
-              f"{ratio:>14}{copy:>10}")
+        mini = f"{100 * r['vs_minimal']:.0f}%" if "vs_minimal" in r else ""
+        print(f"{r['item']:<36}{r['threads']:>8}{r['contacts_per_s'] / 1e6:>14.2f}"
+              f"{ratio:>14}{copy:>10}{mini:>12}")
 
 
 def _print_routh3d(rows):

@@ -180,11 +180,6 @@ def _dot(a, b):
     return acc
 
 
-def _energy_gain(P, v, v_f, dE):
-    scale = 0.5 * np.sum(np.abs(P) * (np.abs(v) + np.abs(v_f)), axis=-1)
-    return dE > ENERGY_GAIN_RTOL * scale
-
-
 def _check_contact(v, W):
     """Validate one contact; return float64 copies with W exactly symmetrised.
 
@@ -299,6 +294,15 @@ class Law:
         self.may_create_energy = spec.may_create_energy(values)
         self._spec = spec
         self._kernels = {}  # dimension -> compiled kernel, looked up on first use
+        self._batch = {}    # dimension -> batch entry (kernels/batch.py), on first use
+        # per-slot ranges the batch loop checks every parameter row against (finite too);
+        # restitution (checked by name in Python) and unused slots: no range
+        self._lo = np.full(N_PARAMS, -np.inf)
+        self._hi = np.full(N_PARAMS, np.inf)
+        for key, p in spec.params.items():
+            if key != "restitution":
+                self._lo[_SLOT[key]] = p.lo
+                self._hi[_SLOT[key]] = p.hi
 
     def __repr__(self):
         args = ", ".join(f"{k}={v!r}" for k, v in self.params_dict.items())
@@ -358,13 +362,20 @@ class Law:
                 f"(params {dict(self.params_dict)})")
 
     def resolve_batch(self, v, W, *, on_failure="raise", validate=True, **params):
-        """Resolve n contacts in one parallel kernel call.
+        """Resolve n contacts in one parallel compiled loop (``kernels/batch.py``).
 
         ``v`` (n, d), ``W`` (n, d, d); keyword ``params`` override the law's parameters
         with scalars or length-n arrays (same names and ranges). ``on_failure``:
         "raise" (``NoSolutionError`` naming the first failed contact) or "flag" (failed
-        contacts keep ``P = 0``, ``v_f = v`` and a negative mode code). ``validate=False``
-        skips the O(n) input checks (finite, symmetric, positive definite).
+        contacts keep ``P = 0``, ``v_f = v`` and a negative mode code).
+
+        With ``validate`` (default) every contact is checked inside the compiled loop:
+        ``v`` and ``W`` finite, ``W`` symmetric to ``SYMMETRY_RTOL`` (then used as
+        ``(W + W^T) / 2``), positive definite (2D: exact-sign determinant; 3D: pivots of
+        ``L D L^T``), per-contact parameters in range; the first refused contact raises
+        ``ValueError`` naming its index and what is wrong. ``validate=False`` skips these
+        checks and reads the upper triangle of ``W`` as given. ``energy_gain`` flags
+        ``dE > ENERGY_GAIN_RTOL * sum_k |P_k| (|v_k| + |v_f,k|) / 2``, computed in the loop.
         """
         if on_failure not in ("raise", "flag"):
             raise ValueError(f"on_failure must be 'raise' or 'flag', got {on_failure!r}")
@@ -375,50 +386,80 @@ class Law:
         n, d = v.shape
         if W.shape != (n, d, d):
             raise ValueError(f"W must have shape ({n}, {d}, {d}) to match v; got {W.shape}")
-        if validate:
-            _check_W_values(v, W)
-            W = np.ascontiguousarray(0.5 * (W + np.swapaxes(W, -1, -2)))
         table = self._param_table(n, params)
-        from .kernels.batch import batch_2d, batch_3d
+        kernel = self._batch.get(d)
+        if kernel is None:
+            from .kernels.batch import kernel_for
+            kernel = self._batch[d] = kernel_for(self.law_id, d)
         P = np.empty((n, d))
         v_f = np.empty((n, d))
         dE = np.empty(n)
+        gain = np.empty(n, dtype=np.bool_)
         mode = np.empty(n, dtype=np.int64)
-        (batch_2d if d == 2 else batch_3d)(self.law_id, v, W, table, P, v_f, dE, mode)
-        failed = mode < 0
-        if failed.any() and on_failure == "raise":
-            i = int(np.argmax(failed))
-            raise NoSolutionError(f"{int(failed.sum())} of {n} contacts failed; first: contact "
-                                  f"{i}: " + self._failure(int(mode[i]), v[i], W[i]), int(mode[i]))
-        return BatchImpact(P, v_f, mode, dE, _energy_gain(P, v, v_f, dE))
+        nbad, ibad, nfail, ifail = kernel(v, W, table, self._lo, self._hi, bool(validate),
+                                          SYMMETRY_RTOL, ENERGY_GAIN_RTOL, P, v_f, dE, gain,
+                                          mode)
+        if nbad:
+            self._refused(int(ibad), int(mode[ibad]), v, W, table)
+        if nfail and on_failure == "raise":
+            i = int(ifail)
+            Wi = 0.5 * (W[i] + W[i].T) if validate else W[i]
+            raise NoSolutionError(f"{int(nfail)} of {n} contacts failed; first: contact "
+                                  f"{i}: " + self._failure(int(mode[i]), v[i], Wi), int(mode[i]))
+        return BatchImpact(P, v_f, mode, dE, gain)
+
+    def _refused(self, i, code, v, W, table):
+        """Raise the ValueError for contact ``i`` refused by the batch kernel's validation
+        (``code``: one of ``kernels.batch.BAD_*``), worded as the single-contact checks."""
+        from .kernels import batch as kb
+        if code == kb.BAD_V:
+            raise ValueError(f"v must be finite; contact {i} has {v[i]}")
+        if code == kb.BAD_W:
+            raise ValueError(f"W must be finite; contact {i} is not")
+        if code == kb.BAD_SYM:
+            asym = float(np.abs(W[i] - W[i].T).max())
+            raise ValueError(f"W must be symmetric (|W - W^T| <= {SYMMETRY_RTOL:g} max|W|); "
+                             f"contact {i} has asymmetry {asym:.3g}")
+        if code == kb.BAD_SPD:
+            lam = np.linalg.eigvalsh(0.5 * (W[i] + W[i].T))[0]
+            raise ValueError(f"W must be positive definite; contact {i} has smallest "
+                             f"eigenvalue {lam:.3g}")
+        for key, p in self._spec.params.items():
+            if key == "restitution":
+                continue
+            try:
+                _check_param(self.name, key, float(table[min(i, len(table) - 1), _SLOT[key]]), p)
+            except ValueError as exc:
+                raise ValueError(f"contact {i}: {exc}") from None
+        raise ValueError(f"contact {i}: refused by validation (code {code})")  # not reached
 
     def _param_table(self, n, overrides):
+        """The (1 or n, N_PARAMS) parameter table of a batch. Scalars are checked here;
+        the ranges of per-contact arrays are checked in the compiled loop (``_lo``,
+        ``_hi``), except restitution names, converted here."""
         spec = self._spec
         unknown = set(overrides) - set(spec.params)
         if unknown:
             raise ValueError(f"law {self.name!r} takes no parameter {sorted(unknown)[0]!r}")
         arrays = {k: np.asarray(x) for k, x in overrides.items() if np.ndim(x) > 0}
-        table = self.params.copy()
+        base = self.params.copy()
         for key, x in overrides.items():
             if key not in arrays:
-                table[_SLOT[key]] = _check_param(self.name, key, x, spec.params[key])
+                base[_SLOT[key]] = _check_param(self.name, key, x, spec.params[key])
         if not arrays:
-            return table[None, :]
-        table = np.repeat(table[None, :], n, axis=0)
+            return base[None, :]
         for key, x in arrays.items():
             if x.shape != (n,):
                 raise ValueError(f"parameter {key!r} must be a scalar or have shape ({n},); "
                                  f"got {x.shape}")
+        table = np.empty((n, N_PARAMS))
+        table[:] = base
+        for key, x in arrays.items():
             if key == "restitution":
                 table[:, _SLOT[key]] = [_check_param(self.name, key, r, spec.params[key])
                                         for r in x]
-                continue
-            p = spec.params[key]
-            x = x.astype(np.float64)
-            bad = ~((x >= p.lo) & (x <= p.hi) & np.isfinite(x))
-            if bad.any():
-                _check_param(self.name, key, x[np.argmax(bad)], p)
-            table[:, _SLOT[key]] = x
+            else:
+                table[:, _SLOT[key]] = x.astype(np.float64)
         return table
 
 
