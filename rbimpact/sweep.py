@@ -23,6 +23,8 @@ E_start       total energy (J, kinetic + gravitational) at the start
 E_final       total energy (J) at ``t_final``
 energy_lost   ``E_start - E_final`` (J; negative: energy was created)
 x_final ...   position of body 0 at ``t_final`` (m): x, y in 2D; x, y, z in 3D
+angle_final   2D only: the angle of body 0 at ``t_final`` (rad, counter-clockwise, not
+              wrapped: a block that toppled once to the left ends near +pi/2)
 face          die_toss only: the face up at the end (1..6), <NA> when not at rest on one
 run_s         wall time of the run on its worker (s; the worker's code was loaded before)
 ============  ================================================================================
@@ -184,7 +186,8 @@ def _summary(scenario, result):
         pos = s["position"][0, 0]
         row.update(x_final=float(pos[0]), y_final=float(pos[1]), z_final=float(pos[2]))
     else:
-        row.update(x_final=float(s["x"][0, 0]), y_final=float(s["y"][0, 0]))
+        row.update(x_final=float(s["x"][0, 0]), y_final=float(s["y"][0, 0]),
+                   angle_final=float(s["angle"][0, 0]))
     extra = SUMMARIES.get(scenario)
     if extra is not None:
         row.update(extra(result))
@@ -256,7 +259,8 @@ def _frame(rows, spec, keys):
     pd = require("pandas", "rbimpact.sweep")
     df = pd.DataFrame(rows)
     head = ["scenario", "law", *keys, "seed", *RESULT_COLUMNS]
-    tail = [c for c in ("x_final", "y_final", "z_final", "face", "run_s") if c in df.columns
+    tail = [c for c in ("x_final", "y_final", "z_final", "angle_final", "face", "run_s")
+            if c in df.columns
             or c == "run_s"]
     for c in head + tail:
         if c not in df.columns:
@@ -279,7 +283,7 @@ def _frame(rows, spec, keys):
             df[c] = pd.array([None if v is None or (isinstance(v, float) and math.isnan(v))
                               else int(v) for v in df[c]], dtype="Int64")
     for c in ("t_final", "E_start", "E_final", "energy_lost", "x_final", "y_final",
-              "z_final", "run_s"):
+              "z_final", "angle_final", "run_s"):
         if c in df.columns:
             df[c] = df[c].astype("float64")
     for c in ("scenario", "law", "status", "error"):
