@@ -1,0 +1,837 @@
+"""Event-driven dynamics of many disks (2D) or spheres (3D) in a box, shared by
+``gas2d`` and ``gas3d`` (which only fix the dimension ``D`` and the law).
+
+Model. ``n`` equal round bodies (radius ``r`` m, mass ``m`` kg, central inertia ``I``
+kg m^2; smooth bodies are given ``1/I = 0``: they never spin) in the box
+``[0, L_0] x ... x [0, L_{D-1}]`` whose faces are static planes, with optional uniform
+gravity ``g`` (m/s^2) along minus the last axis (2D: -y, 3D: -z). Between impacts every
+body flies exactly: ``x(t) = x + u s + a s^2 / 2``, ``s = t - t_local``.
+
+Events (one pending event per body, ``scheduler`` calendar queue; the body's key is the
+earliest of three candidates kept in its row of ``bt``):
+
+* pair impact: earliest predicted impact with a neighbour (``BEST_T``, partner
+  ``BEST_P`` and the partner's collision counter ``BEST_C`` at prediction time). The
+  relative motion of two bodies is linear even under gravity (same acceleration), so the
+  time of impact is the smaller root of ``|dr + dv s|^2 = (2r)^2`` with ``dr . dv < 0``,
+  taken in the cancellation-free form ``s = c / (-b + sqrt(b^2 - a c))``;
+* wall impact (``WALL_T``): exit of the centre from ``[r, L - r]`` on an axis, a linear
+  or quadratic root (``_exit``, cancellation-free forms);
+* cell crossing (``CROSS_T``): exit from the body's cell of the cell list (cells of side
+  ``>= 2 r (1 + CELL_MARGIN)``, so every partner of an impact is in the 3^D block around
+  the body's cell).
+
+Validation on pop: a predicted pair impact whose partner's counter changed is stale; the
+body's predictions are recomputed (full scan of the 3^D block) and it is queued again.
+A cell crossing moves the body to its new cell and scans only the newly adjacent cells
+(the far layer of the 3^D block) unless the body's pair prediction went stale, in which
+case the whole block is rescanned. Bodies are advanced lazily: only the bodies of an
+impact are moved to the impact time (``TL`` is each body's local time); everybody else
+is evaluated "virtually" at the current time when needed.
+
+Impacts. Every impact (pair or wall) is resolved by the chosen law's scalar kernel in
+contact space (DESIGN §3): ``n`` from B into A (pair: ``A = i``, ``B = j``,
+``n = (x_i - x_j) / |x_i - x_j|``; wall: A is the body, ``n`` the wall's inward normal),
+tangent basis 2D ``t = (n_y, -n_x)``, 3D any right-handed orthonormal ``(t1, t2)``
+(``W`` is isotropic in the tangent plane for round bodies, so the law does not depend on
+the choice). ``v`` is the velocity of A's contact point minus B's: with the arms
+``r_A = -r n`` and ``r_B = r n``, ``v = dv - r (w_A + w_B) x n``; 2D (spin ``w`` about
+z) ``v_T = dv . t + r (w_A + w_B)``. ``W = k diag(1/m, 1/m + r^2/I[, 1/m + r^2/I])``
+with ``k = 2`` for a pair and ``1`` for a wall. The impulse ``P`` acts on A (``-P`` on
+B): ``dv_A = P/m``, ``dw_A = dw_B = -r (n x P) / I`` (2D ``r P_T / I``).
+The normal velocity handed to the law is ``(dr . dv) / |dr|`` (pair) so that its sign is
+the sign of the quantity that predicted the impact: a grazing impact is never re-predicted
+at the same instant with a "separating" velocity.
+
+Inelastic collapse (option ``collapse``): ``COLLAPSE_NONE`` applies the law as given;
+``COLLAPSE_TC`` is the TC model of Luding & McNamara ("How to handle the inelastic
+collapse of a dissipative hard-sphere gas with the TC model", Granular Matter 1:113, 1998):
+an impact of a body whose previous impact (pair or wall) happened less than ``tc``
+seconds earlier is resolved by the same law with ``e = 1, mu = 0`` (no dissipation), so
+the number of impacts per unit time stays finite. As a last guard, ``STALL_IMPACTS``
+impacts in a row without any advance of time end the run (status ``RUN_STALL``).
+
+Recording: none, all, or the impacts involving bodies flagged in ``rec_mask``; each
+record is ``rec_i = (a, b, mode)`` (``b = -1 - wall`` for a wall, ``wall = 2 axis + side``
+with side 1 for the face at ``L``) and ``rec_f = (t, dE, n[D], v[D], P[D])`` (contact
+space, normal first). Snapshots of all velocities every ``snap_dt``. When a buffer is
+full the loop returns (``RUN_REC_FULL`` / ``RUN_SNAP_FULL``) before touching the state,
+so the caller can hand over larger buffers and call again: the run is resumable and no
+allocation happens inside. Memory with recording off does not grow with the events.
+"""
+import math
+
+from numba import njit
+
+from .cache_guard import guard
+
+# flush stale compiled code before the kernel modules below are imported (cache_guard)
+guard(__name__, __file__)
+
+from .brach import brach_2d_scalar, brach_3d_scalar
+from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
+from .kane_levinson import kane_levinson_2d_scalar, kane_levinson_3d_scalar
+from .routh import routh_2d_scalar, routh_3d_scalar
+from .scheduler import q_pop, q_push, q_top, q_update
+from .smith import smith_2d_scalar, smith_3d_scalar
+
+# ---- per-body float row ``bt[i]`` ---------------------------------------------------------
+TL = 0        # local time of x[i], v[i] (s)
+TLAST = 1     # time of the body's previous impact (s), -inf before the first
+BEST_T = 2    # predicted pair impact time (s), inf if none
+WALL_T = 3    # predicted wall impact time (s)
+CROSS_T = 4   # predicted cell crossing time (s)
+N_BT = 5
+
+# ---- per-body int row ``bi[i]`` -----------------------------------------------------------
+CNT = 0       # impacts of the body so far (its collision counter)
+BEST_P = 1    # partner of the predicted pair impact (-1: none)
+BEST_C = 2    # the partner's counter when predicted
+WALL_K = 3    # wall of the predicted wall impact: 2 axis + side (side 1: face at L)
+CROSS_K = 4   # cell face of the predicted crossing: 2 axis + (1 if upward)
+CX = 5        # cell coordinates (CX + a for axis a)
+CNEXT = 8     # cell list links
+CPREV = 9
+N_BI = 10
+
+# ---- float parameters ``fpar`` ------------------------------------------------------------
+F_R = 0         # radius (m)
+F_SIG2 = 1      # (2 r)^2 (m^2)
+F_INVM = 2      # 1 / m (1/kg)
+F_INVI = 3      # 1 / I (1/(kg m^2)); 0 for smooth bodies
+F_G = 4         # gravity (m/s^2) along minus the last axis
+F_E = 5         # law parameters (DESIGN §4): e, mu, e_t, Routh restitution kind, Routh tol
+F_MU = 6
+F_ET = 7
+F_REST = 8
+F_TOL = 9
+F_TC = 10       # TC model contact duration tc (s)
+F_TEND = 11     # end time (s), inf for none
+F_L = 12        # box lengths L_0, L_1, L_2 (m)
+F_CS = 15       # cell sides (m)
+F_SNAP_DT = 18  # snapshot period (s); <= 0: no snapshots
+F_SNAP_T0 = 19  # time of snapshot 0 (s)
+N_FPAR = 20
+
+# ---- int parameters ``ipar`` ------------------------------------------------------------
+I_NC = 0        # cells per axis (3 entries; 1 for the unused third axis in 2D)
+I_COLLAPSE = 3  # COLLAPSE_NONE or COLLAPSE_TC
+I_RECORD = 4    # REC_NONE, REC_ALL, REC_MASK
+I_MAXIMP = 5    # stop after this many impacts (pair + wall) in total
+N_IPAR = 6
+
+COLLAPSE_NONE = 0
+COLLAPSE_TC = 1
+REC_NONE = 0
+REC_ALL = 1
+REC_MASK = 2
+
+# ---- counters and status ``stats`` (int64) and ``fstats`` (float64) -------------------------
+ST_NCOLL = 0    # pair impacts
+ST_NWALL = 1    # wall impacts
+ST_NCROSS = 2   # cell crossings
+ST_NSTALE = 3   # stale pair predictions popped
+ST_STATUS = 4
+ST_NREC = 5     # records written
+ST_NSNAP = 6    # snapshots written
+ST_FAIL_A = 7   # bodies and law mode of a failed impact
+ST_FAIL_B = 8
+ST_FAIL_MODE = 9
+ST_NTC = 10     # impacts resolved elastically by the TC model
+ST_SAME = 11    # impacts in a row at the same time (stall guard)
+N_ST = 12
+FS_T = 0        # time of the last event handled (s)
+N_FS = 1
+
+RUN_DONE_TEND = 1     # reached t_end
+RUN_DONE_MAX = 2      # reached max impacts
+RUN_EMPTY = 3         # no event left (nothing moves)
+RUN_REC_FULL = 4      # record buffer full: call again with a larger one
+RUN_SNAP_FULL = 5     # snapshot buffer full: idem
+RUN_LAW_FAILED = -1   # the law has no solution for an impact (bodies in ST_FAIL_*)
+RUN_STALL = -2        # STALL_IMPACTS impacts without time advancing
+
+CELL_MARGIN = 1e-6    # cell side >= 2 r (1 + CELL_MARGIN): round-off of positions never
+                      # puts an impact partner outside the 3^D block (relative, to 2r)
+STALL_IMPACTS = 100000  # impacts in a row at one instant that end the run as a stall
+
+_INF = math.inf
+_NJ = dict(cache=True, error_model="numpy", _nrt=False)   # hot helpers: no reference
+# counting (3x measured); small enough for LLVM to inline them into the loop
+_NJI = dict(cache=True, inline="always", error_model="numpy")  # the loop, once per entry
+
+
+# ---- the laws, with one signature per dimension -------------------------------------------
+# The loop takes the law as a function argument (LAW2, LAW3 below): an entry passes the
+# law's adapter, a module-level compiled function, so that only that law is compiled and
+# the entry is cached on disk (the adapter is a global of the entry, not an argument of a
+# top-level call). W = diag(wnn, wtt[, wtt]) for round bodies.
+
+@njit(**_NJ)
+def kl_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+    return kane_levinson_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
+
+
+@njit(**_NJ)
+def kl_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    return kane_levinson_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
+
+
+@njit(**_NJ)
+def cr_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+    return chatterjee_ruina_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
+
+
+@njit(**_NJ)
+def cr_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    return chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, et)
+
+
+@njit(**_NJ)
+def brach_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+    return brach_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
+
+
+@njit(**_NJ)
+def brach_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    return brach_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, et)
+
+
+@njit(cache=True, error_model="numpy")
+def routh_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+    return routh_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, rest)
+
+
+@njit(**_NJ)
+def routh_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    return routh_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, rest, tol)
+
+
+@njit(**_NJ)
+def smith_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+    return smith_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
+
+
+@njit(**_NJ)
+def smith_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    return smith_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
+
+
+# ---- flight ---------------------------------------------------------------------------
+
+@njit(**_NJ)
+def state_at(D, k, t, x, v, bt, g):
+    """Position and velocity of body k at time t (exact flight from its local time):
+    ``(x0, x1, x2, u0, u1, u2)``, third components 0 in 2D."""
+    s = t - bt[k, TL]
+    if D == 2:
+        return (x[k, 0] + v[k, 0] * s, x[k, 1] + (v[k, 1] - 0.5 * g * s) * s, 0.0,
+                v[k, 0], v[k, 1] - g * s, 0.0)
+    return (x[k, 0] + v[k, 0] * s, x[k, 1] + v[k, 1] * s,
+            x[k, 2] + (v[k, 2] - 0.5 * g * s) * s, v[k, 0], v[k, 1], v[k, 2] - g * s)
+
+
+@njit(**_NJ)
+def advance(D, k, t, x, v, bt, g):
+    """Move body k to time t (its local time becomes t)."""
+    x0, x1, x2, u0, u1, u2 = state_at(D, k, t, x, v, bt, g)
+    x[k, 0] = x0
+    x[k, 1] = x1
+    v[k, 0] = u0
+    v[k, 1] = u1
+    if D == 3:
+        x[k, 2] = x2
+        v[k, 2] = u2
+    bt[k, TL] = t
+
+
+@njit(**_NJ)
+def _exit(p, u, a, lo, hi):
+    """First time s >= 0 at which ``p + u s + a s^2 / 2`` leaves ``[lo, hi]`` (bounds may
+    be infinite; ``p`` is taken as inside: round-off outside counts as on the bound).
+    Returns ``(s, side)``: side +1 through ``hi``, -1 through ``lo``, 0 never (s = inf).
+    Roots in cancellation-free form (s = 2C / (-B -+ sqrt(B^2 - 4AC)))."""
+    if a > 0.0:          # mirror so that the acceleration is <= 0
+        s, side = _exit_neg(-p, -u, -a, -hi, -lo)
+        return s, -side
+    return _exit_neg(p, u, a, lo, hi)
+
+
+@njit(**_NJ)
+def _exit_neg(p, u, a, lo, hi):
+    if a == 0.0:
+        if u > 0.0:
+            if hi == _INF:
+                return _INF, 0
+            s = (hi - p) / u
+            return (s if s > 0.0 else 0.0), 1
+        if u < 0.0:
+            if lo == -_INF:
+                return _INF, 0
+            s = (lo - p) / u
+            return (s if s > 0.0 else 0.0), -1
+        return _INF, 0
+    # a < 0: the parabola rises while u > 0 then falls; it always comes back down to lo
+    s_hi = _INF
+    if u > 0.0 and hi != _INF:
+        C = p - hi
+        if C > 0.0:
+            C = 0.0
+        d = u * u + 2.0 * a * (-C)      # B^2 - 4 A C with A = a/2, C <= 0
+        if d >= 0.0:
+            s_hi = -2.0 * C / (u + math.sqrt(d))
+    s_lo = _INF
+    if lo != -_INF:
+        C = p - lo
+        if C < 0.0:
+            C = 0.0
+        sq = math.sqrt(u * u - 2.0 * a * C)
+        if u <= 0.0:
+            den = sq - u
+            s_lo = 2.0 * C / den if den > 0.0 else 0.0
+        else:
+            s_lo = (u + sq) / (-a)
+    if s_hi <= s_lo:
+        return s_hi, (1 if s_hi < _INF else 0)
+    return s_lo, -1
+
+
+@njit(**_NJ)
+def wall_time(D, k, t, x, v, bt, g, r, fpar):
+    """Next wall impact of body k after time t (its state taken at t):
+    ``(time, wall)``, ``wall = 2 axis + side``."""
+    x0, x1, x2, u0, u1, u2 = state_at(D, k, t, x, v, bt, g)
+    best = _INF
+    wk = 0
+    for a in range(D):
+        if a == 0:
+            p, u = x0, u0
+        elif a == 1:
+            p, u = x1, u1
+        else:
+            p, u = x2, u2
+        acc = -g if a == D - 1 else 0.0
+        s, side = _exit(p, u, acc, r, fpar[F_L + a] - r)
+        if s < best:
+            best = s
+            wk = 2 * a + (1 if side > 0 else 0)
+    return t + best, wk
+
+
+@njit(**_NJ)
+def cross_time(D, k, t, x, v, bt, bi, g, fpar, ipar):
+    """Next exit of body k from its cell after time t: ``(time, face)``,
+    ``face = 2 axis + (1 if upward)``. Faces on the box walls are never crossed."""
+    x0, x1, x2, u0, u1, u2 = state_at(D, k, t, x, v, bt, g)
+    best = _INF
+    fk = 0
+    for a in range(D):
+        if a == 0:
+            p, u = x0, u0
+        elif a == 1:
+            p, u = x1, u1
+        else:
+            p, u = x2, u2
+        c = bi[k, CX + a]
+        cs = fpar[F_CS + a]
+        lo = c * cs if c > 0 else -_INF
+        hi = (c + 1) * cs if c < ipar[I_NC + a] - 1 else _INF
+        acc = -g if a == D - 1 else 0.0
+        s, side = _exit(p, u, acc, lo, hi)
+        if s < best:
+            best = s
+            fk = 2 * a + (1 if side > 0 else 0)
+    return t + best, fk
+
+
+# ---- cell list ---------------------------------------------------------------------------
+
+@njit(**_NJ)
+def cell_of(k, bi, ipar):
+    return bi[k, CX] + ipar[I_NC] * (bi[k, CX + 1] + ipar[I_NC + 1] * bi[k, CX + 2])
+
+
+@njit(**_NJ)
+def cell_insert(k, bi, chead, ipar):
+    c = cell_of(k, bi, ipar)
+    h = chead[c]
+    bi[k, CNEXT] = h
+    bi[k, CPREV] = -1
+    if h >= 0:
+        bi[h, CPREV] = k
+    chead[c] = k
+
+
+@njit(**_NJ)
+def cell_remove(k, bi, chead, ipar):
+    nx = bi[k, CNEXT]
+    pv = bi[k, CPREV]
+    if pv >= 0:
+        bi[pv, CNEXT] = nx
+    else:
+        chead[cell_of(k, bi, ipar)] = nx
+    if nx >= 0:
+        bi[nx, CPREV] = pv
+
+
+# ---- pair prediction -----------------------------------------------------------------------
+
+@njit(**_NJ)
+def scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar, ipar):
+    """Earliest impact of body i (state at time t) with the bodies of the cells
+    ``[lo0, hi0] x [lo1, hi1] x [lo2, hi2]`` (clipped to the grid) that is earlier than
+    its current ``BEST_T``; updates ``BEST_T``, ``BEST_P``, ``BEST_C``."""
+    g = fpar[F_G]
+    sig2 = fpar[F_SIG2]
+    nc0 = ipar[I_NC]
+    nc1 = ipar[I_NC + 1]
+    nc2 = ipar[I_NC + 2]
+    if lo0 < 0:
+        lo0 = 0
+    if lo1 < 0:
+        lo1 = 0
+    if lo2 < 0:
+        lo2 = 0
+    if hi0 >= nc0:
+        hi0 = nc0 - 1
+    if hi1 >= nc1:
+        hi1 = nc1 - 1
+    if hi2 >= nc2:
+        hi2 = nc2 - 1
+    xi0, xi1, xi2, ui0, ui1, ui2 = state_at(D, i, t, x, v, bt, g)
+    best = bt[i, BEST_T]
+    bp = -1
+    for c2 in range(lo2, hi2 + 1):
+        for c1 in range(lo1, hi1 + 1):
+            base = nc0 * (c1 + nc1 * c2)
+            for c0 in range(lo0, hi0 + 1):
+                k = chead[base + c0]
+                while k >= 0:
+                    if k != i:
+                        xk0, xk1, xk2, uk0, uk1, uk2 = state_at(D, k, t, x, v, bt, g)
+                        d0 = xi0 - xk0
+                        d1 = xi1 - xk1
+                        e0 = ui0 - uk0
+                        e1 = ui1 - uk1
+                        b = d0 * e0 + d1 * e1
+                        cc = d0 * d0 + d1 * d1 - sig2
+                        aa = e0 * e0 + e1 * e1
+                        if D == 3:
+                            d2 = xi2 - xk2
+                            e2 = ui2 - uk2
+                            b += d2 * e2
+                            cc += d2 * d2
+                            aa += e2 * e2
+                        if b < 0.0:
+                            if cc <= 0.0:
+                                tk = t         # touching or round-off overlap, approaching
+                            else:
+                                disc = b * b - aa * cc
+                                tk = t + cc / (-b + math.sqrt(disc)) if disc > 0.0 else _INF
+                            if tk < best:
+                                best = tk
+                                bp = k
+                    k = bi[k, CNEXT]
+    if bp >= 0:
+        bt[i, BEST_T] = best
+        bi[i, BEST_P] = bp
+        bi[i, BEST_C] = bi[bp, CNT]
+
+
+@njit(**_NJ)
+def full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar):
+    """Forget body i's pair prediction and scan its whole 3^D block."""
+    bt[i, BEST_T] = _INF
+    bi[i, BEST_P] = -1
+    c0 = bi[i, CX]
+    c1 = bi[i, CX + 1]
+    c2 = bi[i, CX + 2]
+    if D == 2:
+        scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, 0, 0, x, v, bt, bi, chead,
+                   fpar, ipar)
+    else:
+        scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - 1, c2 + 1, x, v, bt, bi,
+                   chead, fpar, ipar)
+
+
+@njit(**_NJ)
+def predict(D, i, t, x, v, bt, bi, chead, fpar, ipar):
+    """All predictions of body i after a change of its velocity at time t; returns the
+    body's key (earliest of the three)."""
+    g = fpar[F_G]
+    tw, wk = wall_time(D, i, t, x, v, bt, g, fpar[F_R], fpar)
+    bt[i, WALL_T] = tw
+    bi[i, WALL_K] = wk
+    tc, fk = cross_time(D, i, t, x, v, bt, bi, g, fpar, ipar)
+    bt[i, CROSS_T] = tc
+    bi[i, CROSS_K] = fk
+    full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
+    return min(bt[i, BEST_T], min(tw, tc))
+
+
+# ---- impacts ---------------------------------------------------------------------------
+
+@njit(**_NJ)
+def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar, e, mu):
+    """Resolve one impact by the law. ``n`` unit normal (B into A), ``vn`` the normal
+    relative velocity, ``dv`` the centres' relative velocity, ``ws`` the sum of the two
+    angular velocities (A and B; a wall has none), ``kf`` 2 (pair) or 1 (wall).
+
+    Returns ``(mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn, wtt)``: the
+    impulse in contact space and in the world, the contact-space tangential velocity,
+    the angular velocity change of each body and the diagonal of W."""
+    r = fpar[F_R]
+    invm = fpar[F_INVM]
+    wnn = kf * invm
+    wtt = kf * (invm + r * r * fpar[F_INVI])
+    # contact point velocity v = dv - r ws x n
+    c0 = dv0 - r * (ws1 * n2 - ws2 * n1)
+    c1 = dv1 - r * (ws2 * n0 - ws0 * n2)
+    c2 = dv2 - r * (ws0 * n1 - ws1 * n0)
+    if D == 2:
+        t10 = n1
+        t11 = -n0
+        t12 = 0.0
+        v1 = c0 * t10 + c1 * t11
+        v2 = 0.0
+        mode, PN, P1 = LAW2(vn, v1, wnn, wtt, e, mu, fpar[F_ET], fpar[F_REST])
+        P2 = 0.0
+        t20 = 0.0
+        t21 = 0.0
+        t22 = 0.0
+    else:
+        # tangent basis: t1 = normalised (e_k x n) with e_k the axis least aligned with n
+        a0 = abs(n0)
+        a1 = abs(n1)
+        a2 = abs(n2)
+        if a0 <= a1 and a0 <= a2:      # e_x x n = (0, -n2, n1)
+            t10, t11, t12 = 0.0, -n2, n1
+        elif a1 <= a2:                 # e_y x n = (n2, 0, -n0)
+            t10, t11, t12 = n2, 0.0, -n0
+        else:                          # e_z x n = (-n1, n0, 0)
+            t10, t11, t12 = -n1, n0, 0.0
+        q = 1.0 / math.sqrt(t10 * t10 + t11 * t11 + t12 * t12)
+        t10 *= q
+        t11 *= q
+        t12 *= q
+        # t2 = n x t1 (right-handed: t1 x t2 = n)
+        t20 = n1 * t12 - n2 * t11
+        t21 = n2 * t10 - n0 * t12
+        t22 = n0 * t11 - n1 * t10
+        v1 = c0 * t10 + c1 * t11 + c2 * t12
+        v2 = c0 * t20 + c1 * t21 + c2 * t22
+        mode, PN, P1, P2 = LAW3(vn, v1, v2, wnn, wtt, e, mu, fpar[F_ET],
+                                  fpar[F_REST], fpar[F_TOL])
+    Px = PN * n0 + P1 * t10 + P2 * t20
+    Py = PN * n1 + P1 * t11 + P2 * t21
+    Pz = PN * n2 + P1 * t12 + P2 * t22
+    # dw = -r (n x P) / I
+    k = -r * fpar[F_INVI]
+    dw0 = k * (n1 * Pz - n2 * Py)
+    dw1 = k * (n2 * Px - n0 * Pz)
+    dw2 = k * (n0 * Py - n1 * Px)
+    return mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn, wtt
+
+
+@njit(**_NJ)
+def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats,
+           rec_i, rec_f):
+    m = stats[ST_NREC]
+    stats[ST_NREC] = m + 1
+    rec_i[m, 0] = a
+    rec_i[m, 1] = b
+    rec_i[m, 2] = mode
+    rec_f[m, 0] = t
+    # dE = P . (v + v_f) / 2 with v_f = v + W P (W diagonal)
+    rec_f[m, 1] = 0.5 * (PN * (2.0 * vn + wnn * PN) + P1 * (2.0 * v1 + wtt * P1)
+                         + P2 * (2.0 * v2 + wtt * P2))
+    rec_f[m, 2] = n0
+    rec_f[m, 3] = n1
+    rec_f[m, 2 + D] = vn
+    rec_f[m, 3 + D] = v1
+    rec_f[m, 2 + 2 * D] = PN
+    rec_f[m, 3 + 2 * D] = P1
+    if D == 3:
+        rec_f[m, 4] = n2
+        rec_f[m, 4 + D] = v2
+        rec_f[m, 4 + 2 * D] = P2
+
+
+@njit(**_NJ)
+def _tc_params(i, j, t, bt, fpar, ipar, stats):
+    """(e, mu) for an impact of i (and j >= 0) at time t: the law's, or (1, 0) under the
+    TC model when either body's previous impact is less than tc ago."""
+    if ipar[I_COLLAPSE] == COLLAPSE_TC:
+        tc = fpar[F_TC]
+        if t - bt[i, TLAST] < tc or (j >= 0 and t - bt[j, TLAST] < tc):
+            stats[ST_NTC] += 1
+            return 1.0, 0.0
+    return fpar[F_E], fpar[F_MU]
+
+
+@njit(**_NJ)
+def _want(i, j, ipar, rec_mask):
+    m = ipar[I_RECORD]
+    if m == REC_ALL:
+        return True
+    if m == REC_MASK:
+        return rec_mask[i] != 0 or (j >= 0 and rec_mask[j] != 0)
+    return False
+
+
+# ---- the event loop ----------------------------------------------------------------------
+
+@njit(**_NJI)
+def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
+             fpar, ipar, stats, fstats, rec_i, rec_f, rec_mask, snap_t, snap_v, snap_w):
+    """Run until t_end, max impacts, a full buffer, or a failure; the status is in
+    ``stats[ST_STATUS]`` and returned. Resumable (see the module docstring)."""
+    g = fpar[F_G]
+    t_end = fpar[F_TEND]
+    max_imp = ipar[I_MAXIMP]
+    snap_dt = fpar[F_SNAP_DT]
+    recording = ipar[I_RECORD] != REC_NONE
+    rec_cap = rec_i.shape[0]
+    n = x.shape[0]
+    status = 0
+    while True:
+        i = q_top(qkey, qlink, qheap, qhead, qs, qdt)
+        t = qkey[i] if i >= 0 else _INF
+        if i < 0 and t_end == _INF:
+            status = RUN_EMPTY
+            break
+        if snap_dt > 0.0:
+            while True:
+                ks = stats[ST_NSNAP]
+                ts = fpar[F_SNAP_T0] + ks * snap_dt
+                if not (ts <= t and ts <= t_end):
+                    break
+                if ks >= snap_t.shape[0]:
+                    status = RUN_SNAP_FULL
+                    break
+                snap_t[ks] = ts
+                for b in range(n):
+                    s = ts - bt[b, TL]
+                    for a in range(D):
+                        snap_v[ks, b, a] = v[b, a]
+                    snap_v[ks, b, D - 1] -= g * s
+                    for a in range(w.shape[1]):
+                        snap_w[ks, b, a] = w[b, a]
+                stats[ST_NSNAP] = ks + 1
+            if status != 0:
+                break
+        if i < 0:
+            status = RUN_EMPTY
+            break
+        if t > t_end:
+            status = RUN_DONE_TEND
+            break
+        if stats[ST_NCOLL] + stats[ST_NWALL] >= max_imp:
+            status = RUN_DONE_MAX
+            break
+        if recording and stats[ST_NREC] >= rec_cap:
+            status = RUN_REC_FULL
+            break
+        q_pop(qkey, qlink, qheap, qhead, qs, qdt)
+        tb = bt[i, BEST_T]
+        tw = bt[i, WALL_T]
+        tcr = bt[i, CROSS_T]
+        if tcr <= tb and tcr <= tw:
+            # ---- cell crossing: new cell, scan the newly adjacent layer only
+            stats[ST_NCROSS] += 1
+            fk = bi[i, CROSS_K]
+            ax = fk >> 1
+            step = 1 if (fk & 1) else -1
+            cell_remove(i, bi, chead, ipar)
+            bi[i, CX + ax] += step
+            cell_insert(i, bi, chead, ipar)
+            p = bi[i, BEST_P]
+            if p >= 0 and bi[p, CNT] != bi[i, BEST_C]:
+                full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
+            else:
+                layer = bi[i, CX + ax] + step
+                c0 = bi[i, CX]
+                c1 = bi[i, CX + 1]
+                c2 = bi[i, CX + 2]
+                lo0, hi0, lo1, hi1 = c0 - 1, c0 + 1, c1 - 1, c1 + 1
+                if D == 2:
+                    lo2, hi2 = 0, 0
+                else:
+                    lo2, hi2 = c2 - 1, c2 + 1
+                if ax == 0:
+                    lo0, hi0 = layer, layer
+                elif ax == 1:
+                    lo1, hi1 = layer, layer
+                else:
+                    lo2, hi2 = layer, layer
+                scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead,
+                           fpar, ipar)
+            tc, fk = cross_time(D, i, t, x, v, bt, bi, g, fpar, ipar)
+            bt[i, CROSS_T] = tc
+            bi[i, CROSS_K] = fk
+            q_push(i, min(bt[i, BEST_T], min(bt[i, WALL_T], tc)),
+                   qkey, qlink, qheap, qhead, qs, qdt)
+            continue
+        if tw <= tb:
+            # ---- wall impact
+            wk = bi[i, WALL_K]
+            ax = wk >> 1
+            sgn = -1.0 if (wk & 1) else 1.0       # inward normal of the wall
+            advance(D, i, t, x, v, bt, g)
+            n0 = sgn if ax == 0 else 0.0
+            n1 = sgn if ax == 1 else 0.0
+            n2 = sgn if ax == 2 else 0.0
+            vn = sgn * v[i, ax]
+            e, mu = _tc_params(i, -1, t, bt, fpar, ipar, stats)
+            if D == 2:
+                ws0, ws1, ws2 = 0.0, 0.0, w[i, 0]
+                dv2 = 0.0
+            else:
+                ws0, ws1, ws2 = w[i, 0], w[i, 1], w[i, 2]
+                dv2 = v[i, 2]
+            (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
+             wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, v[i, 0], v[i, 1], dv2, ws0, ws1, ws2,
+                           1.0, fpar, e, mu)
+            if mode < 0:
+                stats[ST_FAIL_A] = i
+                stats[ST_FAIL_B] = -1 - wk
+                stats[ST_FAIL_MODE] = mode
+                status = RUN_LAW_FAILED
+                q_push(i, t, qkey, qlink, qheap, qhead, qs, qdt)
+                break
+            invm = fpar[F_INVM]
+            v[i, 0] += Px * invm
+            v[i, 1] += Py * invm
+            if D == 2:
+                w[i, 0] += dw2
+            else:
+                v[i, 2] += Pz * invm
+                w[i, 0] += dw0
+                w[i, 1] += dw1
+                w[i, 2] += dw2
+            stats[ST_NWALL] += 1
+            if recording and _want(i, -1, ipar, rec_mask):
+                record(D, i, -1 - wk, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn,
+                       wtt, stats, rec_i, rec_f)
+            bi[i, CNT] += 1
+            bt[i, TLAST] = t
+            if t == fstats[FS_T]:
+                stats[ST_SAME] += 1
+            else:
+                stats[ST_SAME] = 0
+            fstats[FS_T] = t
+            q_push(i, predict(D, i, t, x, v, bt, bi, chead, fpar, ipar),
+                   qkey, qlink, qheap, qhead, qs, qdt)
+            if stats[ST_SAME] >= STALL_IMPACTS:
+                status = RUN_STALL
+                break
+            continue
+        # ---- pair impact, if still valid
+        j = bi[i, BEST_P]
+        if bi[j, CNT] != bi[i, BEST_C]:
+            stats[ST_NSTALE] += 1
+            full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
+            q_push(i, min(bt[i, BEST_T], min(tw, tcr)), qkey, qlink, qheap, qhead, qs, qdt)
+            continue
+        advance(D, i, t, x, v, bt, g)
+        advance(D, j, t, x, v, bt, g)
+        d0 = x[i, 0] - x[j, 0]
+        d1 = x[i, 1] - x[j, 1]
+        e0 = v[i, 0] - v[j, 0]
+        e1 = v[i, 1] - v[j, 1]
+        if D == 3:
+            d2 = x[i, 2] - x[j, 2]
+            e2 = v[i, 2] - v[j, 2]
+            ws0, ws1, ws2 = w[i, 0] + w[j, 0], w[i, 1] + w[j, 1], w[i, 2] + w[j, 2]
+        else:
+            d2 = 0.0
+            e2 = 0.0
+            ws0, ws1, ws2 = 0.0, 0.0, w[i, 0] + w[j, 0]
+        dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        q = 1.0 / dist
+        n0 = d0 * q
+        n1 = d1 * q
+        n2 = d2 * q
+        vn = (d0 * e0 + d1 * e1 + d2 * e2) * q
+        e, mu = _tc_params(i, j, t, bt, fpar, ipar, stats)
+        (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
+         wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, 2.0, fpar, e, mu)
+        if mode < 0:
+            stats[ST_FAIL_A] = i
+            stats[ST_FAIL_B] = j
+            stats[ST_FAIL_MODE] = mode
+            status = RUN_LAW_FAILED
+            q_push(i, t, qkey, qlink, qheap, qhead, qs, qdt)
+            break
+        invm = fpar[F_INVM]
+        v[i, 0] += Px * invm
+        v[i, 1] += Py * invm
+        v[j, 0] -= Px * invm
+        v[j, 1] -= Py * invm
+        if D == 2:
+            w[i, 0] += dw2
+            w[j, 0] += dw2
+        else:
+            v[i, 2] += Pz * invm
+            v[j, 2] -= Pz * invm
+            w[i, 0] += dw0
+            w[i, 1] += dw1
+            w[i, 2] += dw2
+            w[j, 0] += dw0
+            w[j, 1] += dw1
+            w[j, 2] += dw2
+        stats[ST_NCOLL] += 1
+        if recording and _want(i, j, ipar, rec_mask):
+            record(D, i, j, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats,
+                   rec_i, rec_f)
+        bi[i, CNT] += 1
+        bi[j, CNT] += 1
+        bt[i, TLAST] = t
+        bt[j, TLAST] = t
+        if t == fstats[FS_T]:
+            stats[ST_SAME] += 1
+        else:
+            stats[ST_SAME] = 0
+        fstats[FS_T] = t
+        ki = predict(D, i, t, x, v, bt, bi, chead, fpar, ipar)
+        kj = predict(D, j, t, x, v, bt, bi, chead, fpar, ipar)
+        q_push(i, ki, qkey, qlink, qheap, qhead, qs, qdt)
+        q_update(j, kj, qkey, qlink, qheap, qhead, qs, qdt)
+        if stats[ST_SAME] >= STALL_IMPACTS:
+            status = RUN_STALL
+            break
+    stats[ST_STATUS] = status
+    return status
+
+
+# ---- set-up and end of a run (not hot) ----------------------------------------------------
+
+@njit(**_NJI)
+def gas_prepare(D, x, v, bt, bi, chead, qkey, fpar, ipar, t0):
+    """Cells from the positions, local times ``t0``, all predictions; the keys are
+    written to ``qkey`` (the caller then sizes and fills the queue)."""
+    n = x.shape[0]
+    for c in range(chead.shape[0]):
+        chead[c] = -1
+    for i in range(n):
+        bt[i, TL] = t0
+        bt[i, TLAST] = -_INF
+        bi[i, CNT] = 0
+        bi[i, CX + 2] = 0
+        for a in range(D):
+            c = int(math.floor(x[i, a] / fpar[F_CS + a]))
+            if c < 0:
+                c = 0
+            if c >= ipar[I_NC + a]:
+                c = ipar[I_NC + a] - 1
+            bi[i, CX + a] = c
+        cell_insert(i, bi, chead, ipar)
+    for i in range(n):
+        qkey[i] = predict(D, i, t0, x, v, bt, bi, chead, fpar, ipar)
+
+
+@njit(**_NJI)
+def gas_finish(D, t, x, v, bt, g):
+    """Advance every body to time t (end of a run)."""
+    for i in range(x.shape[0]):
+        advance(D, i, t, x, v, bt, g)
