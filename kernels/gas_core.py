@@ -72,7 +72,7 @@ from .brach import brach_2d_scalar, brach_3d_scalar
 from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
 from .kane_levinson import kane_levinson_2d_scalar, kane_levinson_3d_scalar
 from .routh import routh_2d_scalar, routh_3d_scalar
-from .scheduler import q_pop, q_push, q_top, q_update
+from .scheduler import q_remove, q_top, q_update
 from .smith import smith_2d_scalar, smith_3d_scalar
 
 # ---- per-body float row ``bt[i]`` ---------------------------------------------------------
@@ -156,8 +156,8 @@ CELL_MARGIN = 1e-6    # cell side >= 2 r (1 + CELL_MARGIN): round-off of positio
 STALL_IMPACTS = 100000  # impacts in a row at one instant that end the run as a stall
 
 _INF = math.inf
-_NJ = dict(cache=True, error_model="numpy", _nrt=False)   # hot helpers: no reference
-# counting (3x measured); small enough for LLVM to inline them into the loop
+_NJ = dict(cache=True, inline="always", error_model="numpy")   # hot helpers: inlined
+# into the loop (compiled with _nrt=False), so no call and no reference counting
 _NJI = dict(cache=True, inline="always", error_model="numpy")  # the loop, once per entry
 
 
@@ -251,25 +251,21 @@ def _exit(p, u, a, lo, hi):
     be infinite; ``p`` is taken as inside: round-off outside counts as on the bound).
     Returns ``(s, side)``: side +1 through ``hi``, -1 through ``lo``, 0 never (s = inf).
     Roots in cancellation-free form (s = 2C / (-B -+ sqrt(B^2 - 4AC)))."""
+    sg = 1
     if a > 0.0:          # mirror so that the acceleration is <= 0
-        s, side = _exit_neg(-p, -u, -a, -hi, -lo)
-        return s, -side
-    return _exit_neg(p, u, a, lo, hi)
-
-
-@njit(**_NJ)
-def _exit_neg(p, u, a, lo, hi):
+        p, u, a, lo, hi = -p, -u, -a, -hi, -lo
+        sg = -1
     if a == 0.0:
         if u > 0.0:
             if hi == _INF:
                 return _INF, 0
             s = (hi - p) / u
-            return (s if s > 0.0 else 0.0), 1
+            return (s if s > 0.0 else 0.0), sg
         if u < 0.0:
             if lo == -_INF:
                 return _INF, 0
             s = (lo - p) / u
-            return (s if s > 0.0 else 0.0), -1
+            return (s if s > 0.0 else 0.0), -sg
         return _INF, 0
     # a < 0: the parabola rises while u > 0 then falls; it always comes back down to lo
     s_hi = _INF
@@ -292,8 +288,8 @@ def _exit_neg(p, u, a, lo, hi):
         else:
             s_lo = (u + sq) / (-a)
     if s_hi <= s_lo:
-        return s_hi, (1 if s_hi < _INF else 0)
-    return s_lo, -1
+        return s_hi, (sg if s_hi < _INF else 0)
+    return s_lo, -sg
 
 
 @njit(**_NJ)
@@ -446,12 +442,9 @@ def full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar):
     c0 = bi[i, CX]
     c1 = bi[i, CX + 1]
     c2 = bi[i, CX + 2]
-    if D == 2:
-        scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, 0, 0, x, v, bt, bi, chead,
-                   fpar, ipar)
-    else:
-        scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - 1, c2 + 1, x, v, bt, bi,
-                   chead, fpar, ipar)
+    d2 = 1 if D == 3 else 0
+    scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - d2, c2 + d2, x, v, bt, bi, chead,
+               fpar, ipar)
 
 
 @njit(**_NJ)
@@ -585,13 +578,18 @@ def _want(i, j, ipar, rec_mask):
 def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
              fpar, ipar, stats, fstats, rec_i, rec_f, rec_mask, snap_t, snap_v, snap_w):
     """Run until t_end, max impacts, a full buffer, or a failure; the status is in
-    ``stats[ST_STATUS]`` and returned. Resumable (see the module docstring)."""
+    ``stats[ST_STATUS]`` and returned. Resumable (see the module docstring).
+
+    Written with a single call site per helper (one impact, one scan, one queue update
+    for the one or two bodies an event changes): the loop is inlined into each entry and
+    its helpers into it, and several call sites multiplied the compiled code."""
     g = fpar[F_G]
     t_end = fpar[F_TEND]
     max_imp = ipar[I_MAXIMP]
     snap_dt = fpar[F_SNAP_DT]
     recording = ipar[I_RECORD] != REC_NONE
     rec_cap = rec_i.shape[0]
+    invm = fpar[F_INVM]
     n = x.shape[0]
     status = 0
     while True:
@@ -632,12 +630,17 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
         if recording and stats[ST_NREC] >= rec_cap:
             status = RUN_REC_FULL
             break
-        q_pop(qkey, qlink, qheap, qhead, qs, qdt)
+        q_remove(i, qkey, qlink, qheap, qhead, qs)      # i is the top: out of the heap
         tb = bt[i, BEST_T]
         tw = bt[i, WALL_T]
         tcr = bt[i, CROSS_T]
+        j = -1                 # second body changed by the event (pair impact)
+        moved = False          # velocities changed: new wall, crossing and full scan
+        full = False           # full rescan of the 3^D block
+        ax = 0
+        step = 0
         if tcr <= tb and tcr <= tw:
-            # ---- cell crossing: new cell, scan the newly adjacent layer only
+            # ---- cell crossing: new cell; only the newly adjacent layer is scanned
             stats[ST_NCROSS] += 1
             fk = bi[i, CROSS_K]
             ax = fk >> 1
@@ -646,60 +649,66 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
             bi[i, CX + ax] += step
             cell_insert(i, bi, chead, ipar)
             p = bi[i, BEST_P]
-            if p >= 0 and bi[p, CNT] != bi[i, BEST_C]:
-                full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
-            else:
-                layer = bi[i, CX + ax] + step
-                c0 = bi[i, CX]
-                c1 = bi[i, CX + 1]
-                c2 = bi[i, CX + 2]
-                lo0, hi0, lo1, hi1 = c0 - 1, c0 + 1, c1 - 1, c1 + 1
-                if D == 2:
-                    lo2, hi2 = 0, 0
-                else:
-                    lo2, hi2 = c2 - 1, c2 + 1
-                if ax == 0:
-                    lo0, hi0 = layer, layer
-                elif ax == 1:
-                    lo1, hi1 = layer, layer
-                else:
-                    lo2, hi2 = layer, layer
-                scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead,
-                           fpar, ipar)
-            tc, fk = cross_time(D, i, t, x, v, bt, bi, g, fpar, ipar)
-            bt[i, CROSS_T] = tc
-            bi[i, CROSS_K] = fk
-            q_push(i, min(bt[i, BEST_T], min(bt[i, WALL_T], tc)),
-                   qkey, qlink, qheap, qhead, qs, qdt)
-            continue
-        if tw <= tb:
-            # ---- wall impact
-            wk = bi[i, WALL_K]
-            ax = wk >> 1
-            sgn = -1.0 if (wk & 1) else 1.0       # inward normal of the wall
+            full = p >= 0 and bi[p, CNT] != bi[i, BEST_C]
+        elif tb < tw and bi[bi[i, BEST_P], CNT] != bi[i, BEST_C]:
+            # ---- stale pair prediction: rescan
+            stats[ST_NSTALE] += 1
+            full = True
+        else:
+            # ---- impact: wall (j < 0) or pair
+            moved = True
+            full = True
             advance(D, i, t, x, v, bt, g)
-            n0 = sgn if ax == 0 else 0.0
-            n1 = sgn if ax == 1 else 0.0
-            n2 = sgn if ax == 2 else 0.0
-            vn = sgn * v[i, ax]
-            e, mu = _tc_params(i, -1, t, bt, fpar, ipar, stats)
-            if D == 2:
-                ws0, ws1, ws2 = 0.0, 0.0, w[i, 0]
-                dv2 = 0.0
+            if tw <= tb:
+                wk = bi[i, WALL_K]
+                wax = wk >> 1
+                sgn = -1.0 if (wk & 1) else 1.0       # inward normal of the wall
+                n0 = sgn if wax == 0 else 0.0
+                n1 = sgn if wax == 1 else 0.0
+                n2 = sgn if wax == 2 else 0.0
+                vn = sgn * v[i, wax]
+                e0 = v[i, 0]
+                e1 = v[i, 1]
+                kf = 1.0
+                bpart = -1 - wk
+                if D == 3:
+                    e2 = v[i, 2]
+                    ws0, ws1, ws2 = w[i, 0], w[i, 1], w[i, 2]
+                else:
+                    e2 = 0.0
+                    ws0, ws1, ws2 = 0.0, 0.0, w[i, 0]
             else:
-                ws0, ws1, ws2 = w[i, 0], w[i, 1], w[i, 2]
-                dv2 = v[i, 2]
+                j = bi[i, BEST_P]
+                advance(D, j, t, x, v, bt, g)
+                d0 = x[i, 0] - x[j, 0]
+                d1 = x[i, 1] - x[j, 1]
+                e0 = v[i, 0] - v[j, 0]
+                e1 = v[i, 1] - v[j, 1]
+                if D == 3:
+                    d2 = x[i, 2] - x[j, 2]
+                    e2 = v[i, 2] - v[j, 2]
+                    ws0, ws1, ws2 = w[i, 0] + w[j, 0], w[i, 1] + w[j, 1], w[i, 2] + w[j, 2]
+                else:
+                    d2 = 0.0
+                    e2 = 0.0
+                    ws0, ws1, ws2 = 0.0, 0.0, w[i, 0] + w[j, 0]
+                q = 1.0 / math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                n0 = d0 * q
+                n1 = d1 * q
+                n2 = d2 * q
+                vn = (d0 * e0 + d1 * e1 + d2 * e2) * q
+                kf = 2.0
+                bpart = j
+            e, mu = _tc_params(i, j, t, bt, fpar, ipar, stats)
             (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
-             wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, v[i, 0], v[i, 1], dv2, ws0, ws1, ws2,
-                           1.0, fpar, e, mu)
+             wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, kf,
+                           fpar, e, mu)
             if mode < 0:
                 stats[ST_FAIL_A] = i
-                stats[ST_FAIL_B] = -1 - wk
+                stats[ST_FAIL_B] = bpart
                 stats[ST_FAIL_MODE] = mode
-                status = RUN_LAW_FAILED
-                q_push(i, t, qkey, qlink, qheap, qhead, qs, qdt)
+                status = RUN_LAW_FAILED        # the run ends: the state is not resumable
                 break
-            invm = fpar[F_INVM]
             v[i, 0] += Px * invm
             v[i, 1] += Py * invm
             if D == 2:
@@ -709,96 +718,67 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 w[i, 0] += dw0
                 w[i, 1] += dw1
                 w[i, 2] += dw2
-            stats[ST_NWALL] += 1
-            if recording and _want(i, -1, ipar, rec_mask):
-                record(D, i, -1 - wk, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn,
-                       wtt, stats, rec_i, rec_f)
             bi[i, CNT] += 1
             bt[i, TLAST] = t
+            if j >= 0:
+                v[j, 0] -= Px * invm
+                v[j, 1] -= Py * invm
+                if D == 2:
+                    w[j, 0] += dw2
+                else:
+                    v[j, 2] -= Pz * invm
+                    w[j, 0] += dw0
+                    w[j, 1] += dw1
+                    w[j, 2] += dw2
+                bi[j, CNT] += 1
+                bt[j, TLAST] = t
+                stats[ST_NCOLL] += 1
+            else:
+                stats[ST_NWALL] += 1
+            if recording and _want(i, j, ipar, rec_mask):
+                record(D, i, bpart, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt,
+                       stats, rec_i, rec_f)
             if t == fstats[FS_T]:
                 stats[ST_SAME] += 1
             else:
                 stats[ST_SAME] = 0
             fstats[FS_T] = t
-            q_push(i, predict(D, i, t, x, v, bt, bi, chead, fpar, ipar),
-                   qkey, qlink, qheap, qhead, qs, qdt)
             if stats[ST_SAME] >= STALL_IMPACTS:
                 status = RUN_STALL
+        # ---- new predictions of the one or two bodies, and their queue keys
+        for kk in range(2):
+            b = i if kk == 0 else j
+            if b < 0:
                 break
-            continue
-        # ---- pair impact, if still valid
-        j = bi[i, BEST_P]
-        if bi[j, CNT] != bi[i, BEST_C]:
-            stats[ST_NSTALE] += 1
-            full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
-            q_push(i, min(bt[i, BEST_T], min(tw, tcr)), qkey, qlink, qheap, qhead, qs, qdt)
-            continue
-        advance(D, i, t, x, v, bt, g)
-        advance(D, j, t, x, v, bt, g)
-        d0 = x[i, 0] - x[j, 0]
-        d1 = x[i, 1] - x[j, 1]
-        e0 = v[i, 0] - v[j, 0]
-        e1 = v[i, 1] - v[j, 1]
-        if D == 3:
-            d2 = x[i, 2] - x[j, 2]
-            e2 = v[i, 2] - v[j, 2]
-            ws0, ws1, ws2 = w[i, 0] + w[j, 0], w[i, 1] + w[j, 1], w[i, 2] + w[j, 2]
-        else:
-            d2 = 0.0
-            e2 = 0.0
-            ws0, ws1, ws2 = 0.0, 0.0, w[i, 0] + w[j, 0]
-        dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        q = 1.0 / dist
-        n0 = d0 * q
-        n1 = d1 * q
-        n2 = d2 * q
-        vn = (d0 * e0 + d1 * e1 + d2 * e2) * q
-        e, mu = _tc_params(i, j, t, bt, fpar, ipar, stats)
-        (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
-         wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, 2.0, fpar, e, mu)
-        if mode < 0:
-            stats[ST_FAIL_A] = i
-            stats[ST_FAIL_B] = j
-            stats[ST_FAIL_MODE] = mode
-            status = RUN_LAW_FAILED
-            q_push(i, t, qkey, qlink, qheap, qhead, qs, qdt)
-            break
-        invm = fpar[F_INVM]
-        v[i, 0] += Px * invm
-        v[i, 1] += Py * invm
-        v[j, 0] -= Px * invm
-        v[j, 1] -= Py * invm
-        if D == 2:
-            w[i, 0] += dw2
-            w[j, 0] += dw2
-        else:
-            v[i, 2] += Pz * invm
-            v[j, 2] -= Pz * invm
-            w[i, 0] += dw0
-            w[i, 1] += dw1
-            w[i, 2] += dw2
-            w[j, 0] += dw0
-            w[j, 1] += dw1
-            w[j, 2] += dw2
-        stats[ST_NCOLL] += 1
-        if recording and _want(i, j, ipar, rec_mask):
-            record(D, i, j, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats,
-                   rec_i, rec_f)
-        bi[i, CNT] += 1
-        bi[j, CNT] += 1
-        bt[i, TLAST] = t
-        bt[j, TLAST] = t
-        if t == fstats[FS_T]:
-            stats[ST_SAME] += 1
-        else:
-            stats[ST_SAME] = 0
-        fstats[FS_T] = t
-        ki = predict(D, i, t, x, v, bt, bi, chead, fpar, ipar)
-        kj = predict(D, j, t, x, v, bt, bi, chead, fpar, ipar)
-        q_push(i, ki, qkey, qlink, qheap, qhead, qs, qdt)
-        q_update(j, kj, qkey, qlink, qheap, qhead, qs, qdt)
-        if stats[ST_SAME] >= STALL_IMPACTS:
-            status = RUN_STALL
+            if moved:
+                tw2, wk2 = wall_time(D, b, t, x, v, bt, g, fpar[F_R], fpar)
+                bt[b, WALL_T] = tw2
+                bi[b, WALL_K] = wk2
+            if moved or step != 0:
+                tc2, fk2 = cross_time(D, b, t, x, v, bt, bi, g, fpar, ipar)
+                bt[b, CROSS_T] = tc2
+                bi[b, CROSS_K] = fk2
+            c0 = bi[b, CX]
+            c1 = bi[b, CX + 1]
+            c2 = bi[b, CX + 2]
+            d3 = 1 if D == 3 else 0
+            lo0, hi0, lo1, hi1, lo2, hi2 = c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - d3, c2 + d3
+            if full:
+                bt[b, BEST_T] = _INF
+                bi[b, BEST_P] = -1
+            else:
+                layer = bi[b, CX + ax] + step
+                if ax == 0:
+                    lo0, hi0 = layer, layer
+                elif ax == 1:
+                    lo1, hi1 = layer, layer
+                else:
+                    lo2, hi2 = layer, layer
+            scan_block(D, b, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
+                       ipar)
+            q_update(b, min(bt[b, BEST_T], min(bt[b, WALL_T], bt[b, CROSS_T])),
+                     qkey, qlink, qheap, qhead, qs, qdt)
+        if status != 0:
             break
     stats[ST_STATUS] = status
     return status

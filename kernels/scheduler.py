@@ -38,10 +38,10 @@ Arrays (all owned by the caller, nothing is allocated here):
 Interface: ``q_init``, ``q_push(i, t)``, ``q_remove(i)``, ``q_update(i, t)`` (remove if
 queued, then push), ``q_top()`` (body with the smallest key, -1 if empty; advances the
 calendar, never changes the order), ``q_pop()`` (remove and return it). Every helper is
-compiled with ``_nrt=False`` (no reference counting on the arrays: 3x measured in a hot
-loop) and is small enough for LLVM to inline into the caller (Numba's IR-level
-``inline='always'`` of these nested helpers blew the compile up to gigabytes);
-``q_*_k`` are the same as standalone entry points for Python callers and tests.
+``inline='always'`` so that a caller's hot loop (compiled with ``_nrt=False``) contains
+no call and no reference counting on the arrays (3x measured in a hot loop). Numba inlines
+at the IR level, so a caller should have few call sites of them (``gas_core.gas_loop``
+has one of each); ``q_*_k`` are standalone entry points for Python callers and tests.
 """
 import math
 
@@ -67,7 +67,7 @@ N_QS = 6
 BIG_BLOCK = 1 << 62       # block of an infinite or absurdly far key
 _BIG_F = 4.0e18           # t / dt beyond this counts as BIG_BLOCK
 
-_NJ = dict(cache=True, error_model="numpy", _nrt=False)
+_NJ = dict(cache=True, inline="always", error_model="numpy")
 
 
 @njit(**_NJ)
