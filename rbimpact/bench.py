@@ -627,6 +627,7 @@ WHAT = {
     "compile": ("compile",),
     "pay": ("pay",),
     "sweep": ("sweep",),
+    "manybody": ("manybody",),
     "all": SECTIONS,
 }
 
@@ -646,6 +647,7 @@ def main(what="laws", repeat=7, json_path=None):
         raise ValueError(f"bench: what must be one of {', '.join(WHAT)}, got {what!r}")
     from ._validate import integer
     repeat = integer("bench: repeat", repeat)      # >= 1: a median of nothing is nan
+    from . import bench_manybody as mb                # light: numpy and time only
     runners = {
         "laws": (lambda: bench_laws(repeat=repeat), _print_laws),
         "overhead": (lambda: bench_overhead(repeat=repeat), _print_overhead),
@@ -656,6 +658,7 @@ def main(what="laws", repeat=7, json_path=None):
         "compile": (bench_compile, _print_compile),
         "pay": (lambda: bench_pay(repeat=max(1, repeat // 2)), _print_pay),
         "sweep": (lambda: bench_sweep(repeat=max(1, repeat // 4)), _print_sweep),
+        "manybody": (lambda: mb.bench_manybody(repeat=max(1, repeat // 4)), mb.print_manybody),
     }
     out = {}
     for key in WHAT[what]:
