@@ -14,13 +14,15 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .brach import brach_2d_scalar, brach_3d_scalar
-from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
+from .brach import brach_2d, brach_2d_scalar, brach_3d, brach_3d_scalar
+from .chatterjee_ruina import (chatterjee_ruina_2d, chatterjee_ruina_2d_scalar,
+                               chatterjee_ruina_3d, chatterjee_ruina_3d_scalar)
 from .common import (LAW_BRACH, LAW_CHATTERJEE_RUINA, LAW_KANE_LEVINSON, LAW_ROUTH,
                      LAW_SMITH, MODE_NO_SOLUTION, P_E, P_ET, P_MU, P_REST, P_TOL)
-from .kane_levinson import kane_levinson_2d_scalar, kane_levinson_3d_scalar
-from .routh import routh_2d_scalar, routh_3d_scalar
-from .smith import smith_2d_scalar, smith_3d_scalar
+from .kane_levinson import (kane_levinson_2d, kane_levinson_2d_scalar, kane_levinson_3d,
+                            kane_levinson_3d_scalar)
+from .routh import routh_2d, routh_2d_scalar, routh_3d, routh_3d_scalar
+from .smith import smith_2d, smith_2d_scalar, smith_3d, smith_3d_scalar
 
 
 @njit(cache=True, error_model="numpy")
@@ -79,3 +81,43 @@ def resolve_3d(law_id, v, W, params, P_out):
     P_out[1] = p1
     P_out[2] = p2
     return mode
+
+
+LAW_ANY = -1
+"""``law`` of the ``*_as`` forms for a caller with several laws: dispatch per contact on
+``law_id`` (every law compiled)."""
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def resolve_2d_as(law, law_id, v, W, params, P_out):
+    """``resolve_2d`` with the law fixed at compile time: ``law`` is a constant ``LAW_*``
+    closed over by the (inlining) caller, so the other laws are pruned before typing and
+    never compiled (issue 14), or ``LAW_ANY``: dispatch on ``law_id``. The law's own array
+    kernel is called (compiled once, not inlined into a large caller)."""
+    if law == LAW_KANE_LEVINSON:
+        return kane_levinson_2d(v, W, params, P_out)
+    if law == LAW_BRACH:
+        return brach_2d(v, W, params, P_out)
+    if law == LAW_CHATTERJEE_RUINA:
+        return chatterjee_ruina_2d(v, W, params, P_out)
+    if law == LAW_ROUTH:
+        return routh_2d(v, W, params, P_out)
+    if law == LAW_SMITH:
+        return smith_2d(v, W, params, P_out)
+    return resolve_2d(law_id, v, W, params, P_out)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def resolve_3d_as(law, law_id, v, W, params, P_out):
+    """``resolve_3d`` with the law fixed at compile time (see ``resolve_2d_as``)."""
+    if law == LAW_KANE_LEVINSON:
+        return kane_levinson_3d(v, W, params, P_out)
+    if law == LAW_BRACH:
+        return brach_3d(v, W, params, P_out)
+    if law == LAW_CHATTERJEE_RUINA:
+        return chatterjee_ruina_3d(v, W, params, P_out)
+    if law == LAW_ROUTH:
+        return routh_3d(v, W, params, P_out)
+    if law == LAW_SMITH:
+        return smith_3d(v, W, params, P_out)
+    return resolve_3d(law_id, v, W, params, P_out)

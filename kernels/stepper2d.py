@@ -2,17 +2,28 @@
 
 Everything here is ``@njit(cache=True, _nrt=False)``: no reference counting, because the
 kernels only index preallocated arrays and never allocate (nothing is allocated per
-event). ``rbimpact.simulation`` packs a scene into the arrays below and calls
-``run_loop`` (the first call initialises the run) until it returns ``RC_DONE`` or
-``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles the event/segment buffers
-and calls again; the loop resumes exactly where it stopped). Negative return codes are
-errors (``ERR_*``), with details in ``err``.
+event). ``rbimpact.simulation`` packs a scene into the arrays below and calls the loop
+``loop_for(law)`` compiled for the scene's law (the first call initialises the run) until
+it returns ``RC_DONE`` or ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles
+the event/segment buffers and calls again; the loop resumes exactly where it stopped).
+Negative return codes are errors (``ERR_*``), with details in ``err``. Codes, modes and
+event kinds are shared with 3D (``codes``); table columns are named (``layout``,
+``flight2d``, the ``B_*`` below).
+
+Compile only what a scene uses (issue 14): the law is a constant closed over by
+``loop_for`` (the other laws are pruned before typing), and the loop's last four
+arguments are the feature switches ``pivot``, ``wedge``, ``pair``, ``joint``
+(``scene_features``: True, or None when the scene cannot reach that mode), pruned by type:
+a disk bouncing on a floor compiles no pivot, wedge, pair or joint code. Each law and
+switch pattern is its own specialization in Numba's on-disk cache.
 
 Scene arrays (constant during a run)
 ------------------------------------
-``bint`` int64[nb, 3]      shape kind (``SH_*``), first vertex row in ``verts``, vertex count
-``bflt`` float64[nb, 5]    mass (kg), moment of inertia (kg m^2), rounding radius (m; a
-                           disk's radius, a capsule's radius, 0 for polygons), ellipse a, b (m)
+``bint`` int64[nb, 3]      ``B_KIND`` shape kind (``SH_*``), ``B_FIRST`` first vertex row in
+                           ``verts``, ``B_COUNT`` vertex count
+``bflt`` float64[nb, 5]    ``B_MASS`` (kg), ``B_INERTIA`` (kg m^2), ``B_RADIUS`` rounding
+                           radius (m; a disk's radius, a capsule's radius, 0 for polygons),
+                           ``B_EA``, ``B_EB`` ellipse semi-axes (m)
 ``verts`` float64[nv, 2]   body-frame contact points (a disk and an ellipse have one, (0, 0))
 ``planes`` float64[np, 3]  ``(nx, ny, d)``: half-plane ``n . q >= d`` is free space
 ``grav`` float64[2]        gravity (m/s^2)
@@ -23,11 +34,12 @@ Scene arrays (constant during a run)
 
 Dynamic state (kept between calls)
 ----------------------------------
-``st`` float64[nb, 9] state rows at ``tref`` (see ``flight2d``); ``pm`` int64[nb, 4]
-persistent contact (mode ``PM_*``, plane, face vertex 0, face vertex 1; ``PM_PIVOT``:
-mode, plane, held vertex, contact status ``0`` sticking / ``+-1`` sliding along ``+-t``;
-in flight ``pm[i, 3] == REL_TANGENT`` marks a body just released tangentially from vertex
-``pm[i, 2]`` on plane ``pm[i, 1]``, see ``_released_toi``); ``tz``/``zp`` pending
+``st`` float64[nb, 9] state rows at ``tref`` (columns ``X, Y, ANGLE, VX, VY, OMEGA, AX,
+AY, ALPHA`` of ``flight2d``); ``pm`` int64[nb, 4] persistent contact (``M_MODE`` mode
+``PM_*``, ``M_PLANE`` plane, ``M_FEAT`` face vertex 0, ``M_AUX`` face vertex 1;
+``PM_PIVOT``: held vertex, contact status ``0`` sticking / ``+-1`` sliding along ``+-t``;
+in flight ``pm[i, M_AUX] == REL_TANGENT`` marks a body just released tangentially from vertex
+``pm[i, M_FEAT]`` on plane ``pm[i, M_PLANE]``, see ``_released_toi``); ``tz``/``zp`` pending
 accumulation (Zeno) point and its plane (``PM_PIVOT``: ``zp`` holds the pivot event due at
 ``ttr``, ``pivot2d.PE_* + 8 index``); ``ttr`` next persistent-mode transition;
 ``bp_t``/``bp_off`` next impact time of each body-plane pair / pair disabled after a
@@ -81,13 +93,14 @@ the other way); another vertex reaches a plane: an impact, resolved by the pair 
 the held vertex in its cluster (it is resolved too if the impact drives it into the plane),
 after which the rules above apply again (a face landing below the accumulation energy
 settles onto the face as before). An ellipse is held the same way (``pivot2d.KIND_ELLIPSE``;
-``pm[i, 2] == 0``; its released flight search is ``_released_toi_ellipse``); a rough
+``pm[i, M_FEAT] == 0``; its released flight search is ``_released_toi_ellipse``); a rough
 ellipse that settles onto its rest while sliding faster than the accumulation speed (or on
 a slope friction cannot hold) is held from there too (``_persist_setup`` returns ``RC_TIP``,
 as a tipping face). A rough ellipse on a level plane then rocks for ever (rolling is
 conservative). Impacts accumulating at a point of a disk (on a disk) remain
 ``ERR_CHATTER``.
 """
+import functools
 import math
 
 from numba import float64, int64, njit
@@ -107,10 +120,19 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
+from .layout import B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_MODE, M_PLANE
+from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_JOINT_E, ERR_MISSED, ERR_NONFINITE,
+                   ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE, ERR_PGS, ERR_SEQ,
+                   ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY, ERR_TWO_PLANES, EVENT_KINDS,
+                   EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK,
+                   FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
+                   PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL,
+                   RC_DONE, RC_MAX_EVENTS)
 from .common import P_E, P_MU
 from .decisions import perforates
-from .dispatch import resolve_2d
-from .flight2d import body_energy, fly_into, fly_row
+from .dispatch import resolve_2d_as
+from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
+                       fly_row)
 from .pivot2d import (CP_D, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_KIND, CP_L, CP_M, CP_MU,
                       CP_NX, CP_NY, CP_PX, CP_PY, CP_RAD, CP_SIG, KIND_ELLIPSE, KIND_VERTEX,
                       N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP, PI_OK,
@@ -122,34 +144,19 @@ from .wedge2d import two_contact_rest
 
 INF = math.inf
 
+# bflt columns (B_MASS and the bint columns: kernels/layout.py)
+B_INERTIA = 1    # moment of inertia about the centre of mass (kg m^2)
+B_RADIUS = 2     # rounding radius (m): a disk's or a capsule's radius, 0 for a polygon
+B_EA = 3         # ellipse semi-axis along the body x axis (m)
+B_EB = 4         # ellipse semi-axis along the body y axis (m)
+
 # shape kinds
 SH_DISK = 0
 SH_POLY = 1
 SH_ELLIPSE = 2
 
-# persistent modes (pm[:, 0])
-PM_FLIGHT = 0
-PM_SLIDE = 1
-PM_ROLL = 2
-PM_REST = 3
-PM_PIVOT = 4         # integrated one-vertex contact (kernels/pivot2d.py)
-PM_WEDGED = 5        # at rest on two contacts (groove, corner, a wall): kernels/wedge2d.py
-REL_TANGENT = -2     # pm[i, 3] of a body just released tangentially (see _released_toi)
-
-# event kinds (ev_i[:, 0]); a persistent mode m is logged as kind m + 1
-EV_IMPACT = 0
-EV_CONTACT = 1
-EV_SLIDE = 2
-EV_ROLL = 3
-EV_REST = 4
-EV_RELEASE = 5
-EV_PIVOT = 6
-EV_STICK = 7
-EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "pivot", "stick")
-
-# policies
-POL_SIMULTANEOUS = 0
-POL_SEQUENTIAL = 1
+# return, error and event codes, modes and policies: kernels/codes.py (shared with 3D)
+REL_TANGENT = -2     # pm[i, M_AUX] of a body just released tangentially (see _released_toi)
 
 # tolerance slots
 TF_REST_LENGTH = 0
@@ -171,30 +178,16 @@ TI_POLICY = 4
 TI_MAX_EVENTS = 5
 N_TI = 6
 
-# return codes
-RC_DONE = 0
-RC_MAX_EVENTS = 1
-RC_BUFFER_FULL = 2
-ERR_NO_SOLUTION = -1
-ERR_NONFINITE = -2
-ERR_MISSED = -3
-ERR_TOI = -4
-ERR_CHATTER = -5
-ERR_SEQ = -6
-ERR_PGS = -7
-ERR_TIPPING = -8
-RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, 2]
+RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, M_FEAT]
 ROLL_RTOL = 8.0 * 2.220446049250313e-16
 """A disk's contact-point slip vT + w r below ROLL_RTOL (|vT| + |w r|) is the round-off of
 that sum: the disk rolls (a slip that ended by friction otherwise restarts at 1e-17 m/s)."""
 TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lifts it (tips)
-# -9 is free: a rough ellipse settling while sliding is now held (pivot2d), not refused
-ERR_STALL = -10
-ERR_TOO_MANY = -11
-ERR_JOINT_E = -12
-ERR_PAINLEVE = -13   # a held vertex would slide with no solution (Painleve), see pivot2d
-ERR_PIVOT_STEPS = -14  # the pivot integrator exceeded its step limit
-ERR_TWO_PLANES = -15   # accumulating on one plane while touching another (not supported)
+# Feature switches (codes.FEATURES): ``run_loop`` takes ``pivot`` (a polygon, rod or
+# ellipse: rest on a face, tipping, held vertex or boundary), ``wedge`` (two or more planes:
+# rest on two contacts), ``pair`` (disk pairs) and ``joint`` (several contacts at one
+# instant), each True or None (``scene_features``): a disk bouncing on a floor compiles
+# no pivot, wedge, pair or joint code.
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
 #: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
@@ -315,7 +308,7 @@ def _set_err(err, t, a, b, px, py, x1, x2, x3):
 
 @njit(cache=True, _nrt=False, inline="always")
 def _point_vel(st, i, rx, ry):
-    return st[i, 3] - st[i, 5] * ry, st[i, 4] + st[i, 5] * rx
+    return st[i, VX] - st[i, OMEGA] * ry, st[i, VY] + st[i, OMEGA] * rx
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -331,7 +324,7 @@ def _w_body(m, inertia, rx, ry, nx, ny):
 
 @njit(cache=True, _nrt=False)
 def _energy(st, bflt, grav, i):
-    return body_energy(st[i], bflt[i, 0], bflt[i, 1], grav[0], grav[1])
+    return body_energy(st[i], bflt[i, B_MASS], bflt[i, B_INERTIA], grav[0], grav[1])
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -358,14 +351,14 @@ def _finite(st, i):
 def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny):
     """Contact point and arm (point minus centre of mass) of feature ``feat`` of body i
     against a plane with normal n, at the body's current state."""
-    if bint[i, 0] == SH_DISK:
-        rad = bflt[i, 2]
-        return st[i, 0] - rad * nx, st[i, 1] - rad * ny, -rad * nx, -rad * ny
-    c = math.cos(st[i, 2])
-    s = math.sin(st[i, 2])
-    if bint[i, 0] == SH_ELLIPSE:
-        ea = bflt[i, 3]
-        eb = bflt[i, 4]
+    if bint[i, B_KIND] == SH_DISK:
+        rad = bflt[i, B_RADIUS]
+        return st[i, X] - rad * nx, st[i, Y] - rad * ny, -rad * nx, -rad * ny
+    c = math.cos(st[i, ANGLE])
+    s = math.sin(st[i, ANGLE])
+    if bint[i, B_KIND] == SH_ELLIPSE:
+        ea = bflt[i, B_EA]
+        eb = bflt[i, B_EB]
         nbx = c * nx + s * ny
         nby = -s * nx + c * ny
         hh = math.sqrt(ea * ea * nbx * nbx + eb * eb * nby * nby)
@@ -376,10 +369,10 @@ def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny):
     else:
         px = verts[feat, 0]
         py = verts[feat, 1]
-        rad = bflt[i, 2]
+        rad = bflt[i, B_RADIUS]
         rx = c * px - s * py - rad * nx
         ry = s * px + c * py - rad * ny
-    return st[i, 0] + rx, st[i, 1] + ry, rx, ry
+    return st[i, X] + rx, st[i, Y] + ry, rx, ry
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -400,11 +393,12 @@ def _contact_W(bflt, c_i, c_f, c, W2):
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
     a = c_i[c, CI_A]
-    wnn, wnt, wtt = _w_body(bflt[a, 0], bflt[a, 1], c_f[c, CF_RAX], c_f[c, CF_RAY], nx, ny)
+    wnn, wnt, wtt = _w_body(bflt[a, B_MASS], bflt[a, B_INERTIA], c_f[c, CF_RAX], c_f[c,
+                            CF_RAY], nx, ny)
     if c_i[c, CI_TYPE] == 1:
         b = c_i[c, CI_B]
-        bnn, bnt, btt = _w_body(bflt[b, 0], bflt[b, 1], c_f[c, CF_RBX], c_f[c, CF_RBY],
-                                nx, ny)
+        bnn, bnt, btt = _w_body(bflt[b, B_MASS], bflt[b, B_INERTIA], c_f[c, CF_RBX], c_f[c,
+                                CF_RBY], nx, ny)
         wnn += bnn
         wnt += bnt
         wtt += btt
@@ -421,16 +415,16 @@ def _apply(st, bflt, c_i, c_f, c, PN, PT):
     jx = PN * nx + PT * ny
     jy = PN * ny - PT * nx
     a = c_i[c, CI_A]
-    m = bflt[a, 0]
-    st[a, 3] += jx / m
-    st[a, 4] += jy / m
-    st[a, 5] += (c_f[c, CF_RAX] * jy - c_f[c, CF_RAY] * jx) / bflt[a, 1]
+    m = bflt[a, B_MASS]
+    st[a, VX] += jx / m
+    st[a, VY] += jy / m
+    st[a, OMEGA] += (c_f[c, CF_RAX] * jy - c_f[c, CF_RAY] * jx) / bflt[a, B_INERTIA]
     if c_i[c, CI_TYPE] == 1:
         b = c_i[c, CI_B]
-        m = bflt[b, 0]
-        st[b, 3] -= jx / m
-        st[b, 4] -= jy / m
-        st[b, 5] -= (c_f[c, CF_RBX] * jy - c_f[c, CF_RBY] * jx) / bflt[b, 1]
+        m = bflt[b, B_MASS]
+        st[b, VX] -= jx / m
+        st[b, VY] -= jy / m
+        st[b, OMEGA] -= (c_f[c, CF_RBX] * jy - c_f[c, CF_RBY] * jx) / bflt[b, B_INERTIA]
 
 
 @njit(cache=True, _nrt=False)
@@ -441,24 +435,24 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
     a = c_i[c, CI_A]
     if c_i[c, CI_TYPE] == 1:
         b = c_i[c, CI_B]
-        dvx = st[a, 3] - st[b, 3]
-        dvy = st[a, 4] - st[b, 4]
+        dvx = st[a, VX] - st[b, VX]
+        dvy = st[a, VY] - st[b, VY]
         vt = dvx * ny - dvy * nx
-        dist = bflt[a, 2] + bflt[b, 2]
-        return nx * (st[a, 6] - st[b, 6]) + ny * (st[a, 7] - st[b, 7]) + vt * vt / dist
-    gn = nx * st[a, 6] + ny * st[a, 7]
-    w = st[a, 5]
-    if bint[a, 0] == SH_ELLIPSE:
-        ea = bflt[a, 3]
-        eb = bflt[a, 4]
-        c = math.cos(st[a, 2])
-        s = math.sin(st[a, 2])
+        dist = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+        return nx * (st[a, AX] - st[b, AX]) + ny * (st[a, AY] - st[b, AY]) + vt * vt / dist
+    gn = nx * st[a, AX] + ny * st[a, AY]
+    w = st[a, OMEGA]
+    if bint[a, B_KIND] == SH_ELLIPSE:
+        ea = bflt[a, B_EA]
+        eb = bflt[a, B_EB]
+        c = math.cos(st[a, ANGLE])
+        s = math.sin(st[a, ANGLE])
         nbx = c * nx + s * ny
         nby = -s * nx + c * ny
-        hh, dh = ellipse_support(st[a, 2], ea, eb, nx, ny)
+        hh, dh = ellipse_support(st[a, ANGLE], ea, eb, nx, ny)
         d2h = (ea * ea - eb * eb) * (nby * nby - nbx * nbx) / hh - dh * dh / hh
         return gn - d2h * w * w
-    rad = bflt[a, 2]
+    rad = bflt[a, B_RADIUS]
     np_ = nx * c_f[c, CF_RAX] + ny * c_f[c, CF_RAY] + rad   # n . R p
     return gn - w * w * np_
 
@@ -467,30 +461,30 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp, bp_t,
+def _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp, bp_t,
                       bp_off, tolf, toli, tmp, err):
     """Next impact time of body i (state at t_now) against every plane (during a pending
     accumulation jump: of its held motion, see ``_held_into``; ``tmp[0]`` scratch)."""
     S = tolf[TF_T_END] - t_now
-    kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
-    v0 = bint[i, 1]
-    nv = bint[i, 2]
-    rad = bflt[i, 2]
-    ea = bflt[i, 3]
-    eb = bflt[i, 4]
+    kind = FEAT_ELLIPSE if bint[i, B_KIND] == SH_ELLIPSE else FEAT_VERTEX
+    v0 = bint[i, B_FIRST]
+    nv = bint[i, B_COUNT]
+    rad = bflt[i, B_RADIUS]
+    ea = bflt[i, B_EA]
+    eb = bflt[i, B_EB]
     row = st[i]
-    if pm[i, 0] == PM_PIVOT or pm[i, 0] == PM_WEDGED:
+    if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
         # integrated contact: its impacts are events of the integration (ttr); a wedged
         # body does not move
         for p in range(planes.shape[0]):
             bp_t[i, p] = INF
         return 0
-    rel = pm[i, 0] == PM_FLIGHT and pm[i, 3] == REL_TANGENT
+    rel = pm[i, M_MODE] == PM_FLIGHT and pm[i, M_AUX] == REL_TANGENT
     if tz[i] < INF:
-        _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
+        _held_into(st[i], bint[i, B_KIND], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
         row = tmp[0]
     for p in range(planes.shape[0]):
-        if (bp_off[i, p] != 0 or (pm[i, 0] != PM_FLIGHT and pm[i, 1] == p)
+        if (bp_off[i, p] != 0 or (pm[i, M_MODE] != PM_FLIGHT and pm[i, M_PLANE] == p)
                 or (tz[i] < INF and zp[i] == p)):
             bp_t[i, p] = INF
             continue
@@ -499,28 +493,32 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
         d = planes[p, 2]
         best = INF
         for k in range(nv):
-            if rel and p == pm[i, 1] and k == pm[i, 2] and kind == FEAT_ELLIPSE:
-                s, code = _released_toi_ellipse(row, ea, eb, nx, ny, d, t_now, S, tolf,
-                                                toli, tmp[1])
-            elif rel and p == pm[i, 1] and k == pm[i, 2]:
-                s, code = _released_toi(row, verts[v0 + k, 0], verts[v0 + k, 1], rad, nx,
-                                        ny, d, t_now, S, tolf, toli, tmp[1])
+            if rel and p == pm[i, M_PLANE] and k == pm[i, M_FEAT]:
+                # released from a held contact (only bodies that pivot are released so)
+                if pivot is None:
+                    return _not_compiled(err, t_now, i, FEATURE_PIVOT)
+                if kind == FEAT_ELLIPSE:
+                    s, code = _released_toi_ellipse(row, ea, eb, nx, ny, d, t_now, S, tolf,
+                                                    toli, tmp[1])
+                else:
+                    s, code = _released_toi(row, verts[v0 + k, 0], verts[v0 + k, 1], rad,
+                                            nx, ny, d, t_now, S, tolf, toli, tmp[1])
             else:
                 s, code = plane_feature_toi(kind, row, verts[v0 + k, 0], verts[v0 + k, 1],
                                             rad, ea, eb, nx, ny, d, t_now, S,
                                             tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                             tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
             if code == TOI_MISSED:
-                _set_err(err, t_now, i, -1 - p, st[i, 0], st[i, 1], k, 0.0, 0.0)
+                _set_err(err, t_now, i, -1 - p, st[i, X], st[i, Y], k, 0.0, 0.0)
                 return ERR_MISSED
             if code == TOI_NOT_CONVERGED:
-                _set_err(err, t_now, i, -1 - p, st[i, 0], st[i, 1], k, s, 0.0)
+                _set_err(err, t_now, i, -1 - p, st[i, X], st[i, Y], k, s, 0.0)
                 return ERR_TOI
             if s < best:
                 best = s
         bp_t[i, p] = t_now + best
     if rel:
-        pm[i, 3] = -1
+        pm[i, M_AUX] = -1
     return 0
 
 
@@ -535,11 +533,11 @@ def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
     round-off terms: the gap is positive on ``(0, s0]``, ``s0 = 2 g3 / M4`` (there the bound
     is ``g3 s0^3 / 12 > 0``), and the search starts at ``s0``. When ``g3 <= 0`` (no
     separation at third order) the ordinary search runs from 0."""
-    c = math.cos(row[2])
-    sn = math.sin(row[2])
+    c = math.cos(row[ANGLE])
+    sn = math.sin(row[ANGLE])
     rx = c * px - sn * py
     ry = sn * px + c * py
-    w = row[5]
+    w = row[OMEGA]
     g3 = -w * w * w * (ny * rx - nx * ry)
     M4 = w * w * w * w * math.hypot(px, py)
     return _search_past(row, g3, M4, FEAT_VERTEX, px, py, rad, 0.0, 0.0, nx, ny, d, t0, S,
@@ -559,8 +557,8 @@ def _released_toi_ellipse(row, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
     max(a, b)``: ``|h1| <= (hM^2 - hm^2) / (2 hm)``, ``|h2| <= (hM^2 - hm^2) / hm``. The
     search starts at ``s0 = 2 g3 / M4`` (the gap is positive on ``(0, s0]``); from 0 when
     ``g3 <= 0``."""
-    w = row[5]
-    h, h1, h2 = ellipse_support3(ea, eb, row[2], nx, ny)
+    w = row[OMEGA]
+    h, h1, h2 = ellipse_support3(ea, eb, row[ANGLE], nx, ny)
     P = ea * ea * eb * eb
     hm = min(ea, eb)
     hM = max(ea, eb)
@@ -605,41 +603,44 @@ def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
     for j in range(2):
         i = a if j == 0 else b
         if tz[i] < INF:
-            _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[j])
+            _held_into(st[i], bint[i, B_KIND], planes[zp[i], 0], planes[zp[i], 1], tmp[j])
             fly_into(tmp[j], t_now - tref[i], tmp[j])
         else:
             fly_into(st[i], t_now - tref[i], tmp[j])
-    R = bflt[a, 2] + bflt[b, 2]
-    s, code = disk_disk_toi(tmp[0, 0] - tmp[1, 0], tmp[0, 1] - tmp[1, 1],
-                            tmp[0, 3] - tmp[1, 3], tmp[0, 4] - tmp[1, 4],
-                            tmp[0, 6] - tmp[1, 6], tmp[0, 7] - tmp[1, 7], R, t_now,
+    R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+    s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
+                            tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY],
+                            tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
                             tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                             tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
     if code == TOI_MISSED:
-        _set_err(err, t_now, a, b, tmp[0, 0], tmp[0, 1], 0.0, 0.0, 0.0)
+        _set_err(err, t_now, a, b, tmp[0, X], tmp[0, Y], 0.0, 0.0, 0.0)
         return ERR_MISSED
     if code == TOI_NOT_CONVERGED:
-        _set_err(err, t_now, a, b, tmp[0, 0], tmp[0, 1], 0.0, s, 0.0)
+        _set_err(err, t_now, a, b, tmp[0, X], tmp[0, Y], 0.0, s, 0.0)
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
 
 
-@njit(cache=True, _nrt=False, inline="always")
-def _recompute_marked(t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp, bp_t,
-                      bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
+@njit(cache=True, _nrt=False)
+def _recompute_marked(pivot, pair, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
+                      zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
     """Recompute the candidates of every marked body (state at t_now) and of its pairs."""
     for i in range(st.shape[0]):
         if bmark[i] == 0:
             continue
-        rc = _recompute_planes(i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
-                               bp_t, bp_off, tolf, toli, tmp, err)
+        rc = _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, tz,
+                               zp, bp_t, bp_off, tolf, toli, tmp, err)
         if rc < 0:
             return rc
     for q in range(pairs.shape[0]):
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
-            rc = _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
-                                 pr_off, tolf, toli, tmp, err)
+            if pair is not None:
+                rc = _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp,
+                                     pr_t, pr_off, tolf, toli, tmp, err)
+            else:
+                rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
                 return rc
     return 0
@@ -661,21 +662,21 @@ def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
     ny = planes[p, 1]
     d = planes[p, 2]
     g = abs(nx * grav[0] + ny * grav[1])
-    m = bflt[i, 0]
-    inertia = bflt[i, 1]
-    rad = bflt[i, 2]
-    vN = nx * st[i, 3] + ny * st[i, 4]
-    w = st[i, 5]
-    hc = nx * st[i, 0] + ny * st[i, 1] - d
-    kind = bint[i, 0]
+    m = bflt[i, B_MASS]
+    inertia = bflt[i, B_INERTIA]
+    rad = bflt[i, B_RADIUS]
+    vN = nx * st[i, VX] + ny * st[i, VY]
+    w = st[i, OMEGA]
+    hc = nx * st[i, X] + ny * st[i, Y] - d
+    kind = bint[i, B_KIND]
     if kind == SH_DISK:
         return True, -1, -1, rad, 0.0, 0.5 * m * vN * vN + m * g * max(hc - rad, 0.0)
-    c = math.cos(st[i, 2])
-    s = math.sin(st[i, 2])
+    c = math.cos(st[i, ANGLE])
+    s = math.sin(st[i, ANGLE])
     erot = 0.5 * m * vN * vN + 0.5 * inertia * w * w
     if kind == SH_ELLIPSE:
-        ea = bflt[i, 3]
-        eb = bflt[i, 4]
+        ea = bflt[i, B_EA]
+        eb = bflt[i, B_EB]
         hf = min(ea, eb)
         dth = 0.0
         if ea != eb:
@@ -692,8 +693,8 @@ def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
                 phi += math.pi
             dth = phi
         return True, -1, -1, hf, dth, erot + m * g * (hc - hf)
-    v0 = bint[i, 1]
-    nv = bint[i, 2]
+    v0 = bint[i, B_FIRST]
+    nv = bint[i, B_COUNT]
     k0 = 0
     gmin = INF
     for k in range(nv):
@@ -761,14 +762,14 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
     ttr[i] = INF
     if not gn < 0.0:
         return 1
-    m = bflt[i, 0]
-    inertia = bflt[i, 1]
-    rad = bflt[i, 2]
+    m = bflt[i, B_MASS]
+    inertia = bflt[i, B_INERTIA]
+    rad = bflt[i, B_RADIUS]
     mu = law_par[bp_law[i, p], P_MU]
     N = -m * gn
-    vT = tx * st[i, 3] + ty * st[i, 4]
-    w = st[i, 5]
-    kind = bint[i, 0]
+    vT = tx * st[i, VX] + ty * st[i, VY]
+    w = st[i, OMEGA]
+    kind = bint[i, B_KIND]
     al = 0.0
     aT = 0.0
     mode = PM_REST
@@ -801,8 +802,8 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
             # a slip slower than the accumulation speed with friction that holds the body:
             # it sticks (the slip's energy, below m zeno_speed^2 / 2, is dissipated; no
             # decision on the sign of a round-off slip)
-            st[i, 3] -= vT * tx
-            st[i, 4] -= vT * ty
+            st[i, VX] -= vT * tx
+            st[i, VY] -= vT * ty
             vT = 0.0
         if vT == 0.0:
             if abs(gt) <= -mu * gn:
@@ -822,11 +823,11 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
             if sig * aT < 0.0:
                 ttr[i] = t - vT / aT
         # no tipping: both face contacts must carry a non-negative normal force
-        c = math.cos(st[i, 2])
-        s = math.sin(st[i, 2])
-        v0 = bint[i, 1]
-        f0 = v0 + pm[i, 2]
-        f1 = v0 + pm[i, 3]
+        c = math.cos(st[i, ANGLE])
+        s = math.sin(st[i, ANGLE])
+        v0 = bint[i, B_FIRST]
+        f0 = v0 + pm[i, M_FEAT]
+        f1 = v0 + pm[i, M_AUX]
         r0x = c * verts[f0, 0] - s * verts[f0, 1] - rad * nx
         r0y = s * verts[f0, 0] + c * verts[f0, 1] - rad * ny
         r1x = c * verts[f1, 0] - s * verts[f1, 1] - rad * nx
@@ -839,9 +840,9 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
         if N0 < -TIP_RTOL * N or N1 < -TIP_RTOL * N:
             # tipping: the face cannot hold the body; the loaded corner carries it from
             # here (integrated pivot contact, entered by the caller through RC_TIP)
-            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], FT, N0, N1)
-            pm[i, 2] = pm[i, 3] if N0 < N1 else pm[i, 2]
-            pm[i, 1] = p
+            _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], FT, N0, N1)
+            pm[i, M_FEAT] = pm[i, M_AUX] if N0 < N1 else pm[i, M_FEAT]
+            pm[i, M_PLANE] = p
             return RC_TIP
     else:
         if mu == 0.0:
@@ -850,41 +851,41 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
         else:
             vz = math.sqrt(_vz2(tolf, -gn))
             if abs(vT) <= vz and abs(gt) <= -mu * gn:
-                st[i, 3] = 0.0
-                st[i, 4] = 0.0
+                st[i, VX] = 0.0
+                st[i, VY] = 0.0
                 aT = 0.0
                 mode = PM_REST
             else:
                 # a rough ellipse sliding (or on a slope friction cannot hold) rolls and
                 # rocks: held on its boundary from here (integrated contact, entered by the
                 # caller through RC_TIP, as from a tipping face)
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], vT, gt, mu)
-                pm[i, 1] = p
-                pm[i, 2] = 0
+                _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], vT, gt, mu)
+                pm[i, M_PLANE] = p
+                pm[i, M_FEAT] = 0
                 return RC_TIP
-    st[i, 6] = aT * tx
-    st[i, 7] = aT * ty
-    st[i, 8] = al
-    pm[i, 0] = mode
-    pm[i, 1] = p
+    st[i, AX] = aT * tx
+    st[i, AY] = aT * ty
+    st[i, ALPHA] = al
+    pm[i, M_MODE] = mode
+    pm[i, M_PLANE] = p
     return 0
 
 
 @njit(cache=True, _nrt=False)
 def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt):
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
-    vN = nx * st[i, 3] + ny * st[i, 4]
-    vT = ny * st[i, 3] - nx * st[i, 4]
-    pm[i, 0] = PM_FLIGHT
-    st[i, 6] = grav[0]
-    st[i, 7] = grav[1]
-    st[i, 8] = 0.0
+    hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
+    vN = nx * st[i, VX] + ny * st[i, VY]
+    vT = ny * st[i, VX] - nx * st[i, VY]
+    pm[i, M_MODE] = PM_FLIGHT
+    st[i, AX] = grav[0]
+    st[i, AY] = grav[1]
+    st[i, ALPHA] = 0.0
     ttr[i] = INF
-    _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, st[i, 0] - hc * nx,
-         st[i, 1] - hc * ny, nx, ny, vN, vT, vN, vT, 0.0, 0.0, 0.0)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, st[i, X] - hc * nx,
+         st[i, Y] - hc * ny, nx, ny, vN, vT, vN, vT, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True, _nrt=False)
@@ -899,26 +900,26 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
     ny = planes[p, 1]
     tx = ny
     ty = -nx
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     e0 = _energy(st, bflt, grav, i)
-    hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
+    hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
     # contact-space velocity of the material point at the contact, before
     ux, uy = _point_vel(st, i, -hc * nx, -hc * ny)
     viN = ux * nx + uy * ny
     viT = ux * tx + uy * ty
-    vx0 = st[i, 3]
-    vy0 = st[i, 4]
-    st[i, 2] += dth
-    st[i, 0] += (hf - hc) * nx
-    st[i, 1] += (hf - hc) * ny
-    vN = nx * st[i, 3] + ny * st[i, 4]
-    st[i, 3] -= vN * nx
-    st[i, 4] -= vN * ny
-    if bint[i, 0] != SH_DISK:
-        st[i, 5] = 0.0
-    pm[i, 2] = f0
-    pm[i, 3] = f1
-    slip = tx * st[i, 3] + ty * st[i, 4]
+    vx0 = st[i, VX]
+    vy0 = st[i, VY]
+    st[i, ANGLE] += dth
+    st[i, X] += (hf - hc) * nx
+    st[i, Y] += (hf - hc) * ny
+    vN = nx * st[i, VX] + ny * st[i, VY]
+    st[i, VX] -= vN * nx
+    st[i, VY] -= vN * ny
+    if bint[i, B_KIND] != SH_DISK:
+        st[i, OMEGA] = 0.0
+    pm[i, M_FEAT] = f0
+    pm[i, M_AUX] = f1
+    slip = tx * st[i, VX] + ty * st[i, VY]
     rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
     if rc < 0:
@@ -926,32 +927,32 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
     if rc == 1:
         return 1
     if rc == RC_TIP:
-        pm[i, 0] = PM_REST      # logged as landed on the face; the caller pivots it
+        pm[i, M_MODE] = PM_REST      # logged as landed on the face; the caller pivots it
     ux, uy = _point_vel(st, i, -hf * nx, -hf * ny)
-    dvx = st[i, 3] - vx0
-    dvy = st[i, 4] - vy0
-    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, i, -1 - p, pm[i, 0], 0,
-         st[i, 0] - hf * nx, st[i, 1] - hf * ny, nx, ny, viN, viT, ux * nx + uy * ny,
+    dvx = st[i, VX] - vx0
+    dvy = st[i, VY] - vy0
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, i, -1 - p, pm[i, M_MODE], 0,
+         st[i, X] - hf * nx, st[i, Y] - hf * ny, nx, ny, viN, viT, ux * nx + uy * ny,
          ux * tx + uy * ty, m * (dvx * nx + dvy * ny), m * (dvx * tx + dvy * ty),
          _energy(st, bflt, grav, i) - e0)
-    if rc == 0 and pm[i, 0] == PM_REST and slip != 0.0 and bint[i, 0] == SH_POLY:
+    if rc == 0 and pm[i, M_MODE] == PM_REST and slip != 0.0 and bint[i, B_KIND] == SH_POLY:
         # its slow slip stuck at once (_persist_setup): it has come to rest
         vfN = ux * nx + uy * ny
         vfT = ux * tx + uy * ty
-        _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, st[i, 0] - hf * nx,
-             st[i, 1] - hf * ny, nx, ny, vfN, vfT, vfN, vfT, 0.0, 0.0, 0.0)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, st[i, X] - hf * nx,
+             st[i, Y] - hf * ny, nx, ny, vfN, vfT, vfN, vfT, 0.0, 0.0, 0.0)
     return rc
 
 
 @njit(cache=True, _nrt=False)
 def _log_mode(i, t, st, bflt, planes, pm, ev_t, ev_i, ev_f, cnt, viN, viT):
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
+    hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
     ux, uy = _point_vel(st, i, -hc * nx, -hc * ny)
-    _log(ev_t, ev_i, ev_f, cnt, t, pm[i, 0] + 1, i, -1 - p, pm[i, 0], 0,
-         st[i, 0] - hc * nx, st[i, 1] - hc * ny, nx, ny, viN, viT, ux * nx + uy * ny,
+    _log(ev_t, ev_i, ev_f, cnt, t, pm[i, M_MODE] + 1, i, -1 - p, pm[i, M_MODE], 0,
+         st[i, X] - hc * nx, st[i, Y] - hc * ny, nx, ny, viN, viT, ux * nx + uy * ny,
          ux * ny - uy * nx, 0.0, 0.0, 0.0)
 
 
@@ -962,19 +963,19 @@ def _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
     fly_row(st, i, t - tref[i])
     tref[i] = t
     ttr[i] = INF
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
+    hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
     ux, uy = _point_vel(st, i, -hc * nx, -hc * ny)
     viN = ux * nx + uy * ny
     viT = ux * ny - uy * nx
-    vT = ny * st[i, 3] - nx * st[i, 4]
-    if bint[i, 0] == SH_DISK:
-        st[i, 5] = -vT / bflt[i, 2]      # contact point velocity exactly zero
+    vT = ny * st[i, VX] - nx * st[i, VY]
+    if bint[i, B_KIND] == SH_DISK:
+        st[i, OMEGA] = -vT / bflt[i, B_RADIUS]      # contact point velocity exactly zero
     else:
-        st[i, 3] = 0.0
-        st[i, 4] = 0.0
+        st[i, VX] = 0.0
+        st[i, VY] = 0.0
     rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
     if rc < 0 or rc == RC_TIP:
@@ -989,33 +990,33 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
     """A body in persistent contact received an impulse: keep the contact (zeroing the
     normal velocity, and the rotation of a non-disk) when that motion carries less energy
     than the accumulation threshold, else release it to free flight."""
-    p = pm[i, 1]
-    if pm[i, 0] == PM_WEDGED:
+    p = pm[i, M_PLANE]
+    if pm[i, M_MODE] == PM_WEDGED:
         # struck while wedged: free flight from here (its contacts are impacts again)
         _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt)
         return 0
     nx = planes[p, 0]
     ny = planes[p, 1]
     gn = nx * grav[0] + ny * grav[1]
-    m = bflt[i, 0]
-    vN = nx * st[i, 3] + ny * st[i, 4]
+    m = bflt[i, B_MASS]
+    vN = nx * st[i, VX] + ny * st[i, VY]
     ex = 0.5 * m * vN * vN
-    if bint[i, 0] != SH_DISK:
-        ex += 0.5 * bflt[i, 1] * st[i, 5] * st[i, 5]
+    if bint[i, B_KIND] != SH_DISK:
+        ex += 0.5 * bflt[i, B_INERTIA] * st[i, OMEGA] * st[i, OMEGA]
     if gn < 0.0 and ex <= 0.5 * m * _vz2(tolf, -gn):
-        hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
+        hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
         ux, uy = _point_vel(st, i, -hc * nx, -hc * ny)
-        st[i, 3] -= vN * nx
-        st[i, 4] -= vN * ny
-        if bint[i, 0] != SH_DISK:
-            st[i, 5] = 0.0
-        old = pm[i, 0]
+        st[i, VX] -= vN * nx
+        st[i, VY] -= vN * ny
+        if bint[i, B_KIND] != SH_DISK:
+            st[i, OMEGA] = 0.0
+        old = pm[i, M_MODE]
         rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pm, ttr, tolf, err)
         if rc < 0 or rc == RC_TIP:
             return rc
         if rc == 0:
-            if pm[i, 0] != old:
+            if pm[i, M_MODE] != old:
                 _log_mode(i, t, st, bflt, planes, pm, ev_t, ev_i, ev_f, cnt,
                           ux * nx + uy * ny, ux * ny - uy * nx)
             return 0
@@ -1028,38 +1029,38 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
 
 @njit(cache=True, _nrt=False)
 def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
-    """Contact parameters (``pivot2d.CP_*``) of body i held by vertex pm[i, 2] on plane
-    pm[i, 1] with contact status pm[i, 3], into w."""
-    p = pm[i, 1]
-    v0 = bint[i, 1]
+    """Contact parameters (``pivot2d.CP_*``) of body i held by vertex pm[i, M_FEAT] on plane
+    pm[i, M_PLANE] with contact status pm[i, M_AUX], into w."""
+    p = pm[i, M_PLANE]
+    v0 = bint[i, B_FIRST]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    rad = bflt[i, 2]
-    w[CP_M] = bflt[i, 0]
-    w[CP_I] = bflt[i, 1]
+    rad = bflt[i, B_RADIUS]
+    w[CP_M] = bflt[i, B_MASS]
+    w[CP_I] = bflt[i, B_INERTIA]
     w[CP_GN] = nx * grav[0] + ny * grav[1]
     w[CP_GT] = ny * grav[0] - nx * grav[1]
     w[CP_NX] = nx
     w[CP_NY] = ny
     w[CP_D] = planes[p, 2]
     w[CP_RAD] = rad
-    w[CP_PX] = verts[v0 + pm[i, 2], 0]
-    w[CP_PY] = verts[v0 + pm[i, 2], 1]
+    w[CP_PX] = verts[v0 + pm[i, M_FEAT], 0]
+    w[CP_PY] = verts[v0 + pm[i, M_FEAT], 1]
     w[CP_MU] = law_par[bp_law[i, p], P_MU]
-    w[CP_SIG] = float(pm[i, 3])
-    if bint[i, 0] == SH_ELLIPSE:
+    w[CP_SIG] = float(pm[i, M_AUX])
+    if bint[i, B_KIND] == SH_ELLIPSE:
         # held on its curved boundary (pivot2d, KIND_ELLIPSE)
         w[CP_KIND] = KIND_ELLIPSE
-        w[CP_EA] = bflt[i, 3]
-        w[CP_EB] = bflt[i, 4]
+        w[CP_EA] = bflt[i, B_EA]
+        w[CP_EB] = bflt[i, B_EB]
         w[CP_RAD] = 0.0
         w[CP_PX] = 0.0
         w[CP_PY] = 0.0
-        w[CP_L] = max(bflt[i, 3], bflt[i, 4])
+        w[CP_L] = max(bflt[i, B_EA], bflt[i, B_EB])
         return
     w[CP_KIND] = KIND_VERTEX
     L = 0.0
-    for k in range(bint[i, 2]):
+    for k in range(bint[i, B_COUNT]):
         L = max(L, math.hypot(verts[v0 + k, 0], verts[v0 + k, 1]))
     w[CP_L] = L + rad
 
@@ -1077,10 +1078,11 @@ def _pv_state(i, st, w):
 @njit(cache=True, _nrt=False)
 def _pv_contact(i, st, bint, bflt, verts, planes, pm):
     """Held contact of body i: (px, py, rx, ry, v_N, v_T) at its current state."""
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, 1] + pm[i, 2], nx, ny)
+    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + pm[i, M_FEAT],
+                                    nx, ny)
     ux, uy = _point_vel(st, i, rx, ry)
     return px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
 
@@ -1090,7 +1092,7 @@ def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
     """Impulse at the contact arm r (normal n) removing the contact velocity (vN, vT)
     (``W P = -v``; ``with_t`` False: only vN, ``P_N = -vN / W_NN``). Never adds energy:
     ``dE = -v . W^-1 v / 2``. Returns (P_N, P_T)."""
-    wnn, wnt, wtt = _w_body(bflt[i, 0], bflt[i, 1], rx, ry, nx, ny)
+    wnn, wnt, wtt = _w_body(bflt[i, B_MASS], bflt[i, B_INERTIA], rx, ry, nx, ny)
     if with_t:
         det = wnn * wtt - wnt * wnt
         PN = -(wtt * vN - wnt * vT) / det
@@ -1100,21 +1102,21 @@ def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
         PT = 0.0
     jx = PN * nx + PT * ny
     jy = PN * ny - PT * nx
-    st[i, 3] += jx / bflt[i, 0]
-    st[i, 4] += jy / bflt[i, 0]
-    st[i, 5] += (rx * jy - ry * jx) / bflt[i, 1]
+    st[i, VX] += jx / bflt[i, B_MASS]
+    st[i, VY] += jy / bflt[i, B_MASS]
+    st[i, OMEGA] += (rx * jy - ry * jx) / bflt[i, B_INERTIA]
     return PN, PT
 
 
 @njit(cache=True, _nrt=False)
 def _pv_choose(i, st, w, pm):
-    """Stick or slide for a held contact of body i with no slip (pm[i, 3] == 0 on entry):
+    """Stick or slide for a held contact of body i with no slip (pm[i, M_AUX] == 0 on entry):
     stick when the sticking force is in the friction cone with lam >= 0, else slide
-    opposite to it when that slip grows (consistent). Returns 0 (pm[i, 3] set), 1 (no
+    opposite to it when that slip grows (consistent). Returns 0 (pm[i, M_AUX] set), 1 (no
     consistent contact: lam < 0) or ERR_PAINLEVE."""
     if w[CP_MU] == 0.0:
         # frictionless: the slip direction does not enter the forces
-        pm[i, 3] = 1
+        pm[i, M_AUX] = 1
         w[CP_SIG] = 1.0
         code, lam, f, aT = _pv_state(i, st, w)
         if code != PV_OK:
@@ -1123,7 +1125,7 @@ def _pv_choose(i, st, w, pm):
     w[CP_SIG] = 0.0
     code, lam, f, aT = _pv_state(i, st, w)
     if lam >= 0.0 and abs(f) <= w[CP_MU] * lam:
-        pm[i, 3] = 0
+        pm[i, M_AUX] = 0
         return 0
     sig = -1.0 if f > 0.0 else 1.0
     w[CP_SIG] = sig
@@ -1132,7 +1134,7 @@ def _pv_choose(i, st, w, pm):
         return ERR_PAINLEVE
     if lam2 < 0.0 or sig * aT2 < 0.0:
         return 1
-    pm[i, 3] = int(sig)
+    pm[i, M_AUX] = int(sig)
     return 0
 
 
@@ -1150,15 +1152,15 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     # an ellipse is also held on a plane gravity does not push (a wall) when its free gap
     # accelerates into it (its rotation: n . g - h'' w^2 < 0)
     gz = -gn
-    if bint[i, 0] == SH_ELLIPSE and not gn < 0.0:
-        h, h1, h2 = ellipse_support3(bflt[i, 3], bflt[i, 4], st[i, 2], nx, ny)
-        gz = h2 * st[i, 5] * st[i, 5] - gn
+    if bint[i, B_KIND] == SH_ELLIPSE and not gn < 0.0:
+        h, h1, h2 = ellipse_support3(bflt[i, B_EA], bflt[i, B_EB], st[i, ANGLE], nx, ny)
+        gz = h2 * st[i, OMEGA] * st[i, OMEGA] - gn
     if not gz > 0.0:
         return 1
-    pm[i, 0] = PM_PIVOT
-    pm[i, 1] = p
-    pm[i, 2] = k
-    pm[i, 3] = 0
+    pm[i, M_MODE] = PM_PIVOT
+    pm[i, M_PLANE] = p
+    pm[i, M_FEAT] = k
+    pm[i, M_AUX] = 0
     e0 = _energy(st, bflt, grav, i)
     px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
@@ -1170,24 +1172,24 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     else:
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, False)
         px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
-        pm[i, 3] = 1 if vT >= 0.0 else -1
+        pm[i, M_AUX] = 1 if vT >= 0.0 else -1
         if vT == 0.0:
             rc = _pv_choose(i, st, w, pm)
         else:
-            w[CP_SIG] = float(pm[i, 3])
+            w[CP_SIG] = float(pm[i, M_AUX])
             code, lam, f, aT = _pv_state(i, st, w)
             rc = ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
     if rc != 0:
-        pm[i, 0] = PM_FLIGHT
+        pm[i, M_MODE] = PM_FLIGHT
         if rc == ERR_PAINLEVE:
-            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], mu, viT, 0.0)
+            _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], mu, viT, 0.0)
         return rc
     tz[i] = INF
     ttr[i] = t
     zp[i] = PE_NONE
     px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
-    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, 2 if pm[i, 3] == 0 else 1, 0, px, py,
-         nx, ny, viN, viT, vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, 2 if pm[i, M_AUX] == 0 else 1, 0, px,
+         py, nx, ny, viN, viT, vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
     return 0
 
 
@@ -1195,15 +1197,15 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
 def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr, tolf,
          w, ev_t, ev_i, ev_f, cnt, err):
     """Body i resting or sliding on a face tips over (``_persist_setup`` returned RC_TIP,
-    with the loaded corner in pm[i, 2]): from t it pivots on that corner (mode table:
+    with the loaded corner in pm[i, M_FEAT]): from t it pivots on that corner (mode table:
     rest/slide on a face -> pivot on a vertex). Returns 0 or an error code (ERR_TIPPING
     when no pivot state is consistent either)."""
-    p = pm[i, 1]
-    k = pm[i, 2]
-    pm[i, 0] = PM_FLIGHT
-    st[i, 6] = grav[0]
-    st[i, 7] = grav[1]
-    st[i, 8] = 0.0
+    p = pm[i, M_PLANE]
+    k = pm[i, M_FEAT]
+    pm[i, M_MODE] = PM_FLIGHT
+    st[i, AX] = grav[0]
+    st[i, AY] = grav[1]
+    st[i, ALPHA] = 0.0
     ttr[i] = INF
     rc = _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                       tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
@@ -1219,14 +1221,15 @@ def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
     pieces, leaves st[i] at the pass end and schedules the next pass or event there."""
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
     S = tolf[TF_T_END] - t
-    p = pm[i, 1]
-    s, kind, idx, code = pivot_advance(w, st[i], verts, bint[i, 1], bint[i, 2], planes,
-                                       bp_off[i], p, pm[i, 2], t, S, tolf[TF_TOI_RTOL],
-                                       tolf[TF_TOI_ATOL], seg_t, seg_b, seg_s, cnt, i)
+    p = pm[i, M_PLANE]
+    s, kind, idx, code = pivot_advance(w, st[i], verts, bint[i, B_FIRST], bint[i, B_COUNT],
+                                       planes, bp_off[i], p, pm[i, M_FEAT], t, S,
+                                       tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], seg_t, seg_b,
+                                       seg_s, cnt, i)
     if code != PI_OK:
-        _set_err(err, t + s, i, -1 - p, st[i, 0], st[i, 1], w[CP_MU], float(code),
-                 float(pm[i, 3]))
-        return ERR_PIVOT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
+        _set_err(err, t + s, i, -1 - p, st[i, X], st[i, Y], w[CP_MU], float(code),
+                 float(pm[i, M_AUX]))
+        return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
     tref[i] = t + s
     zp[i] = kind + 8 * idx
     ttr[i] = INF if (kind == PE_NONE and s >= S) else t + s
@@ -1245,33 +1248,33 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
     kind = code % 8
     idx = code // 8
     ttr[i] = INF
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
     if kind == PE_GAP:
-        bp_t[i, idx // bint[i, 2]] = t
+        bp_t[i, idx // bint[i, B_COUNT]] = t
         return 0, 2
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
     px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     if kind == PE_LIFT:
-        pm[i, 0] = PM_FLIGHT
-        pm[i, 3] = REL_TANGENT
-        st[i, 6] = grav[0]
-        st[i, 7] = grav[1]
-        st[i, 8] = 0.0
+        pm[i, M_MODE] = PM_FLIGHT
+        pm[i, M_AUX] = REL_TANGENT
+        st[i, AX] = grav[0]
+        st[i, AY] = grav[1]
+        st[i, ALPHA] = 0.0
         _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, px, py, nx, ny, viN, viT,
              viN, viT, 0.0, 0.0, 0.0)
         return 0, 1
     if kind == PE_SLIP:
         # the sticking force reached its cone: slip opposite to it, if that slip grows
-        old = pm[i, 3]
+        old = pm[i, M_AUX]
         rc = _pv_choose(i, st, w, pm)
         if rc == ERR_PAINLEVE:
             _set_err(err, t, i, -1 - p, px, py, w[CP_MU], viT, 0.0)
             return rc, 0
         if rc == 1:
-            pm[i, 3] = old      # lam < 0 either way: the lift-off event follows
-        if pm[i, 3] != old:
+            pm[i, M_AUX] = old      # lam < 0 either way: the lift-off event follows
+        if pm[i, M_AUX] != old:
             _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - p, 1, 0, px, py, nx, ny, viN,
                  viT, viN, viT, 0.0, 0.0, 0.0)
     elif kind == PE_STOP:
@@ -1279,17 +1282,17 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
         # slide the other way
         e0 = _energy(st, bflt, grav, i)
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, True)
-        old = pm[i, 3]
-        pm[i, 3] = 0
+        old = pm[i, M_AUX]
+        pm[i, M_AUX] = 0
         rc = _pv_choose(i, st, w, pm)
         if rc == ERR_PAINLEVE:
             _set_err(err, t, i, -1 - p, px, py, w[CP_MU], viT, 0.0)
             return rc, 0
         if rc == 1:
-            pm[i, 3] = old
+            pm[i, M_AUX] = old
         px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
-        _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK if pm[i, 3] == 0 else EV_SLIDE, i, -1 - p,
-             2 if pm[i, 3] == 0 else 1, 0, px, py, nx, ny, viN, viT, vfN, vfT, PN, PT,
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK if pm[i, M_AUX] == 0 else EV_SLIDE, i, -1 - p,
+             2 if pm[i, M_AUX] == 0 else 1, 0, px, py, nx, ny, viN, viT, vfN, vfT, PN, PT,
              _energy(st, bflt, grav, i) - e0)
     rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
                      bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
@@ -1300,15 +1303,16 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def _single(c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, ev_t, ev_i,
-            ev_f, cnt, err):
-    """Resolve contact c with its pair law at its current velocity. Returns (rc, v_fN)."""
+def _single(law, c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, ev_t,
+            ev_i, ev_f, cnt, err):
+    """Resolve contact c with its pair law at its current velocity (``law``: the scene's
+    one law, a compile-time constant, or ``LAW_ANY``). Returns (rc, v_fN)."""
     viN, viT = _contact_velocity(st, c_i, c_f, c)
     v2[0] = viN
     v2[1] = viT
     _contact_W(bflt, c_i, c_f, c, W2)
     li = c_i[c, CI_LAW]
-    mode = resolve_2d(law_ids[li], v2, W2, law_par[li], P2)
+    mode = resolve_2d_as(law, law_ids[li], v2, W2, law_par[li], P2)
     if mode < 0:
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], mode,
                  viN, viT)
@@ -1359,8 +1363,8 @@ def _jblock(c, d, bflt, c_i, c_f):
             rdx = c_f[d, CF_RAX] if sd == 0 else c_f[d, CF_RBX]
             rdy = c_f[d, CF_RAY] if sd == 0 else c_f[d, CF_RBY]
             sds = 1.0 if sd == 0 else -1.0
-            im = 1.0 / bflt[jc, 0]
-            iI = 1.0 / bflt[jc, 1]
+            im = 1.0 / bflt[jc, B_MASS]
+            iI = 1.0 / bflt[jc, B_INERTIA]
             sg = scs * sds
             # directions: c normal (ncx, ncy), c tangent (ncy, -ncx); same for d
             cnc = rcx * ncy - rcy * ncx
@@ -1382,8 +1386,7 @@ def _jblock(c, d, bflt, c_i, c_f):
 SIMUL_ACCEPT_RTOL = 1e-9
 
 
-@njit((_I1, _i, _f, _A2, _A2, _A2, _I2, _A2, _A2, _A1, _A1, _A1, _A1, _I1, _A1, _I2, _A2, _I1,
-       _A1), cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)     # compiled on first use: only scenes with clusters
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, toli, ev_t,
            ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
@@ -1476,7 +1479,7 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, tol
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
+def _sequential(law, members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
                 toli, ev_t, ev_i, ev_f, cnt, err):
     """Sequential policy: repeatedly resolve, with its pair law, the contact that approaches
     fastest (ties: lowest contact index), until none approaches faster than vtol. A single
@@ -1494,8 +1497,8 @@ def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W
                 best = c
         if best < 0:
             return 0
-        rc, vfN = _single(best, t, K, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
-                          ev_t, ev_i, ev_f, cnt, err)
+        rc, vfN = _single(law, best, t, K, st, bflt, law_ids, law_par, c_i, c_f, v2, W2,
+                          P2, ev_t, ev_i, ev_f, cnt, err)
         if rc < 0:
             return rc
         if perforates(law_par[c_i[best, CI_LAW]], vfN):
@@ -1510,22 +1513,22 @@ def _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W
 
 
 @njit(cache=True, _nrt=False)
-def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr,
-          tolf, w, ev_t, ev_i, ev_f, cnt, err):
+def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+          ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Start of a run: settle the bodies that start at rest on a plane (or pivot those
     that start on a face that cannot hold them: tipping)."""
     nb = st.shape[0]
     for i in range(nb):
         tref[i] = t
-        st[i, 6] = grav[0]
-        st[i, 7] = grav[1]
-        st[i, 8] = 0.0
+        st[i, AX] = grav[0]
+        st[i, AY] = grav[1]
+        st[i, ALPHA] = 0.0
         if not _finite(st, i):
-            _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+            _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
     for i in range(nb):
         for p in range(planes.shape[0]):
-            if pm[i, 0] != PM_FLIGHT:
+            if pm[i, M_MODE] != PM_FLIGHT:
                 break
             nx = planes[p, 0]
             ny = planes[p, 1]
@@ -1534,22 +1537,22 @@ def _init(t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
                 continue
             stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts, planes,
                                                         grav)
-            hc = nx * st[i, 0] + ny * st[i, 1] - planes[p, 2]
+            hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
             if not stable or hc - hf > tolf[TF_GAP_TOL]:
                 continue
-            if (eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
-                    and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
+            if (eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+                    and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
                 rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                              ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 if rc == RC_TIP:
-                    rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                              tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                    rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par,
+                                 bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
                     return rc
     return 0
 
 
-@njit(cache=True, _nrt=False, inline="always")
+@njit(cache=True, _nrt=False)
 def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli, tz,
             zp, bp_t, pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
@@ -1564,30 +1567,30 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
     nc = 0
     for i in range(nb):
         piv = False
-        if pm[i, 0] == PM_PIVOT:
+        if pm[i, M_MODE] == PM_PIVOT:
             for p in range(npl):
                 if bp_t[i, p] <= tw:
                     piv = True
         for p in range(npl):
-            held = piv and p == pm[i, 1]
+            held = piv and p == pm[i, M_PLANE]
             if bp_t[i, p] > tw and not held:
                 continue
             bmark[i] = 1
-            kind = FEAT_ELLIPSE if bint[i, 0] == SH_ELLIPSE else FEAT_VERTEX
-            v0 = bint[i, 1]
-            nv = bint[i, 2]
+            kind = FEAT_ELLIPSE if bint[i, B_KIND] == SH_ELLIPSE else FEAT_VERTEX
+            v0 = bint[i, B_FIRST]
+            nv = bint[i, B_COUNT]
             for k in range(nv):
-                if held and k == pm[i, 2]:
+                if held and k == pm[i, M_FEAT]:
                     pass    # the held vertex is in the cluster (at gap 0)
                 elif nv > 1:
                     s, code = plane_feature_toi(
-                        kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, 2],
-                        bflt[i, 3], bflt[i, 4], planes[p, 0], planes[p, 1], planes[p, 2],
+                        kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, B_RADIUS],
+                        bflt[i, B_EA], bflt[i, B_EB], planes[p, 0], planes[p, 1], planes[p, 2],
                         tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                         tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
                     g, gd = feature_gap(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
-                                        bflt[i, 2], bflt[i, 3], bflt[i, 4], planes[p, 0],
-                                        planes[p, 1], planes[p, 2], t - tref[i])
+                                        bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
+                                        planes[p, 0], planes[p, 1], planes[p, 2], t - tref[i])
                     if not (tref[i] + s <= tw):
                         if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
                             continue
@@ -1596,7 +1599,7 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
                         # tangency a released vertex starts from): not in this instant
                         continue
                 if nc >= MAXC:
-                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], MAXC, 0.0, 0.0)
+                    _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
                     return ERR_TOO_MANY
                 c_i[nc, CI_TYPE] = 0
                 c_i[nc, CI_A] = i
@@ -1608,10 +1611,10 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
         if piv:
             # the integrated contact ends with the impact: in flight at t (after the
             # impacts, _after_impacts decides what persists)
-            pm[i, 0] = PM_FLIGHT
-            st[i, 6] = grav[0]
-            st[i, 7] = grav[1]
-            st[i, 8] = 0.0
+            pm[i, M_MODE] = PM_FLIGHT
+            st[i, AX] = grav[0]
+            st[i, AY] = grav[1]
+            st[i, ALPHA] = 0.0
     for q in range(npr):
         if pr_t[q] > tw:
             continue
@@ -1634,7 +1637,7 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
     for i in range(nb):
         if bmark[i] != 0:
             if tz[i] < INF:
-                _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], st[i])
+                _held_into(st[i], bint[i, B_KIND], planes[zp[i], 0], planes[zp[i], 1], st[i])
                 tz[i] = INF
             fly_row(st, i, t - tref[i])
             tref[i] = t
@@ -1651,16 +1654,16 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
             c_f[c, CF_RBY] = 0.0
         else:
             b = c_i[c, CI_B]
-            dx = st[a, 0] - st[b, 0]
-            dy = st[a, 1] - st[b, 1]
+            dx = st[a, X] - st[b, X]
+            dy = st[a, Y] - st[b, Y]
             dist = math.sqrt(dx * dx + dy * dy)
             nx = dx / dist
             ny = dy / dist
-            rb = bflt[b, 2]
-            px = st[b, 0] + rb * nx
-            py = st[b, 1] + rb * ny
-            rx = -bflt[a, 2] * nx
-            ry = -bflt[a, 2] * ny
+            rb = bflt[b, B_RADIUS]
+            px = st[b, X] + rb * nx
+            py = st[b, Y] + rb * ny
+            rx = -bflt[a, B_RADIUS] * nx
+            ry = -bflt[a, B_RADIUS] * ny
             c_f[c, CF_RBX] = rb * nx
             c_f[c, CF_RBY] = rb * ny
         c_f[c, CF_NX] = nx
@@ -1671,13 +1674,13 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
         c_f[c, CF_RAY] = ry
         c_f[c, CF_PN] = 0.0
         c_f[c, CF_PT] = 0.0
-        c_f[c, CF_VCMN] = nx * st[a, 3] + ny * st[a, 4]
+        c_f[c, CF_VCMN] = nx * st[a, VX] + ny * st[a, VY]
     return nc
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2, W2, P2,
-             tolf, toli, ev_t, ev_i, ev_f, cnt, err):
+def _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp,
+             v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err):
     """Group the gathered contacts into clusters sharing a body and resolve each one."""
     policy = toli[TI_POLICY]
     # clusters: contacts sharing a body
@@ -1716,13 +1719,16 @@ def _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, 
                 k += 1
         members = comp[MAXC:MAXC + K]
         if K > 1 and policy == POL_SIMULTANEOUS:
-            rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf,
-                        toli, ev_t, ev_i, ev_f, cnt, err)
+            if joint is not None:
+                rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf,
+                            toli, ev_t, ev_i, ev_f, cnt, err)
+            else:
+                rc = _not_compiled(err, t, c_i[members[0], CI_A], FEATURE_JOINT)
             if rc < 0:
                 return rc
         else:
             vtol = tolf[TF_SEQ_VTOL] if K > 1 else 0.0
-            rc = _sequential(members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f,
+            rc = _sequential(law, members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f,
                              v2, W2, P2, toli, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
@@ -1739,12 +1745,12 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
     Coulomb friction (``wedge2d.two_contact_rest``) comes to rest there: its remaining
     motion (below the threshold) is removed, event "rest" (mode ``PM_WEDGED``). Returns
     True when the body was wedged."""
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     gabs = math.hypot(grav[0], grav[1])
     if not gabs > 0.0:
         return False
-    ke = 0.5 * m * (st[i, 3] * st[i, 3] + st[i, 4] * st[i, 4]) \
-        + 0.5 * bflt[i, 1] * st[i, 5] * st[i, 5]
+    ke = 0.5 * m * (st[i, VX] * st[i, VX] + st[i, VY] * st[i, VY]) \
+        + 0.5 * bflt[i, B_INERTIA] * st[i, OMEGA] * st[i, OMEGA]
     if ke > 0.5 * m * _vz2(tolf, gabs):
         return False
     # candidate contacts: this instant's plane contacts of i, and a disk's persistent one
@@ -1766,10 +1772,10 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
         if first >= 0:
             break
         # ... or with the plane a disk rolls, slides or rests on
-        if bint[i, 0] == SH_DISK and pm[i, 0] != PM_FLIGHT and pm[i, 0] != PM_WEDGED \
-                and pm[i, 1] != c_i[c, CI_B]:
-            q = pm[i, 1]
-            rad = bflt[i, 2]
+        if (bint[i, B_KIND] == SH_DISK and pm[i, M_MODE] != PM_FLIGHT
+                and pm[i, M_MODE] != PM_WEDGED and pm[i, M_PLANE] != c_i[c, CI_B]):
+            q = pm[i, M_PLANE]
+            rad = bflt[i, B_RADIUS]
             mu_q = law_par[bp_law[i, q], P_MU]
             if two_contact_rest(m, grav[0], grav[1], c_f[c, CF_RAX], c_f[c, CF_RAY],
                                 c_f[c, CF_NX], c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU],
@@ -1792,10 +1798,10 @@ def _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, px, py, viN, viT, planes, ev_t,
     point (px, py) with the contact velocity (viN, viT) it had): its remaining motion is
     removed; event "rest" with the energy removed."""
     e0 = _energy(st, bflt, grav, i)
-    for j in range(3, 9):
+    for j in range(VX, ALPHA + 1):     # velocities and accelerations
         st[i, j] = 0.0
-    pm[i, 0] = PM_WEDGED
-    pm[i, 1] = p
+    pm[i, M_MODE] = PM_WEDGED
+    pm[i, M_PLANE] = p
     tz[i] = INF
     ttr[i] = INF
     _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_WEDGED, 0, px, py, planes[p, 0],
@@ -1811,20 +1817,20 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
     that is a static equilibrium (event "rest", PM_WEDGED; returns 1), else the run stops
     (ERR_TWO_PLANES: rolling or sliding on two planes is not built). Returns 0 when no
     second plane is touched."""
-    rad = bflt[i, 2]
-    m = bflt[i, 0]
+    rad = bflt[i, B_RADIUS]
+    m = bflt[i, B_MASS]
     for q in range(planes.shape[0]):
         if q == p:
             continue
         nqx = planes[q, 0]
         nqy = planes[q, 1]
-        g = nqx * st[i, 0] + nqy * st[i, 1] - rad - planes[q, 2]
+        g = nqx * st[i, X] + nqy * st[i, Y] - rad - planes[q, 2]
         if g > tolf[TF_GAP_TOL]:
             continue
         if g < -tolf[TF_GAP_TOL]:
-            _set_err(err, t, i, -1 - q, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+            _set_err(err, t, i, -1 - q, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
             return ERR_MISSED       # already inside q: never rest there
-        vq = nqx * st[i, 3] + nqy * st[i, 4]
+        vq = nqx * st[i, VX] + nqy * st[i, VY]
         if vq * vq > _vz2(tolf, math.hypot(grav[0], grav[1])) and vq > 0.0:
             continue        # leaving q
         npx = planes[p, 0]
@@ -1832,23 +1838,24 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
         if two_contact_rest(m, grav[0], grav[1], -rad * npx, -rad * npy, npx, npy,
                             law_par[bp_law[i, p], P_MU], -rad * nqx, -rad * nqy, nqx, nqy,
                             law_par[bp_law[i, q], P_MU]):
-            vN = npx * st[i, 3] + npy * st[i, 4]
-            vT = npy * st[i, 3] - npx * st[i, 4] + st[i, 5] * rad
-            _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, st[i, 0] - rad * npx,
-                   st[i, 1] - rad * npy, vN, vT, planes, ev_t, ev_i, ev_f, cnt)
+            vN = npx * st[i, VX] + npy * st[i, VY]
+            vT = npy * st[i, VX] - npx * st[i, VY] + st[i, OMEGA] * rad
+            _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, st[i, X] - rad * npx,
+                   st[i, Y] - rad * npy, vN, vT, planes, ev_t, ev_i, ev_f, cnt)
             return 1
-        _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], float(q), g, 0.0)
+        _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], float(q), g, 0.0)
         return ERR_TWO_PLANES
     return 0
 
 
 @njit(cache=True, _nrt=False)
-def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pairs,
-                   pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f,
-                   seg_t, seg_b, seg_s, cnt, tmp, w, err):
+def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, grav, law_par,
+                   bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t,
+                   ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err):
     """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
     contacts, schedule accumulation points, hold a vertex whose impacts accumulate
-    (integrated pivot contact; other single-point chatter is an error), log segments."""
+    (integrated pivot contact; other single-point chatter is an error), log segments.
+    ``pivot``, ``wedge``: feature switches (see ``scene_features``)."""
     nb = st.shape[0]
     npr = pairs.shape[0]
     # perforating impacts disable their pair for good
@@ -1866,15 +1873,16 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
     for i in range(nb):
         if bmark[i] == 0:
             continue
-        if _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, ttr,
-                      tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
-            continue
-        if pm[i, 0] != PM_FLIGHT:
+        if wedge is not None:
+            if _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz,
+                          ttr, tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
+                continue
+        if pm[i, M_MODE] != PM_FLIGHT:
             rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                              pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
             if rc == RC_TIP:
-                rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
-                          zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par,
+                             bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
             continue
@@ -1895,10 +1903,10 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
             # accumulation on that rest only when consistent: the centre of mass is over
             # the face (stable), the motion left is below the threshold, and the snap
             # onto the face does not lift the body (create energy)
-            if not (stable and eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
-                    and eex >= -bflt[i, 0] * (-gn) * SNAP_RTOL * hf):
+            if not (stable and eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+                    and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
                 continue
-            if bint[i, 0] == SH_DISK:
+            if wedge is not None and bint[i, B_KIND] == SH_DISK:
                 rc = _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm,
                                         tz, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
@@ -1906,7 +1914,7 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                 if rc == 1:
                     settled = True      # wedged between p and a second plane
                     break
-            after = nx * st[i, 3] + ny * st[i, 4]
+            after = nx * st[i, VX] + ny * st[i, VY]
             before = c_f[c, CF_VCMN]
             dt = 0.0
             if after > 0.0:
@@ -1933,7 +1941,7 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
                 if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                    if c_i[c, CI_TYPE] != 0 or bint[i, 0] == SH_DISK:
+                    if c_i[c, CI_TYPE] != 0 or bint[i, B_KIND] == SH_DISK:
                         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
                                  c_f[c, CF_PY], vN, acc, 0.0)
                         return ERR_CHATTER
@@ -1942,9 +1950,12 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
                         hold = c
             if hold >= 0:
                 c = hold
-                rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, 1], t, st, bint,
-                                  bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
-                                  ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                if pivot is not None:
+                    rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, B_FIRST], t,
+                                      st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                else:
+                    rc = _not_compiled(err, t, i, FEATURE_PIVOT)
                 if rc == 1:
                     vN, vT = _contact_velocity(st, c_i, c_f, c)
                     _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN,
@@ -1956,158 +1967,206 @@ def _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp
         if bmark[i] == 0:
             continue
         if not _finite(st, i):
-            _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
+            _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
-        if pm[i, 0] == PM_PIVOT:
+        if pm[i, M_MODE] == PM_PIVOT:
             continue    # its first pass (at t) records its motion
         if tz[i] < INF:
             # accumulation jump pending: the trajectory holds the body on the plane
-            _held_into(st[i], bint[i, 0], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
+            _held_into(st[i], bint[i, B_KIND], planes[zp[i], 0], planes[zp[i], 1], tmp[0])
             _push_row(seg_t, seg_b, seg_s, cnt, tmp[0], tref[i], i)
         else:
             _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
     return 0
 
 
-@njit(cache=True, _nrt=False)
-def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
-             st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt, ev_t, ev_i,
-             ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2,
-             tmp, err):
-    """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the contract.
-    The first call (cnt[3] == 0) initialises the run at glob[0]."""
-    nb = st.shape[0]
-    npl = planes.shape[0]
-    npr = pairs.shape[0]
-    t_end = tolf[TF_T_END]
-    max_events = toli[TI_MAX_EVENTS]
-    margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
-    margin_s = evbuf.segment_margin(MAXC, nb) + PIECE_BUDGET
-    # the pivot integrator's scratch: the joint solve's workspace (never in use during a
-    # pivot pass, which runs among the scheduled switches, before any impact of an instant)
-    w = Wb.reshape(Wb.size)
-    cap_e = ev_t.shape[0]
-    cap_s = seg_t.shape[0]
-    # the candidates of the bodies marked at an instant are recomputed at the top of the
-    # next pass (one call site, inlined: the per-impact path makes no large calls)
-    pend = False
-    while True:
-        if pend:
-            pend = False
-            rc = _recompute_marked(glob[0], st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                                   zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp,
-                                   err)
-            if rc < 0:
-                return rc
-        t_now = glob[0]
-        if cnt[3] == 0:
-            # ---- start of the run
-            if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
-                return RC_BUFFER_FULL
-            rc = _init(t_now, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                       tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
-            if rc < 0:
-                return rc
-            cnt[3] = 1
-            for i in range(nb):
-                bmark[i] = 1
-                if pm[i, 0] != PM_PIVOT:    # a pivot pass at t records its own motion
-                    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
-            pend = True
-            continue
-        tmin = INF
-        for i in range(nb):
-            if tz[i] < tmin:
-                tmin = tz[i]
-            if ttr[i] < tmin:
-                tmin = ttr[i]
-            for p in range(npl):
-                if bp_t[i, p] < tmin:
-                    tmin = bp_t[i, p]
-        for q in range(npr):
-            if pr_t[q] < tmin:
-                tmin = pr_t[q]
-        if tmin > t_end:
-            glob[0] = t_end
-            return RC_DONE
-        if cnt[0] >= max_events:
-            return RC_MAX_EVENTS
-        if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
-            return RC_BUFFER_FULL
-        if tmin <= t_now:
-            tmin = t_now
-            cnt[2] += 1
-            if cnt[2] > toli[TI_STALL]:
-                _set_err(err, t_now, -1, 0, 0.0, 0.0, cnt[2], 0.0, 0.0)
-                return ERR_STALL
-        else:
-            cnt[2] = 0
-        t = tmin
-        glob[0] = t
-        for i in range(nb):
-            bmark[i] = 0
+def scene_features(bint, n_planes, n_pairs):
+    """The feature switches ``(pivot, wedge, pair, joint)`` of a scene (True, or None when
+    the scene cannot reach that mode), from its shape kinds (``bint[:, 0]``) and its
+    numbers of planes and of disk pairs."""
+    kinds = {int(k) for k in bint[:, 0]}
+    pivot = SH_POLY in kinds or SH_ELLIPSE in kinds
+    wedge = n_planes >= 2
+    pair = n_pairs > 0
+    # several vertices of a polygon, several planes or a pair can touch at one instant
+    joint = SH_POLY in kinds or wedge or pair
+    return tuple(True if on else None for on in (pivot, wedge, pair, joint))
 
-        # ---- scheduled switches: accumulation points, the end of slip, pivot passes (at
-        # most one per pass of this loop: its pieces fit the segment margin)
-        did = False
-        for i in range(nb):
-            if ttr[i] <= t and pm[i, 0] == PM_PIVOT:
-                rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav,
-                                       law_par, bp_law, bp_off, bp_t, pm, zp, ttr, tolf, w,
-                                       ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+
+@functools.lru_cache(maxsize=None)
+def loop_for(law):
+    """The event loop compiled for one law (a ``LAW_*`` of ``common``, or ``LAW_ANY`` for a
+    scene with several laws: dispatched per contact). The law is a plain int closed over:
+    Numba prunes the other laws before typing and caches each law's loop on disk under its
+    own key (issue 14)."""
+    law = int(law)
+
+    @njit(cache=True, _nrt=False)
+    def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf,
+                 toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
+                 ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
+                 bmark, v2, W2, P2, tmp, err, pivot, wedge, pair, joint):
+        """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
+        contract. The first call (cnt[3] == 0) initialises the run at glob[0]. ``pivot``,
+        ``wedge``, ``pair``, ``joint``: the scene's feature switches (``scene_features``).
+        """
+        nb = st.shape[0]
+        npl = planes.shape[0]
+        npr = pairs.shape[0]
+        t_end = tolf[TF_T_END]
+        max_events = toli[TI_MAX_EVENTS]
+        margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
+        margin_s = evbuf.segment_margin(MAXC, nb) + PIECE_BUDGET
+        # the pivot integrator's scratch: the joint solve's workspace (never in use during a
+        # pivot pass, which runs among the scheduled switches, before any impact of an instant)
+        w = Wb.reshape(Wb.size)
+        cap_e = ev_t.shape[0]
+        cap_s = seg_t.shape[0]
+        # the candidates of the bodies marked at an instant are recomputed at the top of the
+        # next pass (a call compiled once per switch pattern, shared by every law)
+        pend = False
+        while True:
+            if pend:
+                pend = False
+                rc = _recompute_marked(pivot, pair, glob[0], st, tref, bint, bflt, verts,
+                                       planes, pairs, pm, tz, zp, bp_t, bp_off, pr_t, pr_off,
+                                       tolf, toli, bmark, tmp, err)
                 if rc < 0:
                     return rc
-                if not _finite(st, i):
-                    _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
-                    return ERR_NONFINITE
-                if act == 2:
-                    continue    # an impact at t: the impact step below
-                did = True
-                if act == 1:
+            t_now = glob[0]
+            if cnt[3] == 0:
+                # ---- start of the run
+                if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
+                    return RC_BUFFER_FULL
+                rc = _init(pivot, t_now, st, tref, bint, bflt, verts, planes, grav, law_par,
+                           bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+                cnt[3] = 1
+                for i in range(nb):
                     bmark[i] = 1
-                    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
-                    continue
-                break
-            if tz[i] <= t:
-                p = zp[i]
-                tz[i] = INF
-                fly_row(st, i, t - tref[i])
-                tref[i] = t
-                rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                             pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-            elif ttr[i] <= t:
-                rc = _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                                 bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-            else:
+                    if pm[i, M_MODE] != PM_PIVOT:    # a pivot pass at t records its own motion
+                        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+                pend = True
                 continue
-            if rc == RC_TIP:
-                rc = _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
-                          zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+            tmin = INF
+            for i in range(nb):
+                if tz[i] < tmin:
+                    tmin = tz[i]
+                if ttr[i] < tmin:
+                    tmin = ttr[i]
+                for p in range(npl):
+                    if bp_t[i, p] < tmin:
+                        tmin = bp_t[i, p]
+            for q in range(npr):
+                if pr_t[q] < tmin:
+                    tmin = pr_t[q]
+            if tmin > t_end:
+                glob[0] = t_end
+                return RC_DONE
+            if cnt[0] >= max_events:
+                return RC_MAX_EVENTS
+            if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
+                return RC_BUFFER_FULL
+            if tmin <= t_now:
+                tmin = t_now
+                cnt[2] += 1
+                if cnt[2] > toli[TI_STALL]:
+                    _set_err(err, t_now, -1, 0, 0.0, 0.0, cnt[2], 0.0, 0.0)
+                    return ERR_STALL
+            else:
+                cnt[2] = 0
+            t = tmin
+            glob[0] = t
+            for i in range(nb):
+                bmark[i] = 0
+
+            # ---- scheduled switches: accumulation points, the end of slip, pivot passes (at
+            # most one per pass of this loop: its pieces fit the segment margin)
+            did = False
+            for i in range(nb):
+                if ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
+                    if pivot is not None:
+                        rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
+                                               grav, law_par, bp_law, bp_off, bp_t, pm, zp,
+                                               ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b,
+                                               seg_s, cnt, err)
+                    else:
+                        rc, act = _not_compiled(err, t, i, FEATURE_PIVOT), 0
+                    if rc < 0:
+                        return rc
+                    if not _finite(st, i):
+                        _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
+                        return ERR_NONFINITE
+                    if act == 2:
+                        continue    # an impact at t: the impact step below
+                    did = True
+                    if act == 1:
+                        bmark[i] = 1
+                        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+                        continue
+                    break
+                if tz[i] <= t:
+                    p = zp[i]
+                    tz[i] = INF
+                    fly_row(st, i, t - tref[i])
+                    tref[i] = t
+                    rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                                 pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                elif ttr[i] <= t:
+                    rc = _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par,
+                                     bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                else:
+                    continue
+                if rc == RC_TIP:
+                    rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par,
+                                 bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                if rc < 0:
+                    return rc
+                did = True
+                if pm[i, M_MODE] == PM_PIVOT:
+                    break       # its first integration pass (at t) records its motion
+                bmark[i] = 1
+                if not _finite(st, i):
+                    _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
+                    return ERR_NONFINITE
+                _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+            if did:
+                pend = True
+                continue
+
+            nc = _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf,
+                         toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
+            if nc < 0:
+                return nc
+            rc = _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb,
+                          tb, comp, v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
-            did = True
-            if pm[i, 0] == PM_PIVOT:
-                break       # its first integration pass (at t) records its motion
-            bmark[i] = 1
-            if not _finite(st, i):
-                _set_err(err, t, i, 0, st[i, 0], st[i, 1], 0.0, 0.0, 0.0)
-                return ERR_NONFINITE
-            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
-        if did:
+            rc = _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes,
+                                grav, law_par, bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off,
+                                tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s,
+                                cnt, tmp, w, err)
+            if rc < 0:
+                return rc
             pend = True
-            continue
+    return run_loop
 
-        nc = _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf,
-                     toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
-        if nc < 0:
-            return nc
-        rc = _resolve(nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb, tb, comp, v2,
-                      W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
-        if rc < 0:
-            return rc
-        rc = _after_impacts(nc, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
-                            pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark,
-                            ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err)
-        if rc < 0:
-            return rc
-        pend = True
+
+@njit(cache=True, _nrt=False)
+def _not_compiled(err, t, i, feature):
+    """A handler of ``feature`` reached in a loop compiled without it (``scene_features``
+    is wrong: a bug, reported, never skipped)."""
+    _set_err(err, t, i, 0, float(feature), 0.0, 0.0, 0.0, 0.0)
+    return ERR_NOT_COMPILED
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+            ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
+    """``_tip`` (a face that cannot hold the body: pivot on its loaded corner) where the
+    scene can pivot."""
+    if pivot is not None:
+        return _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+                    ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+    return _not_compiled(err, t, i, FEATURE_PIVOT)

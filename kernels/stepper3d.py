@@ -3,18 +3,25 @@
 The 3D counterpart of ``stepper2d``, with the same structure, tolerances, event kinds,
 policies and error codes (plus a few of its own). Everything is ``@njit(cache=True)``,
 works on preallocated arrays and never allocates in the per-event path.
-``rbimpact.simulation3d`` packs a scene, calls ``init_run`` once and ``run_loop`` until it
-returns ``RC_DONE`` or ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles the
-event/segment buffers and calls again). Negative return codes are errors (``ERR_*``,
-details in ``err``).
+``rbimpact.simulation3d`` packs a scene, calls ``init_run`` once and the loop
+``loop_for(law)`` compiled for the scene's law until it returns ``RC_DONE`` or
+``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles the event/segment buffers
+and calls again). Negative return codes are errors (``ERR_*``, details in ``err``). Codes,
+modes and event kinds are shared with 2D (``codes``); table columns are named
+(``layout``, ``flight3d``'s state offsets ``SX, SQ, SV, SW, SA, SAL``, the ``B_*``
+below). As in 2D, the law is a compile-time constant of ``loop_for`` and the loop's last
+arguments are the feature switches ``pivot``, ``pair``, ``joint`` (``scene_features``):
+a sphere on a floor compiles no point/edge contact, pair or joint code.
 
 Scene arrays (constant during a run)
 ------------------------------------
-``bint`` int64[nb, 5]      shape kind (``SH_*``), first feature row, feature count, rotation
-                           kind (``flight3d.ROT_*``), symmetry axis (0, 1, 2)
-``bflt`` float64[nb, 8]    mass (kg), principal moments I1, I2, I3 about the body axes
-                           (kg m^2), feature radius (m: sphere radius, capsule radius, 0 for
-                           a box), half extents (m: box half edges; capsule (0, 0, L/2))
+``bint`` int64[nb, 5]      ``B_KIND`` shape kind (``SH_*``), ``B_FIRST`` first feature row,
+                           ``B_COUNT`` feature count, ``B_ROT`` rotation kind
+                           (``flight3d.ROT_*``), ``B_AXIS`` symmetry axis (0, 1, 2)
+``bflt`` float64[nb, 8]    ``B_MASS`` (kg), ``B_I1 + k`` principal moments about the body
+                           axes (kg m^2), ``B_RADIUS`` feature radius (m: sphere radius,
+                           capsule radius, 0 for a box), ``B_HALF + k`` half extents (m: box
+                           half edges; capsule (0, 0, L/2))
 ``feats`` float64[nf, 3]   body-frame contact features (sphere: its centre)
 ``planes`` float64[np, 4]  ``(nx, ny, nz, d)``: half-space ``n . y >= d`` is free space
 ``grav`` float64[3]        gravity (m/s^2)
@@ -26,7 +33,8 @@ Dynamic state
 -------------
 ``st`` float64[nb, 19] state rows at ``tref`` (``flight3d`` layout); ``ws`` float64[nb,
 N_WS] integrator workspaces (``ws[i, 0] < 0``: not started for the current segment);
-``pm`` int64[nb, 3] persistent contact (mode ``PM_*``, plane, face); ``tz``/``zp`` pending
+``pm`` int64[nb, 3] persistent contact (``M_MODE`` mode ``PM_*``, ``M_PLANE`` plane,
+``M_FEAT`` face); ``tz``/``zp`` pending
 accumulation point and its plane; ``ttr`` next persistent-mode transition; ``bt``/``bpl``
 /``bft`` next body-plane impact time, plane and feature; ``bp_off`` body-plane pairs
 disabled after a perforating impact; ``pr_t``/``pr_off`` the same for sphere pairs;
@@ -78,6 +86,7 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   else the run fails (``capture=False``: ``ERR_CHATTER``). Sphere pairs whose impacts
   accumulate also end with ``ERR_CHATTER``.
 """
+import functools
 import math
 
 import numpy as np
@@ -89,11 +98,19 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
+from .layout import B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_FEAT, M_MODE, M_PLANE
+from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_JOINT_E, ERR_MISSED, ERR_NONFINITE,
+                   ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE, ERR_PGS, ERR_ROT, ERR_SEQ,
+                   ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY,
+                   ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE, EV_CONTACT, EV_IMPACT, EV_PIVOT,
+                   EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT,
+                   FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL,
+                   PM_SLIDE, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import P_E, P_MU, spd3_solve
 from .decisions import perforates
-from .dispatch import resolve_3d
-from .flight3d import RK_OK, ROT_SPHERICAL, WS_MODE, pose_at, qmul, qnormalize, \
-    qrot, qrot_inv
+from .dispatch import resolve_3d_as
+from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
+                       qnormalize, qrot, qrot_inv)
 from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
                       FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
@@ -109,32 +126,19 @@ INF = math.inf
 # cache_guard call above flushes this module's cache when a kernel it calls changed.
 
 # shape kinds
+# bflt columns (B_MASS and the bint columns: kernels/layout.py)
+B_I1 = 1         # principal moments I1, I2, I3 about the body axes (kg m^2): B_I1 + k
+B_RADIUS = 4     # feature radius (m): a sphere's or a capsule's radius, 0 for a box
+B_HALF = 5       # half extents (m): B_HALF + k (box half edges; capsule (0, 0, L/2))
+
 SH_SPHERE = 0
 SH_BOX = 1
 SH_CAPSULE = 2
 
 # persistent modes (pm[:, 0])
-PM_FLIGHT = 0
-PM_SLIDE = 1
-PM_ROLL = 2
-PM_REST = 3
-PM_PIVOT = 4   # integrated point or edge contact (kernels/pivot3d.py)
 
 # event kinds (ev_i[:, 0]); a persistent mode m is logged as kind m + 1
-EV_IMPACT = 0
-EV_CONTACT = 1
-EV_SLIDE = 2
-EV_ROLL = 3
-EV_REST = 4
-EV_RELEASE = 5
-EV_CAPTURE = 6
-EV_PIVOT = 7
-EV_STICK = 8
-EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "capture", "pivot",
-               "stick")
 
-POL_SIMULTANEOUS = 0
-POL_SEQUENTIAL = 1
 
 # tolerance slots
 TF_REST_LENGTH = 0
@@ -160,25 +164,6 @@ TI_ROT_MAX_STEPS = 6
 TI_CAPTURE = 7
 N_TI = 8
 
-RC_DONE = 0
-RC_MAX_EVENTS = 1
-RC_BUFFER_FULL = 2
-ERR_NO_SOLUTION = -1
-ERR_NONFINITE = -2
-ERR_MISSED = -3
-ERR_TOI = -4
-ERR_CHATTER = -5
-ERR_SEQ = -6
-ERR_PGS = -7
-ERR_TIPPING = -8
-ERR_SLIDE_CURVE = -9
-ERR_STALL = -10
-ERR_TOO_MANY = -11
-ERR_JOINT_E = -12
-ERR_ROT = -13
-ERR_UNSUPPORTED = -14
-ERR_PAINLEVE = -15
-ERR_CONTACT_STEPS = -16
 
 #: a slip is "along the slope" when the sine of the angle between the slip and the
 #: tangential gravity is below this (dimensionless)
@@ -271,7 +256,7 @@ def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
     seg_b[k] = i
     for j in range(19):
         seg_s[k, j] = st[i, j]
-    if pm[i, 0] == PM_PIVOT:
+    if pm[i, M_MODE] == PM_PIVOT:
         seg_s[k, 19] = 1.0
         for j in range(N_CP):
             seg_s[k, 20 + j] = pv[i, j]
@@ -312,7 +297,7 @@ def _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, p):
     k = cnt[1]
     seg_t[k] = tref[i]
     seg_b[k] = i
-    _held_into(st[i], bint[i, 0], planes[p, 0], planes[p, 1], planes[p, 2], seg_s[k])
+    _held_into(st[i], bint[i, B_KIND], planes[p, 0], planes[p, 1], planes[p, 2], seg_s[k])
     seg_s[k, 19] = 0.0
     cnt[1] = k + 1
 
@@ -352,15 +337,16 @@ def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw):
     """Advance body i's state row to time t (a new segment starts there). Returns 0,
     ERR_ROT, ERR_CONTACT_STEPS or ERR_PAINLEVE."""
     s = t - tref[i]
-    if s != 0.0 and pm[i, 0] == PM_PIVOT:
+    if s != 0.0 and pm[i, M_MODE] == PM_PIVOT:
         rc = pivot_eval(pw[i], pv[i], fw, s, pose)
         if rc != PI_OK:
             return ERR_CONTACT_STEPS if rc == PI_TOO_MANY_STEPS else ERR_PAINLEVE
         for j in range(13):
             st[i, j] = pose[j]
     elif s != 0.0:
-        rc = pose_at(st[i], bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2], bflt[i, 3],
-                     ws[i], s, tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pose)
+        rc = pose_at(st[i], bint[i, B_ROT], bint[i, B_AXIS], bflt[i, B_I1], bflt[i, B_I1 + 1],
+                     bflt[i, B_I1 + 2], ws[i], s, tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS],
+                     pose)
         if rc != RK_OK:
             return ERR_ROT
         for j in range(19):
@@ -373,7 +359,7 @@ def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw):
 @njit(cache=True)
 def _iinv(st, i, bflt, Ii):
     """World inverse inertia tensor of body i at its current orientation into Ii (3x3)."""
-    w, x, y, z = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+    w, x, y, z = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
     r00 = 1.0 - 2.0 * (y * y + z * z)
     r01 = 2.0 * (x * y - w * z)
     r02 = 2.0 * (x * z + w * y)
@@ -383,9 +369,9 @@ def _iinv(st, i, bflt, Ii):
     r20 = 2.0 * (x * z - w * y)
     r21 = 2.0 * (y * z + w * x)
     r22 = 1.0 - 2.0 * (x * x + y * y)
-    a = 1.0 / bflt[i, 1]
-    b = 1.0 / bflt[i, 2]
-    c = 1.0 / bflt[i, 3]
+    a = 1.0 / bflt[i, B_I1]
+    b = 1.0 / bflt[i, B_I1 + 1]
+    c = 1.0 / bflt[i, B_I1 + 2]
     Ii[0, 0] = r00 * r00 * a + r01 * r01 * b + r02 * r02 * c
     Ii[0, 1] = r00 * r10 * a + r01 * r11 * b + r02 * r12 * c
     Ii[0, 2] = r00 * r20 * a + r01 * r21 * b + r02 * r22 * c
@@ -400,16 +386,18 @@ def _iinv(st, i, bflt, Ii):
 @njit(cache=True)
 def _rot_energy(st, i, bflt):
     """Rotational kinetic energy (J) of body i."""
-    bx, by, bz = qrot_inv(st[i, 3], st[i, 4], st[i, 5], st[i, 6], st[i, 10], st[i, 11],
-                          st[i, 12])
-    return 0.5 * (bflt[i, 1] * bx * bx + bflt[i, 2] * by * by + bflt[i, 3] * bz * bz)
+    bx, by, bz = qrot_inv(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], st[i, SW],
+                          st[i, SW + 1], st[i, SW + 2])
+    return 0.5 * (bflt[i, B_I1] * bx * bx + bflt[i, B_I1 + 1] * by * by + bflt[i, B_I1 + 2] *
+                  bz * bz)
 
 
 @njit(cache=True)
 def _energy(st, bflt, grav, i):
-    m = bflt[i, 0]
-    return (0.5 * m * (st[i, 7] ** 2 + st[i, 8] ** 2 + st[i, 9] ** 2) + _rot_energy(st, i, bflt)
-            - m * (grav[0] * st[i, 0] + grav[1] * st[i, 1] + grav[2] * st[i, 2]))
+    m = bflt[i, B_MASS]
+    return (0.5 * m * (st[i, SV] ** 2 + st[i, SV + 1] ** 2 + st[i, SV + 2] ** 2) +
+            _rot_energy(st, i, bflt) - m * (grav[0] * st[i, SX] + grav[1] * st[i, SX + 1] +
+            grav[2] * st[i, SX + 2]))
 
 
 # ------------------------------------------------------------------ contact geometry
@@ -432,9 +420,9 @@ def _frame(c_f, c, nx, ny, nz):
 @njit(cache=True, inline="always")
 def _point_vel(st, i, rx, ry, rz):
     """Velocity (m/s) of the material point at arm r of body i."""
-    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
-    return (st[i, 7] + wy * rz - wz * ry, st[i, 8] + wz * rx - wx * rz,
-            st[i, 9] + wx * ry - wy * rx)
+    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
+    return (st[i, SV] + wy * rz - wz * ry, st[i, SV + 1] + wz * rx - wx * rz,
+            st[i, SV + 2] + wx * ry - wy * rx)
 
 
 @njit(cache=True)
@@ -471,7 +459,7 @@ def _block(c, d, j, sc, sd, st, bflt, c_f, Ii, out, o0, o1):
     """Add the coupling of contacts c and d through body j (arm slots sc, sd: CF_RA or
     CF_RB; the sign is applied by the caller) to out[o0:o0+3, o1:o1+3]."""
     _iinv(st, j, bflt, Ii)
-    im = 1.0 / bflt[j, 0]
+    im = 1.0 / bflt[j, B_MASS]
     sgn = (1.0 if sc == CF_RA else -1.0) * (1.0 if sd == CF_RA else -1.0)
     for a in range(3):
         ax, ay, az = _arm_cross(c_f, c, sc, a)
@@ -506,17 +494,17 @@ def _contact_W(st, bflt, c_i, c_f, c, W3, Ii):
 
 @njit(cache=True)
 def _apply_body(st, bflt, i, rx, ry, rz, jx, jy, jz, Ii):
-    m = bflt[i, 0]
-    st[i, 7] += jx / m
-    st[i, 8] += jy / m
-    st[i, 9] += jz / m
+    m = bflt[i, B_MASS]
+    st[i, SV] += jx / m
+    st[i, SV + 1] += jy / m
+    st[i, SV + 2] += jz / m
     cx = ry * jz - rz * jy
     cy = rz * jx - rx * jz
     cz = rx * jy - ry * jx
     _iinv(st, i, bflt, Ii)
-    st[i, 10] += Ii[0, 0] * cx + Ii[0, 1] * cy + Ii[0, 2] * cz
-    st[i, 11] += Ii[1, 0] * cx + Ii[1, 1] * cy + Ii[1, 2] * cz
-    st[i, 12] += Ii[2, 0] * cx + Ii[2, 1] * cy + Ii[2, 2] * cz
+    st[i, SW] += Ii[0, 0] * cx + Ii[0, 1] * cy + Ii[0, 2] * cz
+    st[i, SW + 1] += Ii[1, 0] * cx + Ii[1, 1] * cy + Ii[1, 2] * cz
+    st[i, SW + 2] += Ii[2, 0] * cx + Ii[2, 1] * cy + Ii[2, 2] * cz
 
 
 @njit(cache=True)
@@ -542,9 +530,9 @@ def _bcode(c_i, c):
 @njit(cache=True)
 def _free_alpha(st, i, bflt):
     """Torque-free angular acceleration (rad/s^2, world) of body i: I^-1 ((I w) x w)."""
-    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
-    bx, by, bz = qrot_inv(q0, q1, q2, q3, st[i, 10], st[i, 11], st[i, 12])
-    I1, I2, I3 = bflt[i, 1], bflt[i, 2], bflt[i, 3]
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    bx, by, bz = qrot_inv(q0, q1, q2, q3, st[i, SW], st[i, SW + 1], st[i, SW + 2])
+    I1, I2, I3 = bflt[i, B_I1], bflt[i, B_I1 + 1], bflt[i, B_I1 + 2]
     return qrot(q0, q1, q2, q3, (I2 - I3) * by * bz / I1, (I3 - I1) * bz * bx / I2,
                 (I1 - I2) * bx * by / I3)
 
@@ -558,22 +546,22 @@ def _gap_accel(st, bflt, c_i, c_f, c):
     a = c_i[c, CI_A]
     if c_i[c, CI_TYPE] == 1:
         b = c_i[c, CI_B]
-        dvx = st[a, 7] - st[b, 7]
-        dvy = st[a, 8] - st[b, 8]
-        dvz = st[a, 9] - st[b, 9]
+        dvx = st[a, SV] - st[b, SV]
+        dvy = st[a, SV + 1] - st[b, SV + 1]
+        dvz = st[a, SV + 2] - st[b, SV + 2]
         vn = dvx * nx + dvy * ny + dvz * nz
         vt2 = dvx * dvx + dvy * dvy + dvz * dvz - vn * vn
-        R = bflt[a, 4] + bflt[b, 4]
-        return (nx * (st[a, 13] - st[b, 13]) + ny * (st[a, 14] - st[b, 14])
-                + nz * (st[a, 15] - st[b, 15]) + max(vt2, 0.0) / R)
-    rad = bflt[a, 4]
+        R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+        return (nx * (st[a, SA] - st[b, SA]) + ny * (st[a, SA + 1] - st[b, SA + 1])
+                + nz * (st[a, SA + 2] - st[b, SA + 2]) + max(vt2, 0.0) / R)
+    rad = bflt[a, B_RADIUS]
     # arm of the feature centre
     rx = c_f[c, CF_RA] + rad * nx
     ry = c_f[c, CF_RA + 1] + rad * ny
     rz = c_f[c, CF_RA + 2] + rad * nz
-    wx, wy, wz = st[a, 10], st[a, 11], st[a, 12]
+    wx, wy, wz = st[a, SW], st[a, SW + 1], st[a, SW + 2]
     alx, aly, alz = _free_alpha(st, a, bflt)
-    acc = nx * st[a, 13] + ny * st[a, 14] + nz * st[a, 15]
+    acc = nx * st[a, SA] + ny * st[a, SA + 1] + nz * st[a, SA + 2]
     # n . (al x r)
     acc += nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz) + nz * (alx * ry - aly * rx)
     # n . (w x (w x r)) = (n.w)(w.r) - (n.r)|w|^2
@@ -594,7 +582,7 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
     npl = planes.shape[0]
     for p in range(npl):
         skip[p] = 0
-        if (bp_off[i, p] != 0 or (pm[i, 0] != PM_FLIGHT and pm[i, 1] == p)
+        if (bp_off[i, p] != 0 or (pm[i, M_MODE] != PM_FLIGHT and pm[i, M_PLANE] == p)
                 or (tz[i] < INF and zp[i] == p)):
             skip[p] = 1
     S = tolf[TF_T_END] - t_now
@@ -602,24 +590,26 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
     held = tz[i] < INF
     if held:
         zq = zp[i]
-        _held_into(st[i], bint[i, 0], planes[zq, 0], planes[zq, 1], planes[zq, 2], hrow)
+        _held_into(st[i], bint[i, B_KIND], planes[zq, 0], planes[zq, 1], planes[zq, 2], hrow)
         row = hrow
         ws[i, WS_MODE] = -1.0
-    s, p, k, code = body_planes_toi(row, bint[i, 3], bint[i, 4], bflt[i, 1], bflt[i, 2],
-                                    bflt[i, 3], ws[i], feats, bint[i, 1], bint[i, 2],
-                                    bflt[i, 4], planes, skip, t_now, S, tolf[TF_TOI_RTOL],
-                                    tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT],
-                                    tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pose)
+    s, p, k, code = body_planes_toi(row, bint[i, B_ROT], bint[i, B_AXIS], bflt[i, B_I1],
+                                    bflt[i, B_I1 + 1], bflt[i, B_I1 + 2], ws[i], feats, bint[i,
+                                    B_FIRST], bint[i, B_COUNT], bflt[i, B_RADIUS], planes,
+                                    skip, t_now, S, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                                    tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT], tolf[TF_ROT_TOL],
+                                    toli[TI_ROT_MAX_STEPS], pose)
     if held:
         ws[i, WS_MODE] = -1.0
     if code == TOI_MISSED:
-        _set_err(err, t_now + s, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], k, 0.0, 0.0)
+        _set_err(err, t_now + s, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], k, 0.0,
+                 0.0)
         return ERR_MISSED
     if code == TOI_NOT_CONVERGED:
-        _set_err(err, t_now, i, -1, st[i, 0], st[i, 1], st[i, 2], s, 0.0, 0.0)
+        _set_err(err, t_now, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], s, 0.0, 0.0)
         return ERR_TOI
     if code == TOI_ROT_FAILED:
-        _set_err(err, t_now + s, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        _set_err(err, t_now + s, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return ERR_ROT
     bt[i] = t_now + s
     bpl[i] = p
@@ -633,8 +623,8 @@ def _centre_motion(st, tref, i, t, tz, zp, planes):
     a pending accumulation jump its held motion (see ``_held_into``)."""
     s = t - tref[i]
     h = 0.5 * s * s
-    v0, v1, v2 = st[i, 7], st[i, 8], st[i, 9]
-    a0, a1, a2 = st[i, 13], st[i, 14], st[i, 15]
+    v0, v1, v2 = st[i, SV], st[i, SV + 1], st[i, SV + 2]
+    a0, a1, a2 = st[i, SA], st[i, SA + 1], st[i, SA + 2]
     if tz[i] < INF:
         p = zp[i]
         nx, ny, nz = planes[p, 0], planes[p, 1], planes[p, 2]
@@ -642,8 +632,8 @@ def _centre_motion(st, tref, i, t, tz, zp, planes):
         aN = nx * a0 + ny * a1 + nz * a2
         v0, v1, v2 = v0 - vN * nx, v1 - vN * ny, v2 - vN * nz
         a0, a1, a2 = a0 - aN * nx, a1 - aN * ny, a2 - aN * nz
-    return (st[i, 0] + v0 * s + a0 * h, st[i, 1] + v1 * s + a1 * h,
-            st[i, 2] + v2 * s + a2 * h, v0 + a0 * s, v1 + a1 * s, v2 + a2 * s, a0, a1, a2)
+    return (st[i, SX] + v0 * s + a0 * h, st[i, SX + 1] + v1 * s + a1 * h,
+            st[i, SX + 2] + v2 * s + a2 * h, v0 + a0 * s, v1 + a1 * s, v2 + a2 * s, a0, a1, a2)
 
 
 @njit(cache=True)
@@ -662,15 +652,15 @@ def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_of
     u0 = ua - ub
     u1 = va - vb
     u2 = wa - wb
-    R = bflt[a, 4] + bflt[b, 4]
+    R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
     s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, aa - ab, ba - bb, ca - cb, R, t_now,
                                 tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                 tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
     if code == TOI_MISSED:
-        _set_err(err, t_now, a, b, st[a, 0], st[a, 1], st[a, 2], 0.0, 0.0, 0.0)
+        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
         return ERR_MISSED
     if code == TOI_NOT_CONVERGED:
-        _set_err(err, t_now, a, b, st[a, 0], st[a, 1], st[a, 2], s, 0.0, 0.0)
+        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], s, 0.0, 0.0)
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
@@ -688,12 +678,12 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
         skip[p] = 1 if bp_off[i, p] != 0 else 0
     pivot_start(pw[i], st[i], pv[i], tolf[TF_CONTACT_TOL], toli[TI_ROT_MAX_STEPS])
     S = tolf[TF_T_END] - t_now
-    s, kind, idx, code = pivot_next_event(pw[i], pv[i], fw, feats, bint[i, 1], bint[i, 2],
-                                          planes, skip, S, t_now, tolf[TF_TOI_RTOL],
+    s, kind, idx, code = pivot_next_event(pw[i], pv[i], fw, feats, bint[i, B_FIRST], bint[i,
+                                          B_COUNT], planes, skip, S, t_now, tolf[TF_TOI_RTOL],
                                           tolf[TF_TOI_ATOL], ybuf, vals, vals0, vfl)
     if code != PI_OK:
-        _set_err(err, t_now + s, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2],
-                 code, 0.0, 0.0)
+        _set_err(err, t_now + s, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i,
+                 SX + 2], code, 0.0, 0.0)
         return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
     if kind == PE_NONE:
         ttr[i] = INF
@@ -707,8 +697,12 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
 @njit(cache=True)
 def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp, bt,
                     bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose, err, ttr, pk,
-                    pv, pw, fw, ybuf, vals, vals0, vfl, hrow):
-    if pm[i, 0] == PM_PIVOT:
+                    pv, pw, fw, ybuf, vals, vals0, vfl, hrow, pivot, pair):
+    """Every candidate event of body i (state at t_now): its planes (or its integrated
+    contact's events) and its pairs. ``pivot``, ``pair``: feature switches."""
+    if pm[i, M_MODE] == PM_PIVOT:
+        if pivot is None:
+            return _not_compiled(err, t_now, i, FEATURE_PIVOT)
         return _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
                                 pw, fw, tolf, toli, skip, ybuf, vals, vals0, vfl, err)
     rc = _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt,
@@ -717,6 +711,8 @@ def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz
         return rc
     for q in range(pairs.shape[0]):
         if pairs[q, 0] == i or pairs[q, 1] == i:
+            if pair is None:
+                return _not_compiled(err, t_now, i, FEATURE_PAIR)
             rc = _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t,
                                  pr_off, tolf, toli, err)
             if rc < 0:
@@ -728,8 +724,8 @@ def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz
 def _pv_arm(st, i, pv, k):
     """Arm (contact point minus centre of mass) of integrated contact k of body i."""
     po = CP_P1 + 3 * k
-    sx, sy, sz = qrot(st[i, 3], st[i, 4], st[i, 5], st[i, 6], pv[i, po], pv[i, po + 1],
-                      pv[i, po + 2])
+    sx, sy, sz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], pv[i, po], pv[i,
+                      po + 1], pv[i, po + 2])
     rad = pv[i, CP_RAD]
     return (sx - rad * pv[i, CP_N], sy - rad * pv[i, CP_N + 1], sz - rad * pv[i, CP_N + 2])
 
@@ -854,7 +850,7 @@ def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
     _pv_frame(c_f, cw, st, i, pv, k)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
     _iinv(st, i, bflt, Ii)
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     w00 = 1.0 / m
     w11 = 1.0 / m
     w22 = 1.0 / m
@@ -897,7 +893,7 @@ def _pv_zero_normals(st, i, bflt, pv, Ii):
     nx = pv[i, CP_N]
     ny = pv[i, CP_N + 1]
     nz = pv[i, CP_N + 2]
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     K = int(pv[i, CP_K])
     _iinv(st, i, bflt, Ii)
     ax, ay, az = _pv_arm(st, i, pv, 0)
@@ -987,8 +983,8 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
             return 1
         rc = pivot_forces(st[i], pv[i], fw)
         if rc != PV_OK:
-            _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2], rc,
-                     pv[i, CP_MU], K)
+            _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i, SX +
+                     2], rc, pv[i, CP_MU], K)
             return ERR_PAINLEVE
         kneg = -1
         lmin = -farm
@@ -1016,13 +1012,13 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
                 continue
             if not moved:
                 # sticking is outside the cone and no slip direction is consistent
-                _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1],
-                         st[i, 2], 3.0, pv[i, CP_MU], K)
+                _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1],
+                         st[i, SX + 2], 3.0, pv[i, CP_MU], K)
                 return ERR_PAINLEVE
             continue
         return 0
-    _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, 0], st[i, 1], st[i, 2], 3.0,
-             pv[i, CP_MU], pv[i, CP_K])
+    _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i, SX + 2],
+             3.0, pv[i, CP_MU], pv[i, CP_K])
     return ERR_PAINLEVE
 
 
@@ -1033,7 +1029,7 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     their (tiny) normal velocities with normal impulses, choose stick or slip, and enter
     integrated contact (event "pivot"). Returns 0, 1 (no contact can persist) or an
     error."""
-    pv[i, CP_M] = bflt[i, 0]
+    pv[i, CP_M] = bflt[i, B_MASS]
     for j in range(3):
         pv[i, CP_I + j] = bflt[i, 1 + j]
         pv[i, CP_G + j] = grav[j]
@@ -1045,17 +1041,18 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     pv[i, CP_D] = planes[p, 3]
     pv[i, CP_MU] = law_par[bp_law[i, p], P_MU]
     pv[i, CP_K] = K
-    pv[i, CP_RAD] = bflt[i, 4]
+    pv[i, CP_RAD] = bflt[i, B_RADIUS]
     pv[i, CP_EPS] = tolf[TF_SLIP_EPS]
     pv[i, CP_PLANE] = p
     pv[i, CP_F1] = kf1
     pv[i, CP_F2] = kf2 if K == 2 else -1
-    pv[i, CP_L] = math.sqrt(bflt[i, 5] ** 2 + bflt[i, 6] ** 2 + bflt[i, 7] ** 2) + bflt[i, 4]
+    pv[i, CP_L] = math.sqrt(bflt[i, B_HALF] ** 2 + bflt[i, B_HALF + 1] ** 2 + bflt[i, B_HALF +
+                            2] ** 2) + bflt[i, B_RADIUS]
     e0 = _energy(st, bflt, grav, i)
-    m = bflt[i, 0]
-    vx0 = st[i, 7]
-    vy0 = st[i, 8]
-    vz0 = st[i, 9]
+    m = bflt[i, B_MASS]
+    vx0 = st[i, SV]
+    vy0 = st[i, SV + 1]
+    vz0 = st[i, SV + 2]
     _pv_frame(c_f, cw, st, i, pv, 0)
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
     # normal velocities to zero: W_NN (K x K) dP = -v_N
@@ -1075,17 +1072,17 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if rc != 0:
         return rc
-    pm[i, 0] = PM_PIVOT
-    pm[i, 1] = p
+    pm[i, M_MODE] = PM_PIVOT
+    pm[i, M_PLANE] = p
     ttr[i] = INF
     tz[i] = INF
     for j in range(6):
-        st[i, 13 + j] = 0.0
+        st[i, SA + j] = 0.0
     _pv_frame(c_f, cw, st, i, pv, 0)
     vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
-    dvx = m * (st[i, 7] - vx0)
-    dvy = m * (st[i, 8] - vy0)
-    dvz = m * (st[i, 9] - vz0)
+    dvx = m * (st[i, SV] - vx0)
+    dvy = m * (st[i, SV + 1] - vy0)
+    dvz = m * (st[i, SV + 2] - vz0)
     P0 = dvx * c_f[cw, CF_N] + dvy * c_f[cw, CF_N + 1] + dvz * c_f[cw, CF_N + 2]
     P1 = dvx * c_f[cw, CF_T1] + dvy * c_f[cw, CF_T1 + 1] + dvz * c_f[cw, CF_T1 + 2]
     P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
@@ -1099,10 +1096,10 @@ def _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, k)
     """The last integrated contact (k) lifts off: free flight (event "release")."""
     _pv_frame(c_f, cw, st, i, pv, k)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-    pm[i, 0] = PM_FLIGHT
+    pm[i, M_MODE] = PM_FLIGHT
     for j in range(3):
-        st[i, 13 + j] = grav[j]
-        st[i, 16 + j] = 0.0
+        st[i, SA + j] = grav[j]
+        st[i, SAL + j] = 0.0
     ttr[i] = INF
     _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - int(pv[i, CP_PLANE]), 0, 0, c_f, cw,
          v0, v1, v2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
@@ -1115,7 +1112,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv
     recompute is False when the event is an impact left to the impact step."""
     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
     if rc < 0:
-        _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return rc, False
     kind = pk[i, 0]
     idx = pk[i, 1]
@@ -1139,7 +1136,8 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv
     elif kind == PE_SLIP:
         rc = pivot_forces(st[i], pv[i], fw)
         if rc != PV_OK:
-            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], rc, pv[i, CP_MU], K)
+            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], rc, pv[i,
+                     CP_MU], K)
             return ERR_PAINLEVE, False
         two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
         for k in range(K):
@@ -1174,11 +1172,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, second feature row,
     several planes?)."""
-    f0 = bint[i, 1]
-    nf = bint[i, 2]
-    rad = bflt[i, 4]
-    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
-    wx, wy, wz = st[i, 10], st[i, 11], st[i, 12]
+    f0 = bint[i, B_FIRST]
+    nf = bint[i, B_COUNT]
+    rad = bflt[i, B_RADIUS]
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
     alx, aly, alz = _free_alpha(st, i, bflt)
     bp = -1
     cnt = 0
@@ -1196,13 +1194,13 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
         for k in range(nf):
             rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
                               feats[f0 + k, 2])
-            g = (nx * (st[i, 0] + rx) + ny * (st[i, 1] + ry) + nz * (st[i, 2] + rz)
+            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
                  - planes[p, 3] - rad)
             if g > tolf[TF_GAP_TOL]:
                 continue
             ux, uy, uz = _point_vel(st, i, rx, ry, rz)
             vn = nx * ux + ny * uy + nz * uz
-            acc = nx * st[i, 13] + ny * st[i, 14] + nz * st[i, 15]
+            acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
             acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
                     + nz * (alx * ry - aly * rx))
             acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
@@ -1230,16 +1228,16 @@ def _rest_face(i, p, st, bint, bflt, planes):
     with ``u`` the world direction that must become ``-n`` at rest (box: outward normal
     of the face most aligned with -n, face = 2 axis + (0 if +axis else 1); capsule: its
     axis projected... returned as the axis itself, face -1; sphere: face -1)."""
-    kind = bint[i, 0]
+    kind = bint[i, B_KIND]
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
     if kind == SH_SPHERE:
-        return -1, bflt[i, 4], -nx, -ny, -nz
-    q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+        return -1, bflt[i, B_RADIUS], -nx, -ny, -nz
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
     if kind == SH_CAPSULE:
         ax, ay, az = qrot(q0, q1, q2, q3, 0.0, 0.0, 1.0)
-        return -1, bflt[i, 4], ax, ay, az
+        return -1, bflt[i, B_RADIUS], ax, ay, az
     bx, by, bz = qrot_inv(q0, q1, q2, q3, nx, ny, nz)
     k = 0
     nb = bx
@@ -1266,12 +1264,12 @@ def _excess(i, p, st, bint, bflt, planes, grav, hrest):
     ny = planes[p, 1]
     nz = planes[p, 2]
     g = -(nx * grav[0] + ny * grav[1] + nz * grav[2])
-    m = bflt[i, 0]
-    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
-    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
-    v2 = st[i, 7] ** 2 + st[i, 8] ** 2 + st[i, 9] ** 2
+    m = bflt[i, B_MASS]
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
+    hc = nx * st[i, SX] + ny * st[i, SX + 1] + nz * st[i, SX + 2] - planes[p, 3]
+    v2 = st[i, SV] ** 2 + st[i, SV + 1] ** 2 + st[i, SV + 2] ** 2
     erot = _rot_energy(st, i, bflt)
-    if bint[i, 0] == SH_SPHERE:
+    if bint[i, B_KIND] == SH_SPHERE:
         return 0.5 * m * vN * vN + m * g * max(hc - hrest, 0.0), 0.5 * m * v2 + erot
     return (0.5 * m * vN * vN + erot + m * g * (hc - hrest),
             0.5 * m * v2 + erot + m * g * (hc - hrest))
@@ -1284,20 +1282,20 @@ def _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hrest, eex):
     energy): ``E_ex >= -m |g_n| SNAP_RTOL h_rest``; and, for a box, if the vertical through
     the centre of mass meets that face now (else the body would fall over its edge)."""
     g = -(planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2])
-    if not eex >= -bflt[i, 0] * g * SNAP_RTOL * hrest:
+    if not eex >= -bflt[i, B_MASS] * g * SNAP_RTOL * hrest:
         return False
-    if bint[i, 0] != SH_BOX:
+    if bint[i, B_KIND] != SH_BOX:
         return True
-    bx, by, bz = qrot_inv(st[i, 3], st[i, 4], st[i, 5], st[i, 6], -planes[p, 0],
-                          -planes[p, 1], -planes[p, 2])
+    bx, by, bz = qrot_inv(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], -planes[p,
+                          0], -planes[p, 1], -planes[p, 2])
     k = face // 2
     nk = abs(bx if k == 0 else (by if k == 1 else bz))
     lam = bflt[i, 5 + k] / nk          # the ray from the centre along -n meets the face
-    if k != 0 and abs(lam * bx) > bflt[i, 5] * (1.0 + FACE_RTOL):
+    if k != 0 and abs(lam * bx) > bflt[i, B_HALF] * (1.0 + FACE_RTOL):
         return False
-    if k != 1 and abs(lam * by) > bflt[i, 6] * (1.0 + FACE_RTOL):
+    if k != 1 and abs(lam * by) > bflt[i, B_HALF + 1] * (1.0 + FACE_RTOL):
         return False
-    if k != 2 and abs(lam * bz) > bflt[i, 7] * (1.0 + FACE_RTOL):
+    if k != 2 and abs(lam * bz) > bflt[i, B_HALF + 2] * (1.0 + FACE_RTOL):
         return False
     return True
 
@@ -1309,7 +1307,7 @@ def _snap(i, p, st, bint, bflt, planes, hrest, ux, uy, uz):
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
-    kind = bint[i, 0]
+    kind = bint[i, B_KIND]
     if kind != SH_SPHERE:
         if kind == SH_BOX:
             tx, ty, tz = -nx, -ny, -nz
@@ -1326,16 +1324,17 @@ def _snap(i, p, st, bint, bflt, planes, hrest, ux, uy, uz):
         c = ux * tx + uy * ty + uz * tz
         r0, r1, r2, r3 = qnormalize(1.0 + c, uy * tz - uz * ty, uz * tx - ux * tz,
                                     ux * ty - uy * tx)
-        a0, a1, a2, a3 = qmul(r0, r1, r2, r3, st[i, 3], st[i, 4], st[i, 5], st[i, 6])
+        a0, a1, a2, a3 = qmul(r0, r1, r2, r3, st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ
+                              + 3])
         a0, a1, a2, a3 = qnormalize(a0, a1, a2, a3)
-        st[i, 3] = a0
-        st[i, 4] = a1
-        st[i, 5] = a2
-        st[i, 6] = a3
-    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
-    st[i, 0] += (hrest - hc) * nx
-    st[i, 1] += (hrest - hc) * ny
-    st[i, 2] += (hrest - hc) * nz
+        st[i, SQ] = a0
+        st[i, SQ + 1] = a1
+        st[i, SQ + 2] = a2
+        st[i, SQ + 3] = a3
+    hc = nx * st[i, SX] + ny * st[i, SX + 1] + nz * st[i, SX + 2] - planes[p, 3]
+    st[i, SX] += (hrest - hc) * nx
+    st[i, SX + 1] += (hrest - hc) * ny
+    st[i, SX + 2] += (hrest - hc) * nz
 
 
 @njit(cache=True)
@@ -1355,41 +1354,41 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
     ttr[i] = INF
     if not gn < 0.0:
         return 1
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     mu = law_par[bp_law[i, p], P_MU]
     N = -m * gn
-    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
-    vtx = st[i, 7] - vN * nx
-    vty = st[i, 8] - vN * ny
-    vtz = st[i, 9] - vN * nz
-    kind = bint[i, 0]
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
+    vtx = st[i, SV] - vN * nx
+    vty = st[i, SV + 1] - vN * ny
+    vtz = st[i, SV + 2] - vN * nz
+    kind = bint[i, B_KIND]
     for j in range(3):
-        st[i, 16 + j] = 0.0
+        st[i, SAL + j] = 0.0
     mode = PM_REST
     if kind == SH_SPHERE:
-        if bint[i, 3] != ROT_SPHERICAL:
-            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 1.0, 0.0, 0.0)
+        if bint[i, B_ROT] != ROT_SPHERICAL:
+            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 1.0, 0.0, 0.0)
             return ERR_UNSUPPORTED
-        r = bflt[i, 4]
-        inertia = bflt[i, 1]
+        r = bflt[i, B_RADIUS]
+        inertia = bflt[i, B_I1]
         kinv = 1.0 / m + r * r / inertia
         # slip of the contact point: v_T + w x (-r n)
-        cx = vtx - r * (st[i, 11] * nz - st[i, 12] * ny)
-        cy = vty - r * (st[i, 12] * nx - st[i, 10] * nz)
-        cz = vtz - r * (st[i, 10] * ny - st[i, 11] * nx)
+        cx = vtx - r * (st[i, SW + 1] * nz - st[i, SW + 2] * ny)
+        cy = vty - r * (st[i, SW + 2] * nx - st[i, SW] * nz)
+        cz = vtz - r * (st[i, SW] * ny - st[i, SW + 1] * nx)
         c = math.sqrt(cx * cx + cy * cy + cz * cz)
         fx = 0.0
         fy = 0.0
         fz = 0.0
         vsc = math.sqrt(vtx * vtx + vty * vty + vtz * vtz) + r * math.sqrt(
-            st[i, 10] ** 2 + st[i, 11] ** 2 + st[i, 12] ** 2)
+            st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2)
         if c <= ROLL_RTOL * vsc:
             # rolling needs F = -m g_t / (m kinv)
             fx = -gtx / kinv
             fy = -gty / kinv
             fz = -gtz / kinv
             if gt / kinv <= mu * N:
-                w2 = st[i, 10] ** 2 + st[i, 11] ** 2 + st[i, 12] ** 2
+                w2 = st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2
                 v2 = vtx * vtx + vty * vty + vtz * vtz
                 mode = PM_REST if (gt == 0.0 and v2 == 0.0 and w2 == 0.0) else PM_ROLL
             else:
@@ -1407,7 +1406,8 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
                 sy = ez * gtx - ex * gtz
                 sz = ex * gty - ey * gtx
                 if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], c, gt, mu)
+                    _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], c, gt,
+                             mu)
                     return ERR_SLIDE_CURVE
             fx = -mu * N * ex
             fy = -mu * N * ey
@@ -1416,13 +1416,13 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N * kinv
             if k < 0.0:
                 ttr[i] = t + c / (-k)
-        st[i, 13] = gtx + fx / m
-        st[i, 14] = gty + fy / m
-        st[i, 15] = gtz + fz / m
+        st[i, SA] = gtx + fx / m
+        st[i, SA + 1] = gty + fy / m
+        st[i, SA + 2] = gtz + fz / m
         # torque (-r n) x F
-        st[i, 16] = -r * (ny * fz - nz * fy) / inertia
-        st[i, 17] = -r * (nz * fx - nx * fz) / inertia
-        st[i, 18] = -r * (nx * fy - ny * fx) / inertia
+        st[i, SAL] = -r * (ny * fz - nz * fy) / inertia
+        st[i, SAL + 1] = -r * (nz * fx - nx * fz) / inertia
+        st[i, SAL + 2] = -r * (nx * fy - ny * fx) / inertia
     else:
         vt = math.sqrt(vtx * vtx + vty * vty + vtz * vtz)
         fx = 0.0
@@ -1431,9 +1431,9 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
         if mu > 0.0 and vt > 0.0 and gt <= mu * (-gn) and vt * vt <= _vz2(tolf, -gn):
             # a slip slower than the accumulation speed with friction that holds the body:
             # it sticks (its energy, below m zeno_speed^2 / 2, is dissipated; as in 2D)
-            st[i, 7] -= vtx
-            st[i, 8] -= vty
-            st[i, 9] -= vtz
+            st[i, SV] -= vtx
+            st[i, SV + 1] -= vty
+            st[i, SV + 2] -= vtz
             vt = 0.0
         if vt == 0.0:
             if gt <= mu * (-gn):
@@ -1455,7 +1455,8 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
                 sy = ez * gtx - ex * gtz
                 sz = ex * gty - ey * gtx
                 if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], vt, gt, mu)
+                    _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], vt,
+                             gt, mu)
                     return ERR_SLIDE_CURVE
             fx = -mu * N * ex
             fy = -mu * N * ey
@@ -1465,44 +1466,44 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             if k < 0.0:
                 ttr[i] = t + vt / (-k)
         if mode == PM_REST:
-            st[i, 13] = 0.0
-            st[i, 14] = 0.0
-            st[i, 15] = 0.0
+            st[i, SA] = 0.0
+            st[i, SA + 1] = 0.0
+            st[i, SA + 2] = 0.0
         else:
-            st[i, 13] = gtx + fx / m
-            st[i, 14] = gty + fy / m
-            st[i, 15] = gtz + fz / m
+            st[i, SA] = gtx + fx / m
+            st[i, SA + 1] = gty + fy / m
+            st[i, SA + 2] = gtz + fz / m
         # the face must hold the friction moment: pressure centre offset d = -h F / N
         # (from the centre of mass's foot) inside the face (box) or on the contact
         # segment (capsule)
-        h = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+        h = nx * st[i, SX] + ny * st[i, SX + 1] + nz * st[i, SX + 2] - planes[p, 3]
         dx = -h * fx / N
         dy = -h * fy / N
         dz = -h * fz / N
-        q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
+        q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
         bx, by, bz = qrot_inv(q0, q1, q2, q3, dx, dy, dz)
         if kind == SH_BOX:
-            k = pm[i, 2] // 2
+            k = pm[i, M_FEAT] // 2
             ok = True
-            if k != 0 and abs(bx) > bflt[i, 5] * (1.0 + FACE_RTOL):
+            if k != 0 and abs(bx) > bflt[i, B_HALF] * (1.0 + FACE_RTOL):
                 ok = False
-            if k != 1 and abs(by) > bflt[i, 6] * (1.0 + FACE_RTOL):
+            if k != 1 and abs(by) > bflt[i, B_HALF + 1] * (1.0 + FACE_RTOL):
                 ok = False
-            if k != 2 and abs(bz) > bflt[i, 7] * (1.0 + FACE_RTOL):
+            if k != 2 and abs(bz) > bflt[i, B_HALF + 2] * (1.0 + FACE_RTOL):
                 ok = False
             if not ok:
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2],
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2],
                          math.sqrt(fx * fx + fy * fy + fz * fz), N, h)
                 return ERR_TIPPING
         else:
             dd = math.sqrt(dx * dx + dy * dy + dz * dz)
-            if (math.sqrt(bx * bx + by * by) > FACE_RTOL * (dd + bflt[i, 4])
-                    or abs(bz) > bflt[i, 7] * (1.0 + FACE_RTOL)):
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2],
+            if (math.sqrt(bx * bx + by * by) > FACE_RTOL * (dd + bflt[i, B_RADIUS])
+                    or abs(bz) > bflt[i, B_HALF + 2] * (1.0 + FACE_RTOL)):
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2],
                          math.sqrt(fx * fx + fy * fy + fz * fz), N, 2.0)
                 return ERR_UNSUPPORTED
-    pm[i, 0] = mode
-    pm[i, 1] = p
+    pm[i, M_MODE] = mode
+    pm[i, M_PLANE] = p
     return 0
 
 
@@ -1512,7 +1513,7 @@ def _foot(c_f, c, st, i, planes, p):
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
-    hc = nx * st[i, 0] + ny * st[i, 1] + nz * st[i, 2] - planes[p, 3]
+    hc = nx * st[i, SX] + ny * st[i, SX + 1] + nz * st[i, SX + 2] - planes[p, 3]
     _frame(c_f, c, nx, ny, nz)
     for j in range(3):
         c_f[c, CF_P + j] = st[i, j] - hc * planes[p, j]
@@ -1522,12 +1523,12 @@ def _foot(c_f, c, st, i, planes, p):
 
 @njit(cache=True)
 def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw):
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     _foot(c_f, cw, st, i, planes, p)
-    pm[i, 0] = PM_FLIGHT
+    pm[i, M_MODE] = PM_FLIGHT
     for j in range(3):
-        st[i, 13 + j] = grav[j]
-        st[i, 16 + j] = 0.0
+        st[i, SA + j] = grav[j]
+        st[i, SAL + j] = 0.0
     ttr[i] = INF
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, c_f, cw, v0, v1, v2, v0, v1,
@@ -1555,37 +1556,38 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
-    m = bflt[i, 0]
+    m = bflt[i, B_MASS]
     e0 = _energy(st, bflt, grav, i)
     _foot(c_f, cw, st, i, planes, p)
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
-    v0x = st[i, 7]
-    v0y = st[i, 8]
-    v0z = st[i, 9]
+    v0x = st[i, SV]
+    v0y = st[i, SV + 1]
+    v0z = st[i, SV + 2]
     _snap(i, p, st, bint, bflt, planes, hr, ux, uy, uz)
-    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
     for j in range(3):
-        st[i, 7 + j] -= vN * planes[p, j]
-        if bint[i, 0] != SH_SPHERE:
-            st[i, 10 + j] = 0.0
-    pm[i, 2] = face
-    slip = st[i, 7] * st[i, 7] + st[i, 8] * st[i, 8] + st[i, 9] * st[i, 9]
+        st[i, SV + j] -= vN * planes[p, j]
+        if bint[i, B_KIND] != SH_SPHERE:
+            st[i, SW + j] = 0.0
+    pm[i, M_FEAT] = face
+    slip = (st[i, SV] * st[i, SV] + st[i, SV + 1] * st[i, SV + 1]
+            + st[i, SV + 2] * st[i, SV + 2])
     rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                         tolf, err)
     if rc != 0:
         return rc
     _foot(c_f, cw, st, i, planes, p)
     vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
-    dvx = m * (st[i, 7] - v0x)
-    dvy = m * (st[i, 8] - v0y)
-    dvz = m * (st[i, 9] - v0z)
+    dvx = m * (st[i, SV] - v0x)
+    dvy = m * (st[i, SV + 1] - v0y)
+    dvz = m * (st[i, SV + 2] - v0z)
     P0 = dvx * c_f[cw, CF_N] + dvy * c_f[cw, CF_N + 1] + dvz * c_f[cw, CF_N + 2]
     P1 = dvx * c_f[cw, CF_T1] + dvy * c_f[cw, CF_T1 + 1] + dvz * c_f[cw, CF_T1 + 2]
     P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
     _log(ev_t, ev_i, ev_f, cnt, t, EV_CAPTURE if capture else EV_CONTACT, i, -1 - p,
-         pm[i, 0], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
+         pm[i, M_MODE], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
          _energy(st, bflt, grav, i) - e0)
-    if pm[i, 0] == PM_REST and slip > 0.0:
+    if pm[i, M_MODE] == PM_REST and slip > 0.0:
         # its slow slip stuck at once (_persist_setup): it has come to rest
         _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, c_f, cw, vf0, vf1,
              vf2, vf0, vf1, vf2, 0.0, 0.0, 0.0, 0.0)
@@ -1594,11 +1596,11 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
 
 @njit(cache=True)
 def _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2):
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     _foot(c_f, cw, st, i, planes, p)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-    _log(ev_t, ev_i, ev_f, cnt, t, pm[i, 0] + 1, i, -1 - p, pm[i, 0], 0, c_f, cw, vi0, vi1,
-         vi2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
+    _log(ev_t, ev_i, ev_f, cnt, t, pm[i, M_MODE] + 1, i, -1 - p, pm[i, M_MODE], 0, c_f, cw,
+         vi0, vi1, vi2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -1607,29 +1609,29 @@ def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, t
     """Slip of a persistent contact stops at t: roll, rest or slide on."""
     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
     if rc < 0:
-        _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return rc
     ttr[i] = INF
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     _foot(c_f, cw, st, i, planes, p)
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
-    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
-    if bint[i, 0] == SH_SPHERE:
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
+    if bint[i, B_KIND] == SH_SPHERE:
         # contact point exactly at rest: w = (w.n) n + n x v_T / r
-        r = bflt[i, 4]
-        vtx = st[i, 7] - vN * nx
-        vty = st[i, 8] - vN * ny
-        vtz = st[i, 9] - vN * nz
-        wn = st[i, 10] * nx + st[i, 11] * ny + st[i, 12] * nz
-        st[i, 10] = wn * nx + (ny * vtz - nz * vty) / r
-        st[i, 11] = wn * ny + (nz * vtx - nx * vtz) / r
-        st[i, 12] = wn * nz + (nx * vty - ny * vtx) / r
+        r = bflt[i, B_RADIUS]
+        vtx = st[i, SV] - vN * nx
+        vty = st[i, SV + 1] - vN * ny
+        vtz = st[i, SV + 2] - vN * nz
+        wn = st[i, SW] * nx + st[i, SW + 1] * ny + st[i, SW + 2] * nz
+        st[i, SW] = wn * nx + (ny * vtz - nz * vty) / r
+        st[i, SW + 1] = wn * ny + (nz * vtx - nx * vtz) / r
+        st[i, SW + 2] = wn * nz + (nx * vty - ny * vtx) / r
     else:
         for j in range(3):
-            st[i, 7 + j] = 0.0
+            st[i, SV + j] = 0.0
     rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                         tolf, err)
     if rc < 0:
@@ -1644,30 +1646,30 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
     """A body in persistent contact received an impulse: keep the contact (zeroing the
     normal velocity and, not for a sphere, the rotation) when that motion carries less
     energy than the accumulation threshold, else release it to free flight."""
-    p = pm[i, 1]
+    p = pm[i, M_PLANE]
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
     gn = nx * grav[0] + ny * grav[1] + nz * grav[2]
-    m = bflt[i, 0]
-    vN = nx * st[i, 7] + ny * st[i, 8] + nz * st[i, 9]
+    m = bflt[i, B_MASS]
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
     ex = 0.5 * m * vN * vN
-    if bint[i, 0] != SH_SPHERE:
+    if bint[i, B_KIND] != SH_SPHERE:
         ex += _rot_energy(st, i, bflt)
     if gn < 0.0 and ex <= 0.5 * m * _vz2(tolf, -gn):
         _foot(c_f, cw, st, i, planes, p)
         vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
         for j in range(3):
-            st[i, 7 + j] -= vN * planes[p, j]
-            if bint[i, 0] != SH_SPHERE:
-                st[i, 10 + j] = 0.0
-        old = pm[i, 0]
+            st[i, SV + j] -= vN * planes[p, j]
+            if bint[i, B_KIND] != SH_SPHERE:
+                st[i, SW + j] = 0.0
+        old = pm[i, M_MODE]
         rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                             tolf, err)
         if rc < 0:
             return rc
         if rc == 0:
-            if pm[i, 0] != old:
+            if pm[i, M_MODE] != old:
                 _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1,
                           vi2)
             return 0
@@ -1678,17 +1680,18 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
 # ------------------------------------------------------------------ impact resolution
 
 
-@njit(cache=True)
-def _single(c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii, ev_t, ev_i,
-            ev_f, cnt, err):
-    """Resolve contact c with its pair law at its current velocity. Returns (rc, v_fN)."""
+@njit(cache=True, inline="always")
+def _single(law, c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii, ev_t,
+            ev_i, ev_f, cnt, err):
+    """Resolve contact c with its pair law at its current velocity (``law``: the scene's one
+    law, a compile-time constant of ``loop_for``, or ``LAW_ANY``). Returns (rc, v_fN)."""
     vi0, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
     v3[0] = vi0
     v3[1] = vi1
     v3[2] = vi2
     _contact_W(st, bflt, c_i, c_f, c, W3, Ii)
     li = c_i[c, CI_LAW]
-    mode = resolve_3d(law_ids[li], v3, W3, law_par[li], P3)
+    mode = resolve_3d_as(law, law_ids[li], v3, W3, law_par[li], P3)
     if mode < 0:
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
                  c_f[c, CF_P + 2], mode, vi0, c_i[c, CI_LAW])
@@ -1853,9 +1856,9 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf,
     return 0
 
 
-@njit(cache=True)
-def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii, tolf,
-                toli, ev_t, ev_i, ev_f, cnt, err):
+@njit(cache=True, inline="always")
+def _sequential(law, members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii,
+                tolf, toli, ev_t, ev_i, ev_f, cnt, err):
     """Sequential policy: repeatedly resolve, with its pair law, the contact that approaches
     fastest (ties: lowest contact index), until none approaches faster than seq_vtol."""
     vtol = tolf[TF_SEQ_VTOL]
@@ -1872,8 +1875,8 @@ def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
                 best = c
         if best < 0:
             return 0
-        rc, vfN = _single(best, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3, Ii,
-                          ev_t, ev_i, ev_f, cnt, err)
+        rc, vfN = _single(law, best, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
+                          Ii, ev_t, ev_i, ev_f, cnt, err)
         if rc < 0:
             return rc
         if perforates(law_par[c_i[best, CI_LAW]], vfN):
@@ -1891,9 +1894,9 @@ def _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
 def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
              st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
              pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f, skip, pose, fw, ybuf,
-             vals, vals0, vfl, err):
+             vals, vals0, vfl, err, pair):
     """Start a run at glob[0]: settle bodies that start resting on a plane, log the first
-    trajectory segments and compute every candidate event."""
+    trajectory segments and compute every candidate event (``pair``: feature switch)."""
     nb = st.shape[0]
     t = glob[0]
     cw = MAXC - 1
@@ -1902,25 +1905,25 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
         tref[i] = t
         ws[i, WS_MODE] = -1.0
         for j in range(3):
-            st[i, 13 + j] = grav[j]
-            st[i, 16 + j] = 0.0
+            st[i, SA + j] = grav[j]
+            st[i, SAL + j] = 0.0
         if not _finite(st, i):
-            _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+            _set_err(err, t, i, 0, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
     for i in range(nb):
         for p in range(planes.shape[0]):
-            if pm[i, 0] != PM_FLIGHT:
+            if pm[i, M_MODE] != PM_FLIGHT:
                 break
             gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
             if not gn < 0.0:
                 continue
             face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
-            hc = (planes[p, 0] * st[i, 0] + planes[p, 1] * st[i, 1] + planes[p, 2] * st[i, 2]
-                  - planes[p, 3])
+            hc = (planes[p, 0] * st[i, SX] + planes[p, 1] * st[i, SX + 1] + planes[p, 2] *
+                  st[i, SX + 2] - planes[p, 3])
             if hc - hr > tolf[TF_GAP_TOL]:
                 continue
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
-            if (eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+            if (eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
                     and _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex)):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
@@ -1934,6 +1937,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
         if rc < 0:
             return rc
     for q in range(pairs.shape[0]):
+        if pair is None:
+            return _not_compiled(err, t, pairs[q, 0], FEATURE_PAIR)
         rc = _recompute_pair(q, t, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_off, tolf,
                              toli, err)
         if rc < 0:
@@ -1944,7 +1949,7 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
 @njit(cache=True)
 def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
                   tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
-                  Ii, err):
+                  Ii, err, pivot):
     """Body i (in flight) took part in the impacts at t: schedule an accumulation point,
     enter integrated point/edge contact, snap onto a face, or leave it in flight."""
     cw = MAXC - 1
@@ -1960,7 +1965,7 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             continue
         face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
         eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
-        if not eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn):
+        if not eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn):
             continue
         if not _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex):
             continue
@@ -1968,9 +1973,11 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             if c_i[d, CI_TYPE] == 0 and c_i[d, CI_A] == i and c_i[d, CI_B] != p:
                 # touching a second plane at this instant: settling on p alone would ignore
                 # it (a ball in a groove was snapped into the other plane, creating energy)
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 3.0, 0.0, 0.0)
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
+                         0.0)
                 return ERR_UNSUPPORTED
-        after = planes[p, 0] * st[i, 7] + planes[p, 1] * st[i, 8] + planes[p, 2] * st[i, 9]
+        after = (planes[p, 0] * st[i, SV] + planes[p, 1] * st[i, SV + 1]
+                 + planes[p, 2] * st[i, SV + 2])
         before = c_f[c, CF_VCMN]
         dt = 0.0
         if after > 0.0:
@@ -1983,29 +1990,33 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         zp[i] = p
         return 0
     # impacts accumulating at one or two features (a corner, an edge, a cap; or a face)
-    if bint[i, 0] != SH_SPHERE:
+    if bint[i, B_KIND] != SH_SPHERE:
         p, K, k1, k2, multi = _persist_candidates(i, st, bint, bflt, feats, planes, grav,
                                                   bp_off, tolf)
         if multi:
-            _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 3.0, 0.0, 0.0)
+            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0, 0.0)
             return ERR_UNSUPPORTED
-        if K >= 3 or (K == 2 and bint[i, 0] == SH_CAPSULE):
+        if K >= 3 or (K == 2 and bint[i, B_KIND] == SH_CAPSULE):
             gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
             face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
-            small = eex < 0.5 * bflt[i, 0] * _vz2(tolf, -gn)
+            small = eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
             if small or (K >= 3 and capture_on):
                 return _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                                not small, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
             if K >= 3:
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                         0.0)
                 return ERR_CHATTER
         if K >= 1:
+            if pivot is None:
+                return _not_compiled(err, t, i, FEATURE_PIVOT)
             rc = _pivot_enter(i, p, k1, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
-                              bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
-                              Ii, err)
+                              bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                              cw, Ii, err)
             if rc == 1:
-                _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                         0.0)
                 return ERR_CHATTER
             return rc
     # sphere pairs (and anything else) accumulating: not supported
@@ -2023,318 +2034,361 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
     return 0
 
 
+def scene_features(bint, n_planes, n_pairs):
+    """The feature switches ``(pivot, pair, joint)`` of a scene (True, or None when the
+    scene cannot reach that mode; ``codes.FEATURES``): a box or a capsule can be held on a
+    point or an edge (pivot3d) and touch with several points at once; sphere pairs; several
+    contacts at one instant (joint solve) with boxes, capsules, two planes or pairs."""
+    kinds = {int(k) for k in bint[:, 0]}
+    pivot = SH_BOX in kinds or SH_CAPSULE in kinds
+    pair = n_pairs > 0
+    joint = pivot or pair or n_planes >= 2
+    return tuple(True if on else None for on in (pivot, pair, joint))
+
+
 @njit(cache=True)
-def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
-             st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
-             pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
-             bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl, err):
-    """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the contract."""
-    nb = st.shape[0]
-    npl = planes.shape[0]
-    npr = pairs.shape[0]
-    t_end = tolf[TF_T_END]
-    max_events = toli[TI_MAX_EVENTS]
-    margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
-    margin_s = evbuf.segment_margin(MAXC, nb)
-    cap_e = ev_t.shape[0]
-    cap_s = seg_t.shape[0]
-    policy = toli[TI_POLICY]
-    capture_on = toli[TI_CAPTURE] != 0
-    no_capture = tolf[TF_T_END] < -INF     # False, typed at run time (no literal copy)
-    cw = MAXC - 1   # scratch row of c_f for persistent-contact events
-    while True:
-        t_now = glob[0]
-        tmin = INF
-        for i in range(nb):
-            if tz[i] < tmin:
-                tmin = tz[i]
-            if ttr[i] < tmin:
-                tmin = ttr[i]
-            if bt[i] < tmin:
-                tmin = bt[i]
-        for q in range(npr):
-            if pr_t[q] < tmin:
-                tmin = pr_t[q]
-        if tmin > t_end:
-            glob[0] = t_end
-            return RC_DONE
-        if cnt[0] >= max_events:
-            return RC_MAX_EVENTS
-        if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
-            return RC_BUFFER_FULL
-        if tmin <= t_now:
-            tmin = t_now
-            cnt[2] += 1
-            if cnt[2] > toli[TI_STALL]:
-                _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[2], 0.0, 0.0)
-                return ERR_STALL
-        else:
-            cnt[2] = 0
-        t = tmin
-        glob[0] = t
+def _not_compiled(err, t, i, feature):
+    """A handler of ``feature`` reached in a loop compiled without it (``scene_features``
+    is wrong: a bug, reported, never skipped)."""
+    _set_err(err, t, i, 0, float(feature), 0.0, 0.0, 0.0, 0.0, 0.0)
+    return ERR_NOT_COMPILED
 
-        # ---- scheduled switches: accumulation points, end of slip, integrated contacts
-        did = False
-        for i in range(nb):
-            recompute = True
-            if tz[i] <= t:
-                p = zp[i]
-                tz[i] = INF
-                rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
-                if rc < 0:
-                    _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
-                    return rc
-                rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                             no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
-                if rc < 0:
-                    return rc
-            elif ttr[i] <= t and pm[i, 0] == PM_PIVOT:
-                rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl,
-                                             bft, pk, pv, pw, fw, ws, tolf, toli, pose, ev_t,
-                                             ev_i, ev_f, cnt, c_f, cw, Ii, err)
-                if rc < 0:
-                    return rc
-            elif ttr[i] <= t:
-                rc = _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
-                                 pm, ttr, ws, tolf, toli, ev_t, ev_i, ev_f, cnt, c_f, cw,
-                                 pose, err, pv, pw, fw)
-                if rc < 0:
-                    return rc
+
+@functools.lru_cache(maxsize=None)
+def loop_for(law):
+    """The event loop compiled for one law (a ``LAW_*`` of ``common``, or ``LAW_ANY`` for a
+    scene with several laws: dispatched per contact). The law is a plain int closed over:
+    Numba prunes the other laws before typing and caches each law's loop on disk under its
+    own key (issue 14)."""
+    law = int(law)
+
+    @njit(cache=True)
+    def run_loop(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf,
+                 toli, st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws,
+                 glob, cnt, pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb,
+                 Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0,
+                 vfl, err, pivot, pair, joint):
+        """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
+        contract. ``pivot``, ``pair``, ``joint``: the scene's feature switches
+        (``scene_features``)."""
+        nb = st.shape[0]
+        npl = planes.shape[0]
+        npr = pairs.shape[0]
+        t_end = tolf[TF_T_END]
+        max_events = toli[TI_MAX_EVENTS]
+        margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
+        margin_s = evbuf.segment_margin(MAXC, nb)
+        cap_e = ev_t.shape[0]
+        cap_s = seg_t.shape[0]
+        policy = toli[TI_POLICY]
+        capture_on = toli[TI_CAPTURE] != 0
+        no_capture = tolf[TF_T_END] < -INF     # False, typed at run time (no literal copy)
+        cw = MAXC - 1   # scratch row of c_f for persistent-contact events
+        while True:
+            t_now = glob[0]
+            tmin = INF
+            for i in range(nb):
+                if tz[i] < tmin:
+                    tmin = tz[i]
+                if ttr[i] < tmin:
+                    tmin = ttr[i]
+                if bt[i] < tmin:
+                    tmin = bt[i]
+            for q in range(npr):
+                if pr_t[q] < tmin:
+                    tmin = pr_t[q]
+            if tmin > t_end:
+                glob[0] = t_end
+                return RC_DONE
+            if cnt[0] >= max_events:
+                return RC_MAX_EVENTS
+            if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
+                return RC_BUFFER_FULL
+            if tmin <= t_now:
+                tmin = t_now
+                cnt[2] += 1
+                if cnt[2] > toli[TI_STALL]:
+                    _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[2], 0.0, 0.0)
+                    return ERR_STALL
             else:
-                continue
-            if not _finite(st, i):
-                _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
-                return ERR_NONFINITE
-            if not recompute:
-                continue
-            did = True
-            ws[i, WS_MODE] = -1.0
-            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
-            rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
-                                 bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip,
-                                 pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
-                                 c_f[MAXC - 2])
-            if rc < 0:
-                return rc
-        if did:
-            continue
+                cnt[2] = 0
+            t = tmin
+            glob[0] = t
 
-        # ---- impacts: gather every contact touching within [t, t + simul_time]
-        tw = t + tolf[TF_SIMUL_TIME]
-        nc = np.int64(0)
-        for i in range(nb):
-            bmark[i] = 0
-            if bt[i] <= tw:
-                bmark[i] = 1
-        for q in range(npr):
-            if pr_t[q] <= tw:
-                bmark[pairs[q, 0]] = 1
-                bmark[pairs[q, 1]] = 1
-        # bring the bodies involved to t; a pending accumulation point is cancelled: the
-        # body continues from its held motion (the normal energy of the unfinished
-        # accumulation, below the threshold m zeno_speed^2 / 2, is dropped without event)
-        for i in range(nb):
-            if bmark[i] != 0:
-                if tz[i] < INF:
-                    zq = zp[i]
-                    _held_into(st[i], bint[i, 0], planes[zq, 0], planes[zq, 1], planes[zq, 2],
-                               st[i])
-                    ws[i, WS_MODE] = -1.0
-                rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
-                if rc < 0:
-                    _set_err(err, t, i, -1, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
-                    return rc
-                tz[i] = INF
-        for i in range(nb):
-            if bt[i] > tw:
-                continue
-            f0 = bint[i, 1]
-            nf = bint[i, 2]
-            rad = bflt[i, 4]
-            q0, q1, q2, q3 = st[i, 3], st[i, 4], st[i, 5], st[i, 6]
-            piv = pm[i, 0] == PM_PIVOT
-            for p in range(npl):
-                if bp_off[i, p] != 0:
-                    continue
-                if pm[i, 0] != PM_FLIGHT and not piv and pm[i, 1] == p:
-                    continue
-                nx = planes[p, 0]
-                ny = planes[p, 1]
-                nz = planes[p, 2]
-                for k in range(nf):
-                    rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
-                                      feats[f0 + k, 2])
-                    g = (nx * (st[i, 0] + rx) + ny * (st[i, 1] + ry) + nz * (st[i, 2] + rz)
-                         - planes[p, 3] - rad)
-                    ux, uy, uz = _point_vel(st, i, rx, ry, rz)
-                    gd = nx * ux + ny * uy + nz * uz
-                    take = gd < 0.0 and g + gd * (tw - t) <= 0.0
-                    if p == bpl[i] and k == bft[i]:
-                        take = True
-                    if piv and p == pm[i, 1] and (f0 + k == int(pv[i, CP_F1]) or (
-                            pv[i, CP_K] == 2.0 and f0 + k == int(pv[i, CP_F2]))):
-                        take = True
-                    if not take:
-                        continue
-                    if nc >= MAXC - 1:
-                        _set_err(err, t, i, -1 - p, st[i, 0], st[i, 1], st[i, 2], MAXC - 1,
+            # ---- scheduled switches: accumulation points, end of slip, integrated contacts
+            did = False
+            for i in range(nb):
+                recompute = True
+                if tz[i] <= t:
+                    p = zp[i]
+                    tz[i] = INF
+                    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw,
+                                fw)
+                    if rc < 0:
+                        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0,
                                  0.0, 0.0)
-                        return ERR_TOO_MANY
-                    c_i[nc, CI_TYPE] = 0
-                    c_i[nc, CI_A] = i
-                    c_i[nc, CI_B] = p
-                    c_i[nc, CI_FEAT] = f0 + k
-                    c_i[nc, CI_LAW] = bp_law[i, p]
-                    c_i[nc, CI_OFF] = 0
-                    _frame(c_f, nc, nx, ny, nz)
-                    for j in range(3):
-                        r = (rx, ry, rz)[j] - rad * planes[p, j]
-                        c_f[nc, CF_RA + j] = r
-                        c_f[nc, CF_RB + j] = 0.0
-                        c_f[nc, CF_P + j] = st[i, j] + r
-                    nc += 1
-            if piv:
-                # the integrated contact ends with the impact: the body is in flight at t
-                # (after the impacts, _after_impact decides what persists)
-                pm[i, 0] = PM_FLIGHT
-                ttr[i] = INF
-                for j in range(3):
-                    st[i, 13 + j] = grav[j]
-                    st[i, 16 + j] = 0.0
-        for q in range(npr):
-            if pr_t[q] > tw:
-                continue
-            if nc >= MAXC - 1:
-                _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, 0.0, MAXC - 1, 0.0, 0.0)
-                return ERR_TOO_MANY
-            a = pairs[q, 0]
-            b = pairs[q, 1]
-            c_i[nc, CI_TYPE] = 1
-            c_i[nc, CI_A] = a
-            c_i[nc, CI_B] = b
-            c_i[nc, CI_FEAT] = -1
-            c_i[nc, CI_LAW] = pairs[q, 2]
-            c_i[nc, CI_OFF] = 0
-            dx = st[a, 0] - st[b, 0]
-            dy = st[a, 1] - st[b, 1]
-            dz = st[a, 2] - st[b, 2]
-            dist = math.sqrt(dx * dx + dy * dy + dz * dz)
-            _frame(c_f, nc, dx / dist, dy / dist, dz / dist)
-            ra = bflt[a, 4]
-            rb = bflt[b, 4]
-            for j in range(3):
-                nj = c_f[nc, CF_N + j]
-                c_f[nc, CF_RA + j] = -ra * nj
-                c_f[nc, CF_RB + j] = rb * nj
-                c_f[nc, CF_P + j] = st[b, j] + rb * nj
-            nc += 1
-        for c in range(nc):
-            a = c_i[c, CI_A]
-            c_f[c, CF_PI] = 0.0
-            c_f[c, CF_PI + 1] = 0.0
-            c_f[c, CF_PI + 2] = 0.0
-            c_f[c, CF_VCMN] = (c_f[c, CF_N] * st[a, 7] + c_f[c, CF_N + 1] * st[a, 8]
-                               + c_f[c, CF_N + 2] * st[a, 9])
-        # clusters: contacts sharing a body
-        for c in range(nc):
-            comp[c] = c
-        changed = True
-        while changed:
-            changed = False
-            for c in range(nc):
-                for d in range(c + 1, nc):
-                    if comp[c] == comp[d]:
-                        continue
-                    share = c_i[c, CI_A] == c_i[d, CI_A]
-                    if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
-                        share = True
-                    if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
-                            c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
-                        share = True
-                    if share:
-                        lo = min(comp[c], comp[d])
-                        comp[c] = lo
-                        comp[d] = lo
-                        changed = True
-        for root in range(nc):
-            K = np.int64(0)
-            for c in range(nc):
-                if comp[c] == root:
-                    K += 1
-            if K == 0:
-                continue
-            k = 0
-            for c in range(nc):
-                if comp[c] == root:
-                    comp[MAXC + k] = c
-                    k += 1
-            members = comp[MAXC:MAXC + K]
-            if K == 1:
-                c = members[0]
-                viN, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
-                if viN >= 0.0:
+                        return rc
+                    rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
+                                 ttr, no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
+                    if rc < 0:
+                        return rc
+                elif ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
+                    if pivot is None:
+                        return _not_compiled(err, t, i, FEATURE_PIVOT)
+                    rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt,
+                                                 bpl, bft, pk, pv, pw, fw, ws, tolf, toli,
+                                                 pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err)
+                    if rc < 0:
+                        return rc
+                elif ttr[i] <= t:
+                    rc = _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
+                                     pm, ttr, ws, tolf, toli, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                     pose, err, pv, pw, fw)
+                    if rc < 0:
+                        return rc
+                else:
                     continue
-                rc, vfN = _single(c, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3,
-                                  Ii, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-                if perforates(law_par[c_i[c, CI_LAW]], vfN):
-                    c_i[c, CI_OFF] = 1
-            elif policy == POL_SIMULTANEOUS:
-                rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
-                            tolf, toli, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-            else:
-                rc = _sequential(members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3,
-                                 P3, Ii, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
-                if rc < 0:
-                    return rc
-        # perforating impacts disable their pair for good
-        for c in range(nc):
-            if c_i[c, CI_OFF] == 0:
-                continue
-            if c_i[c, CI_TYPE] == 0:
-                bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
-            else:
-                for q in range(npr):
-                    if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
-                            or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
-                        pr_off[q] = 1
-        # persistent contacts, accumulation (Zeno) points, integrated contacts
-        for i in range(nb):
-            if bmark[i] == 0:
-                continue
-            if pm[i, 0] != PM_FLIGHT:
-                rc = _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                                 tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
-                if rc < 0:
-                    return rc
-                continue
-            rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law,
-                               pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw,
-                               ev_t, ev_i, ev_f, cnt, Ii, err)
-            if rc < 0:
-                return rc
-        for i in range(nb):
-            if bmark[i] == 0:
-                continue
-            if not _finite(st, i):
-                _set_err(err, t, i, 0, st[i, 0], st[i, 1], st[i, 2], 0.0, 0.0, 0.0)
-                return ERR_NONFINITE
-            ws[i, WS_MODE] = -1.0
-            bt[i] = INF
-            if tz[i] < INF:
-                # accumulation jump pending: the trajectory holds the body on the plane
-                _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, zp[i])
-            else:
+                if not _finite(st, i):
+                    _set_err(err, t, i, 0, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                             0.0)
+                    return ERR_NONFINITE
+                if not recompute:
+                    continue
+                did = True
+                ws[i, WS_MODE] = -1.0
                 _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
-        for i in range(nb):
-            if bmark[i] == 0:
+                rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz,
+                                     zp, bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli,
+                                     skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0,
+                                     vfl, c_f[MAXC - 2], pivot, pair)
+                if rc < 0:
+                    return rc
+            if did:
                 continue
-            rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp,
-                                 bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose,
-                                 err, ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
-                                 c_f[MAXC - 2])
-            if rc < 0:
-                return rc
+
+            # ---- impacts: gather every contact touching within [t, t + simul_time]
+            tw = t + tolf[TF_SIMUL_TIME]
+            nc = np.int64(0)
+            for i in range(nb):
+                bmark[i] = 0
+                if bt[i] <= tw:
+                    bmark[i] = 1
+            for q in range(npr):
+                if pr_t[q] <= tw:
+                    bmark[pairs[q, 0]] = 1
+                    bmark[pairs[q, 1]] = 1
+            # bring the bodies involved to t; a pending accumulation point is cancelled: the
+            # body continues from its held motion (the normal energy of the unfinished
+            # accumulation, below the threshold m zeno_speed^2 / 2, is dropped without event)
+            for i in range(nb):
+                if bmark[i] != 0:
+                    if tz[i] < INF:
+                        zq = zp[i]
+                        _held_into(st[i], bint[i, B_KIND], planes[zq, 0], planes[zq, 1],
+                                   planes[zq, 2], st[i])
+                        ws[i, WS_MODE] = -1.0
+                    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw,
+                                fw)
+                    if rc < 0:
+                        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0,
+                                 0.0, 0.0)
+                        return rc
+                    tz[i] = INF
+            for i in range(nb):
+                if bt[i] > tw:
+                    continue
+                f0 = bint[i, B_FIRST]
+                nf = bint[i, B_COUNT]
+                rad = bflt[i, B_RADIUS]
+                q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+                piv = pm[i, M_MODE] == PM_PIVOT
+                for p in range(npl):
+                    if bp_off[i, p] != 0:
+                        continue
+                    if pm[i, M_MODE] != PM_FLIGHT and not piv and pm[i, M_PLANE] == p:
+                        continue
+                    nx = planes[p, 0]
+                    ny = planes[p, 1]
+                    nz = planes[p, 2]
+                    for k in range(nf):
+                        rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
+                                          feats[f0 + k, 2])
+                        g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX
+                             + 2] + rz) - planes[p, 3] - rad)
+                        ux, uy, uz = _point_vel(st, i, rx, ry, rz)
+                        gd = nx * ux + ny * uy + nz * uz
+                        take = gd < 0.0 and g + gd * (tw - t) <= 0.0
+                        if p == bpl[i] and k == bft[i]:
+                            take = True
+                        if piv and p == pm[i, M_PLANE] and (f0 + k == int(pv[i, CP_F1]) or (
+                                pv[i, CP_K] == 2.0 and f0 + k == int(pv[i, CP_F2]))):
+                            take = True
+                        if not take:
+                            continue
+                        if nc >= MAXC - 1:
+                            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX +
+                                     2], MAXC - 1, 0.0, 0.0)
+                            return ERR_TOO_MANY
+                        c_i[nc, CI_TYPE] = 0
+                        c_i[nc, CI_A] = i
+                        c_i[nc, CI_B] = p
+                        c_i[nc, CI_FEAT] = f0 + k
+                        c_i[nc, CI_LAW] = bp_law[i, p]
+                        c_i[nc, CI_OFF] = 0
+                        _frame(c_f, nc, nx, ny, nz)
+                        for j in range(3):
+                            r = (rx, ry, rz)[j] - rad * planes[p, j]
+                            c_f[nc, CF_RA + j] = r
+                            c_f[nc, CF_RB + j] = 0.0
+                            c_f[nc, CF_P + j] = st[i, j] + r
+                        nc += 1
+                if piv:
+                    # the integrated contact ends with the impact: the body is in flight at t
+                    # (after the impacts, _after_impact decides what persists)
+                    pm[i, M_MODE] = PM_FLIGHT
+                    ttr[i] = INF
+                    for j in range(3):
+                        st[i, SA + j] = grav[j]
+                        st[i, SAL + j] = 0.0
+            for q in range(npr):
+                if pr_t[q] > tw:
+                    continue
+                if nc >= MAXC - 1:
+                    _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, 0.0, MAXC - 1, 0.0,
+                             0.0)
+                    return ERR_TOO_MANY
+                a = pairs[q, 0]
+                b = pairs[q, 1]
+                c_i[nc, CI_TYPE] = 1
+                c_i[nc, CI_A] = a
+                c_i[nc, CI_B] = b
+                c_i[nc, CI_FEAT] = -1
+                c_i[nc, CI_LAW] = pairs[q, 2]
+                c_i[nc, CI_OFF] = 0
+                dx = st[a, SX] - st[b, SX]
+                dy = st[a, SX + 1] - st[b, SX + 1]
+                dz = st[a, SX + 2] - st[b, SX + 2]
+                dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+                _frame(c_f, nc, dx / dist, dy / dist, dz / dist)
+                ra = bflt[a, B_RADIUS]
+                rb = bflt[b, B_RADIUS]
+                for j in range(3):
+                    nj = c_f[nc, CF_N + j]
+                    c_f[nc, CF_RA + j] = -ra * nj
+                    c_f[nc, CF_RB + j] = rb * nj
+                    c_f[nc, CF_P + j] = st[b, j] + rb * nj
+                nc += 1
+            for c in range(nc):
+                a = c_i[c, CI_A]
+                c_f[c, CF_PI] = 0.0
+                c_f[c, CF_PI + 1] = 0.0
+                c_f[c, CF_PI + 2] = 0.0
+                c_f[c, CF_VCMN] = (c_f[c, CF_N] * st[a, SV] + c_f[c, CF_N + 1] * st[a, SV + 1]
+                                   + c_f[c, CF_N + 2] * st[a, SV + 2])
+            # clusters: contacts sharing a body
+            for c in range(nc):
+                comp[c] = c
+            changed = True
+            while changed:
+                changed = False
+                for c in range(nc):
+                    for d in range(c + 1, nc):
+                        if comp[c] == comp[d]:
+                            continue
+                        share = c_i[c, CI_A] == c_i[d, CI_A]
+                        if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
+                            share = True
+                        if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
+                                c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
+                            share = True
+                        if share:
+                            lo = min(comp[c], comp[d])
+                            comp[c] = lo
+                            comp[d] = lo
+                            changed = True
+            for root in range(nc):
+                K = np.int64(0)
+                for c in range(nc):
+                    if comp[c] == root:
+                        K += 1
+                if K == 0:
+                    continue
+                k = 0
+                for c in range(nc):
+                    if comp[c] == root:
+                        comp[MAXC + k] = c
+                        k += 1
+                members = comp[MAXC:MAXC + K]
+                if K == 1:
+                    c = members[0]
+                    viN, vi1, vi2 = _contact_velocity(st, c_i, c_f, c)
+                    if viN >= 0.0:
+                        continue
+                    rc, vfN = _single(law, c, t, K, st, bflt, law_ids, law_par, c_i, c_f, v3,
+                                      W3, P3, Ii, ev_t, ev_i, ev_f, cnt, err)
+                    if rc < 0:
+                        return rc
+                    if perforates(law_par[c_i[c, CI_LAW]], vfN):
+                        c_i[c, CI_OFF] = 1
+                elif policy == POL_SIMULTANEOUS:
+                    if joint is None:
+                        return _not_compiled(err, t, c_i[members[0], CI_A], FEATURE_JOINT)
+                    rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
+                                tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+                    if rc < 0:
+                        return rc
+                else:
+                    rc = _sequential(law, members, K, t, st, bflt, law_ids, law_par, c_i, c_f,
+                                     v3, W3, P3, Ii, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+                    if rc < 0:
+                        return rc
+            # perforating impacts disable their pair for good
+            for c in range(nc):
+                if c_i[c, CI_OFF] == 0:
+                    continue
+                if c_i[c, CI_TYPE] == 0:
+                    bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
+                else:
+                    for q in range(npr):
+                        if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B]) or
+                            (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
+                            pr_off[q] = 1
+            # persistent contacts, accumulation (Zeno) points, integrated contacts
+            for i in range(nb):
+                if bmark[i] == 0:
+                    continue
+                if pm[i, M_MODE] != PM_FLIGHT:
+                    rc = _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
+                                     ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                    if rc < 0:
+                        return rc
+                    continue
+                rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par,
+                                   bp_law, pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on,
+                                   pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, pivot)
+                if rc < 0:
+                    return rc
+            for i in range(nb):
+                if bmark[i] == 0:
+                    continue
+                if not _finite(st, i):
+                    _set_err(err, t, i, 0, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                             0.0)
+                    return ERR_NONFINITE
+                ws[i, WS_MODE] = -1.0
+                bt[i] = INF
+                if tz[i] < INF:
+                    # accumulation jump pending: the trajectory holds the body on the plane
+                    _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, zp[i])
+                else:
+                    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+            for i in range(nb):
+                if bmark[i] == 0:
+                    continue
+                rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz,
+                                     zp, bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli,
+                                     skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0,
+                                     vfl, c_f[MAXC - 2], pivot, pair)
+                if rc < 0:
+                    return rc
+    return run_loop

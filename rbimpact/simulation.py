@@ -356,6 +356,15 @@ class Simulation:
         finally:
             self._arena = arena
 
+    def _loop(self, k):
+        """The event loop compiled for this scene's one law (every law when its contacts
+        have different laws); the modes it compiles follow ``k.scene_features`` (issue
+        14)."""
+        from .kernels.dispatch import LAW_ANY
+        laws = {int(x) for x in self._law_ids}
+        law = laws.pop() if len(laws) == 1 else LAW_ANY
+        return k.loop_for(law)
+
     def _run(self, k, arena, t_end, max_events):
         (tolf, toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
          c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err) = arena.reset()
@@ -372,12 +381,13 @@ class Simulation:
         seg_t = np.empty(cap_s)
         seg_b = np.empty(cap_s, np.int64)
         seg_s = np.empty((cap_s, 9))
-        run_loop = k.run_loop
+        run_loop = self._loop(k)
+        switches = k.scene_features(self._bint, len(self._planes), len(self._pairs))
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
                       glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb,
-                      tb, comp, bmark, v2, W2, P2, tmp, err)
+                      tb, comp, bmark, v2, W2, P2, tmp, err, *switches)
         while rc == k.RC_BUFFER_FULL:
             if cnt[0] + me > len(ev_t):
                 ev_t, ev_i, ev_f = (_grow(x, int(cnt[0])) for x in (ev_t, ev_i, ev_f))
@@ -385,7 +395,7 @@ class Simulation:
                 seg_t, seg_b, seg_s = (_grow(x, int(cnt[1])) for x in (seg_t, seg_b, seg_s))
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
                           pr_off, glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f,
-                          Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err)
+                          Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err, *switches)
         status = run_status(k, rc)
         result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob,
                               status, t_end)
@@ -457,7 +467,7 @@ class Simulation:
                 f"(centre of mass "
                 f"({err[3]:.9g}, {err[4]:.9g})) has no consistent contact force with friction "
                 f"mu = {err[5]:g}: sliding needs W_NN - mu s W_NT > 0")
-        elif rc == k.ERR_PIVOT_STEPS:
+        elif rc == k.ERR_CONTACT_STEPS:
             exc = SimulationError(
                 f"{body} held on a vertex on {self._where(b)}: the pivot integrator reached "
                 f"its step limit {at} (centre of mass ({err[3]:.9g}, {err[4]:.9g}))")
@@ -467,6 +477,12 @@ class Simulation:
                 f"{int(err[5])} too and cannot rest on both: persistent contact with two "
                 f"planes at once (rolling or sliding in a groove or a corner) is not "
                 f"supported")
+        elif rc == k.ERR_NOT_COMPILED:
+            exc = SimulationError(
+                f"internal error: {body} reached a contact handler ("
+                f"{k.FEATURES[int(err[3])]}) "
+                f"that the loop compiled for this scene lacks {at} (a bug of "
+                f"stepper2d.scene_features; please report it)")
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[6])} resolutions {at}")

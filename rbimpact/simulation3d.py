@@ -311,8 +311,13 @@ class Simulation3D:
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
+        pivot, pair, joint = k.scene_features(self._bint, len(self._planes),
+                                              len(self._pairs))
+        from .kernels.dispatch import LAW_ANY
+        laws = {int(x) for x in self._law_ids}
+        run_loop = k.loop_for(laws.pop() if len(laws) == 1 else LAW_ANY)
         rc = k.init_run(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f,
-                        skip, pose, fw, ybuf, vals, vals0, vfl, err)
+                        skip, pose, fw, ybuf, vals, vals0, vfl, err, pair)
         while rc == 0 or rc == k.RC_BUFFER_FULL:
             if rc == k.RC_BUFFER_FULL:
                 if cnt[0] + me > len(ev_t):
@@ -325,9 +330,9 @@ class Simulation3D:
                     seg_t = np.concatenate([seg_t, np.zeros(n - len(seg_t))])
                     seg_b = np.concatenate([seg_b, np.zeros(n - len(seg_b), np.int64)])
                     seg_s = np.concatenate([seg_s, np.zeros((n - len(seg_s), k.N_SEG))])
-            rc = k.run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
-                            c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw,
-                            ybuf, vals, vals0, vfl, err)
+            rc = run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
+                          c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw,
+                          ybuf, vals, vals0, vfl, err, pivot, pair, joint)
             if rc in (k.RC_DONE, k.RC_MAX_EVENTS):
                 break
         status = run_status(k, rc)
@@ -431,6 +436,11 @@ class Simulation3D:
                                   f"across the slope (tangential gravity {err[7]:.3g} m/s^2, "
                                   f"mu = {err[8]:g}): the slip direction would curve, which "
                                   f"has no closed form and is not supported")
+        elif rc == k.ERR_NOT_COMPILED:
+            exc = SimulationError(
+                f"internal error: {body} reached a contact handler ("
+                f"{k.FEATURES[int(err[3])]}) that the loop compiled for this scene lacks "
+                f"{at} (a bug of stepper3d.scene_features; please report it)")
         elif rc == k.ERR_UNSUPPORTED:
             what = {1.0: "a sphere with non-spherical inertia in persistent contact",
                     2.0: "a capsule on its side sliding across its axis (it would roll)",

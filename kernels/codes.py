@@ -1,0 +1,67 @@
+"""One table of the codes the 2D and 3D steppers share (issue 14): return codes of the
+event loop, error codes (``ERR_*``, negative; ``rbimpact._setup.run_status`` names a
+failed run's status after its code, e.g. ``ERR_PAINLEVE`` -> "painleve"), event kinds,
+persistent-contact modes, policies and the feature switches of a compiled loop.
+Every value is unique within its group, so a code means one thing in both dimensions.
+"""
+
+# return codes of run_loop
+RC_DONE = 0
+RC_MAX_EVENTS = 1
+RC_BUFFER_FULL = 2
+
+# errors (the run stops; the Python layer raises with the details of ``err``)
+ERR_NO_SOLUTION = -1     # an impact has no solution in its law
+ERR_NONFINITE = -2       # a state became non-finite
+ERR_MISSED = -3          # a body is inside a plane or another body beyond gap_tol
+ERR_TOI = -4             # a time-of-impact search did not converge
+ERR_CHATTER = -5         # impacts accumulate at one point where no held mode exists
+ERR_SEQ = -6             # sequential policy: contacts still approach after seq_max_steps
+ERR_PGS = -7             # simultaneous policy: the joint solve did not converge
+ERR_TIPPING = -8         # a face cannot hold the body and no pivot applies
+ERR_SLIDE_CURVE = -9     # 3D: a slip that curves across a slope (not built)
+ERR_STALL = -10          # too many events at one instant
+ERR_TOO_MANY = -11       # more contacts at one instant than the workspace holds
+ERR_JOINT_E = -12        # the joint solve with restitution e > 0 (not built)
+ERR_ROT = -13            # 3D: the free rotation's integrator failed
+ERR_UNSUPPORTED = -14    # a contact configuration the stepper does not handle (named)
+ERR_PAINLEVE = -15       # held contact with no consistent force (Painleve)
+ERR_CONTACT_STEPS = -16  # the integrator of a held contact exceeded its step limit
+ERR_TWO_PLANES = -17     # 2D: accumulating on one plane while held by another (moving)
+ERR_NOT_COMPILED = -18   # a handler the loop was compiled without (a bug of the switches)
+
+# event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
+EV_IMPACT = 0
+EV_CONTACT = 1
+EV_SLIDE = 2
+EV_ROLL = 3
+EV_REST = 4
+EV_RELEASE = 5
+EV_CAPTURE = 6           # 3D: a face captured by the joint solve (capture option)
+EV_PIVOT = 7
+EV_STICK = 8
+EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "capture", "pivot",
+               "stick")
+
+# persistent-contact modes (pm[:, 0])
+PM_FLIGHT = 0
+PM_SLIDE = 1
+PM_ROLL = 2
+PM_REST = 3
+PM_PIVOT = 4             # integrated vertex, edge or boundary contact (pivot2d, pivot3d)
+PM_WEDGED = 5            # 2D: at rest on two contacts (wedge2d)
+
+# simultaneous-contact policies
+POL_SIMULTANEOUS = 0
+POL_SEQUENTIAL = 1
+
+# Feature switches of a compiled loop: the loop takes one argument per feature, True, or
+# None when the scene cannot reach it (``scene_features`` of each stepper). Numba prunes
+# the ``is None`` branches by type before typing, so a scene compiles only the handlers
+# it can reach, each pattern a cached specialization. A handler reached while switched off
+# returns ERR_NOT_COMPILED with the feature's index in ``err``.
+FEATURE_PIVOT = 0        # a polygon, rod, ellipse, box or capsule: held vertex/edge/face
+FEATURE_WEDGE = 1        # 2D: two or more planes (rest on two contacts)
+FEATURE_PAIR = 2         # round body pairs
+FEATURE_JOINT = 3        # several contacts at one instant (the joint solve)
+FEATURES = ("pivot", "wedge", "pair", "joint")

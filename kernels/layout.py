@@ -1,0 +1,25 @@
+"""Column names of the scene tables the 2D and 3D steppers share (issue 14: named state).
+
+``bint`` (int64, one row per body) and the first column of ``bflt`` (float64, one row per
+body) mean the same in both dimensions; the other ``bflt`` columns are named in each
+stepper (``stepper2d``: inertia, radius, ellipse axes; ``stepper3d``: principal moments,
+radius, half extents). State rows are named in ``flight2d`` (``X, Y, ANGLE, ...``) and
+``flight3d`` (offsets ``SX, SQ, SV, SW, SA, SAL``).
+"""
+
+# bint columns
+B_KIND = 0      # shape kind (SH_* of each stepper)
+B_FIRST = 1     # first row of the body's contact features (verts / feats)
+B_COUNT = 2     # number of contact features
+B_ROT = 3       # 3D: rotation kind (flight3d.ROT_*)
+B_AXIS = 4      # 3D: symmetry axis (0, 1, 2) of an axisymmetric body
+
+# bflt columns
+B_MASS = 0      # mass (kg)
+
+# pm columns: the persistent contact of a body
+M_MODE = 0      # mode (codes.PM_*)
+M_PLANE = 1     # the plane it is held on
+M_FEAT = 2      # 2D: face vertex 0, or the held vertex (PM_PIVOT); 3D: the face
+M_AUX = 3       # 2D: face vertex 1, or the held contact's status (0 stick, +-1 slide),
+                # or REL_TANGENT in flight just after a tangential release
