@@ -72,7 +72,7 @@ from .brach import brach_2d_scalar, brach_3d_scalar
 from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
 from .kane_levinson import kane_levinson_2d_scalar, kane_levinson_3d_scalar
 from .routh import routh_2d_scalar, routh_3d_scalar
-from .scheduler import q_remove, q_top, q_update
+from .scheduler import q_fill_dt, q_rebuild, q_remove, q_top, q_update
 from .smith import smith_2d_scalar, smith_3d_scalar
 
 # ---- per-body float row ``bt[i]`` ---------------------------------------------------------
@@ -154,6 +154,9 @@ RUN_STALL = -2        # STALL_IMPACTS impacts without time advancing
 CELL_MARGIN = 1e-6    # cell side >= 2 r (1 + CELL_MARGIN): round-off of positions never
                       # puts an impact partner outside the 3^D block (relative, to 2r)
 STALL_IMPACTS = 100000  # impacts in a row at one instant that end the run as a stall
+BUCKET_FILL = 2.0     # calendar queue: mean bodies per bucket (Smallenburg: a few)
+RETUNE_EVENTS = 4     # every RETUNE_EVENTS * n events the bucket width is checked and,
+                      # if off by more than a factor 2 (a cooling gas), rebuilt
 
 _INF = math.inf
 _NJ = dict(cache=True, inline="always", error_model="numpy")   # hot helpers: inlined
@@ -592,7 +595,15 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
     invm = fpar[F_INVM]
     n = x.shape[0]
     status = 0
+    since = 0
+    tnow = -_INF             # time of the last event popped (s)
     while True:
+        since += 1
+        if since >= RETUNE_EVENTS * n and tnow > -_INF:
+            since = 0
+            dt_new = q_fill_dt(qkey, tnow, BUCKET_FILL)
+            if dt_new > 0.0 and not (0.5 * qdt[0] <= dt_new <= 2.0 * qdt[0]):
+                q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt_new, tnow)
         i = q_top(qkey, qlink, qheap, qhead, qs, qdt)
         t = qkey[i] if i >= 0 else _INF
         if i < 0 and t_end == _INF:
@@ -631,6 +642,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
             status = RUN_REC_FULL
             break
         q_remove(i, qkey, qlink, qheap, qhead, qs)      # i is the top: out of the heap
+        tnow = t
         tb = bt[i, BEST_T]
         tw = bt[i, WALL_T]
         tcr = bt[i, CROSS_T]

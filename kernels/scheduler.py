@@ -37,7 +37,10 @@ Arrays (all owned by the caller, nothing is allocated here):
 
 Interface: ``q_init``, ``q_push(i, t)``, ``q_remove(i)``, ``q_update(i, t)`` (remove if
 queued, then push), ``q_top()`` (body with the smallest key, -1 if empty; advances the
-calendar, never changes the order), ``q_pop()`` (remove and return it). Every helper is
+calendar, never changes the order), ``q_pop()`` (remove and return it), ``q_rebuild``
+(new bucket width; a caller whose event rate drifts, e.g. a cooling gas, calls it when
+``q_fill_dt`` has moved by more than a factor of 2: a fixed width would leave the bodies
+in the overflow list or crowd one bucket). Every helper is
 ``inline='always'`` so that a caller's hot loop (compiled with ``_nrt=False``) contains
 no call and no reference counting on the arrays (3x measured in a hot loop). Numba inlines
 at the IR level, so a caller should have few call sites of them (``gas_core.gas_loop``
@@ -308,6 +311,50 @@ def q_init(qkey, qlink, qheap, qhead, qs, qdt, nb, dt, t0):
     qs[S_HOR] = qs[S_CUR] + nb
     qs[S_NCAL] = 0
     qs[S_NOVER] = 0
+
+
+@njit(**_NJ)
+def q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt, t0):
+    """Re-bucket every queued body with the new bucket width ``dt`` (s), the calendar
+    restarting at time ``t0`` (s, no key earlier). O(n); for a caller whose event rate
+    drifts (a cooling gas): see ``q_fill_dt``."""
+    n = qkey.shape[0]
+    nb = qs[S_NB]
+    qdt[0] = dt
+    qdt[1] = 1.0 / dt
+    queued = 0
+    for i in range(n):
+        if qlink[i, WHERE] != OUT:
+            qlink[i, WHERE] = 1      # mark: queued
+            queued += 1
+    for b in range(nb + 1):
+        qhead[b] = -1
+    qs[S_HSIZE] = 0
+    qs[S_CUR] = q_block(t0, qdt)
+    qs[S_HOR] = qs[S_CUR] + nb
+    qs[S_NCAL] = 0
+    qs[S_NOVER] = 0
+    for i in range(n):
+        if qlink[i, WHERE] != OUT:
+            qlink[i, WHERE] = OUT
+            _place(i, qkey, qlink, qheap, qhead, qs, qdt)
+
+
+@njit(**_NJ)
+def q_fill_dt(qkey, t0, fill):
+    """Bucket width (s) that puts about ``fill`` bodies in a bucket: ``fill`` times the
+    mean time to the next event (over finite keys, from ``t0``) divided by the number of
+    bodies; 0 when no key is finite."""
+    tot = 0.0
+    m = 0
+    for i in range(qkey.shape[0]):
+        k = qkey[i]
+        if k < math.inf:
+            tot += k - t0
+            m += 1
+    if m == 0 or not tot > 0.0:
+        return 0.0
+    return fill * tot / (m * qkey.shape[0])
 
 
 # ---- standalone wrappers (tests, Python callers) -----------------------------------------

@@ -36,8 +36,6 @@ TC_REL = 1e-5
 # Packing fraction limits of random_gas (random sequential insertion jams at about 0.547
 # in 2D and 0.38 in 3D; the insertion is slow near the limit, so it is refused before).
 MAX_PACKING = {2: 0.5, 3: 0.35}
-# Calendar queue: mean number of bodies per bucket (Smallenburg's tuning: a few).
-BUCKET_FILL = 2.0
 REC_CHUNK = 1 << 16       # records per buffer chunk when recording
 SNAP_CHUNK = 64           # snapshots per buffer chunk when t_end is not given
 
@@ -297,7 +295,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         raise ValueError("run_gas: the state holds non-finite values")
     fin = qkey[np.isfinite(qkey)] - t0
     tau = float(np.mean(fin)) if fin.size else 1.0
-    dt = max(tau * BUCKET_FILL / n, 1e-300) if tau > 0 else 1.0
+    dt = max(tau * gc.BUCKET_FILL / n, 1e-300) if tau > 0 else 1.0
     keys = qkey.copy()
     sch.q_init(qkey, qlink, qheap, qhead, qs, qdt, nb, dt, t0)
     for i in range(n):
