@@ -536,40 +536,71 @@ def _csv_rowwise(res, path):
             w.writerow([repr(x) if isinstance(x, float) else x for x in row])
 
 
-def bench_sweep(repeat=1, seeds=400, workers=(1, 2), csv_events=1_000_000,
-                old_events=100_000, tosses=100):
-    """``rbimpact.sweep("die_toss", seeds=seeds)`` with each number of ``workers`` (wall
-    time, including the LocalCluster's start and the workers' code loading, and the
-    compute phase alone; ratio against the first; whether the tables are identical), and
-    ``to_csv`` per 1e6 events against the former row-by-row writer, on a 3D log of
-    ``csv_events`` events (the events of ``tosses`` die tosses, repeated with shifted
-    times); the former writer is timed on ``old_events`` of them and scaled (its cost is
-    linear), after checking that both write the same bytes. Needs the sweep extra."""
+def bench_sweep(repeat=3, seeds=400, workers=(1, 2), csv_events=1_000_000,
+                old_events=100_000, tosses=100, pairs=None):
+    """The command ``rbimpact sweep die_toss --seeds SEEDS --workers W --out T.parquet``
+    for each ``W`` in ``workers``, timed as a whole new process (interpreter start,
+    imports, Numba cache load, the LocalCluster's start and stop, the table written):
+    ``pairs`` rounds (default ``max(3, repeat)``), the commands in turn within a round, the
+    median wall time of each and the median of the per-round ratios against the first;
+    start-up and runs (``setup_s``, ``compute_s``) are the medians of what the command
+    prints; whether the tables (``run_s`` aside) are identical; the 1-minute load average
+    before and after. Then ``to_csv`` per 1e6 events against the former row-by-row
+    writer, on a 3D log of ``csv_events`` events (the events of ``tosses`` die tosses,
+    repeated with shifted times); the former writer is timed on ``old_events`` of them and
+    scaled (its cost is linear), after checking that both write the same bytes. Needs the
+    sweep extra."""
     import copy
     import os
+    import re
+    import subprocess
+    import sys
     import tempfile
     from . import scenarios
-    from .sweep import sweep
+    from .result_base import require
+    pd = require("pandas", "bench sweep")
 
-    rows, tables = [], []
+    pairs = max(3, repeat) if pairs is None else max(1, int(pairs))
+    load = [os.getloadavg()[0]]
+    walls = {w: [] for w in workers}
+    split = {w: [] for w in workers}
+    tables, same_runs = {}, {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(pairs):
+            for w in workers:
+                out = os.path.join(tmp, f"w{w}_{k}.parquet")
+                cmd = [sys.executable, "-m", "rbimpact.cli", "sweep", "die_toss", "--seeds",
+                       str(seeds), "--workers", str(w), "--out", out]
+                t0 = time.perf_counter()
+                proc = subprocess.run(cmd, capture_output=True, text=True,
+                                      env={**os.environ, "RBIMPACT_PROGRESS": "0"})
+                walls[w].append(time.perf_counter() - t0)
+                if proc.returncode != 0:
+                    raise RuntimeError(f"bench sweep: {' '.join(cmd[1:])} failed: "
+                                       f"{proc.stderr.strip()[-500:]}")
+                m = re.search(r"start-up ([0-9.]+) s, runs ([0-9.]+) s", proc.stdout)
+                split[w].append((float(m[1]), float(m[2])) if m else (np.nan, np.nan))
+                df = pd.read_parquet(out).drop(columns="run_s")
+                tables.setdefault(w, df)
+                same_runs[w] = same_runs.get(w, True) and bool(df.equals(tables[w]))
+    load.append(os.getloadavg()[0])
+    first = workers[0]
+    rows = []
     for w in workers:
-        best = None
-        for _ in range(repeat):
-            t0 = time.perf_counter()
-            df = sweep("die_toss", seeds=seeds, workers=w, progress=False)
-            wall = time.perf_counter() - t0
-            if best is None or wall < best[0]:
-                best = (wall, df)
-        wall, df = best
-        tables.append(df.drop(columns="run_s"))
+        t = tables[w]
         rows.append({"item": f"sweep die_toss --seeds {seeds} --workers {w}", "workers": w,
-                     "wall_s": wall, "setup_s": df.attrs["setup_s"],
-                     "compute_s": df.attrs["compute_s"],
-                     "errors": int((df["status"] == "error").sum())})
-    for r, t in zip(rows, tables):
-        r["speedup"] = rows[0]["wall_s"] / r["wall_s"]
+                     "wall_s": float(np.median(walls[w])), "wall_min_s": min(walls[w]),
+                     "wall_max_s": max(walls[w]), "runs": len(walls[w]),
+                     "setup_s": float(np.median([x[0] for x in split[w]])),
+                     "compute_s": float(np.median([x[1] for x in split[w]])),
+                     "speedup": float(np.median([a / b for a, b in
+                                                 zip(walls[first], walls[w])])),
+                     "identical_table": same_runs[w] and same_runs[first]
+                     and bool(t.equals(tables[first])),
+                     "errors": int((t["status"] == "error").sum()),
+                     "load_before": load[0], "load_after": load[1]})
+    for r in rows:
         r["compute_speedup"] = rows[0]["compute_s"] / r["compute_s"]
-        r["identical_table"] = bool(t.equals(tables[0]))
 
     logs = [scenarios.get("die_toss", seed=k).simulate() for k in range(tosses)]
     base = np.concatenate([r.events for r in logs])
@@ -597,15 +628,21 @@ def bench_sweep(repeat=1, seeds=400, workers=(1, 2), csv_events=1_000_000,
 
 
 def _print_sweep(rows):
-    print("Sweeps: die_toss over seeds (wall time includes the Dask LocalCluster's start and "
-          "loading the code on each worker; compute: the runs alone); ratios against the "
-          "first row")
-    print(f"{'item':<44}{'wall s':>9}{'setup s':>9}{'compute s':>11}{'x wall':>8}"
-          f"{'x compute':>11}  same table")
+    r0 = next((r for r in rows if "wall_s" in r), None)
+    if r0 is not None:
+        print(f"Sweeps: die_toss over seeds, each a whole command in a new process (start-up, "
+              f"imports, Numba cache load, the LocalCluster's start and stop, the table "
+              f"written), {r0['runs']} runs each, in turn; median wall time (min-max), "
+              f"median of the paired ratios against the first row; start-up and runs: what "
+              f"the command reports (its process start and imports excluded); 1-minute load "
+              f"average {r0['load_before']:.2f} before, {r0['load_after']:.2f} after")
+        print(f"{'item':<44}{'wall s':>8}{'(min-max)':>14}{'start-up s':>12}{'runs s':>8}"
+              f"{'x wall':>8}{'x runs':>8}  same table")
     for r in rows:
         if "wall_s" in r:
-            print(f"{r['item']:<44}{r['wall_s']:>9.2f}{r['setup_s']:>9.2f}"
-                  f"{r['compute_s']:>11.2f}{r['speedup']:>8.2f}{r['compute_speedup']:>11.2f}"
+            span = "(%.2f-%.2f)" % (r["wall_min_s"], r["wall_max_s"])
+            print(f"{r['item']:<44}{r['wall_s']:>8.2f}{span:>14}{r['setup_s']:>12.2f}"
+                  f"{r['compute_s']:>8.2f}{r['speedup']:>8.2f}{r['compute_speedup']:>8.2f}"
                   f"  {'yes' if r['identical_table'] else 'NO'}"
                   + (f" ({r['errors']} errors)" if r["errors"] else ""))
     for r in rows:

@@ -39,8 +39,11 @@ sweep. Everything is checked (scenario, law, grid keys and every grid value, by 
 each grid point) before anything runs: ``ValueError`` saying what is allowed.
 
 ``workers=1`` runs in this process, without Dask; ``workers > 1`` starts a Dask
-``LocalCluster`` (``workers`` processes of one thread), ``scheduler="tcp://host:port"``
-uses an existing cluster instead. Needs pandas, pyarrow, dask[distributed] (and tqdm for
+``LocalCluster`` (``workers`` processes of one thread; on Linux forked from this process
+once it has loaded the scenario's compiled code, so they start without importing anything
+or loading the Numba cache: ``START_METHOD``), ``scheduler="tcp://host:port"`` uses an
+existing cluster instead (its workers load the code first, in parallel). The runs go out
+in about ``TASKS_PER_WORKER`` chunks per worker. Needs pandas, pyarrow, dask[distributed] (and tqdm for
 the progress bar): ``pip install 'rbimpact[sweep]'``. Importing this module imports none of
 them.
 """
@@ -420,7 +423,7 @@ def sweep(scenario, law=None, grid=None, seeds=1, workers=1, scheduler=None, out
     skipped); ``progress``: a progress bar on stderr when it is a terminal.
 
     ``df.attrs``: runs, ran (computed now), skipped (found in ``out``), seconds (wall
-    time), setup_s (starting the cluster and loading the code on the workers), compute_s
+    time), setup_s (loading the code, starting the cluster and its workers), compute_s
     (from then to the last run), workers."""
     _available("pandas")                  # imported later: while the workers run, if any
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
@@ -590,6 +593,8 @@ def sweep_command(scenario, law=None, grid=(), seeds=1, workers=1, scheduler=Non
              "this process" if workers == 1 else f"a LocalCluster of {workers} workers")
     lines = [f"sweep {scenario}: {a['runs']} runs, {a['ran']} computed in "
              f"{a['seconds']:.2f} s on {where}"
+             + (f" (start-up {a['setup_s']:.2f} s, runs {a['compute_s']:.2f} s)"
+                if a["ran"] else "")
              + (f", {a['skipped']} already in {out}" if out else "")]
     counts = df["status"].value_counts()
     lines.append("status: " + ", ".join(f"{k} {v}" for k, v in counts.items()))

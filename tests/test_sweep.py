@@ -172,7 +172,8 @@ def test_progress_is_silent_off_a_terminal(monkeypatch):
 
 def test_bench_sweep_rows():
     from rbimpact.bench import _print_sweep, bench_sweep
-    rows = bench_sweep(seeds=6, workers=(1,), csv_events=3000, old_events=500, tosses=4)
+    rows = bench_sweep(seeds=6, workers=(1,), csv_events=3000, old_events=500, tosses=4,
+                       pairs=1)
     assert rows[0]["identical_table"] and rows[0]["speedup"] == 1.0
     assert rows[0]["compute_s"] > 0 and rows[0]["errors"] == 0
     assert rows[-1]["same_bytes"] and rows[-1]["new_s_per_1e6"] > 0
