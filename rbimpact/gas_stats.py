@@ -66,7 +66,7 @@ __all__ = ["temperature", "speeds", "speed_pdf", "speed_cdf", "component_pdf",
            "excess_kurtosis", "maxwell_boltzmann_test", "MBTest",
            "packing_fraction", "number_density", "contact_value",
            "boltzmann_frequency", "enskog_frequency", "collision_frequency",
-           "bulk_collision_frequency", "mean_relative_speed",
+           "bulk_collision_frequency", "replay_contacts", "mean_relative_speed",
            "haff_tau", "haff_temperature", "fit_haff", "HaffFit"]
 
 #: significance level used by ``MBTest.passed`` unless told otherwise
@@ -305,6 +305,83 @@ def bulk_collision_frequency(contacts, positions, box, margin, duration, sigma, 
     n_bulk = n_in / vol
     omega = 2.0 * count / (n_in * duration)
     return omega, enskog_frequency(n_bulk, sigma, T, mass, dim), n_bulk, count
+
+
+def replay_contacts(x0, v0, t0, events, mass):
+    """Where the recorded impacts of a run happened, rebuilt from its start and events.
+
+    ``x0``, ``v0`` (n, dim): positions (m) and velocities (m/s) at time ``t0`` (s);
+    ``events``: a dict of arrays in time order (``rbimpact.manybody.GasResult.events``):
+    ``t`` (s), ``a``, ``b`` (bodies; ``b < 0`` a wall), ``n`` (k, dim) the unit normal
+    from B into A (a wall's inward normal), ``P`` (k, dim) the impulse on A in contact
+    space, normal first (N s); ``mass`` (kg, one for all bodies). Between impacts bodies fly
+    straight (no gravity) and an impact changes A's velocity by P_n n / m and B's by
+    -P_n n / m: this holds for smooth bodies (the tangential impulse is 0; it is checked)
+    and every impact must be recorded. Vectorised: the impacts are sorted by body and the
+    flights summed per body.
+
+    Returns ``(pair, a_pos, b_pos, x_end, v_end)``: ``pair`` the indices of the body-body
+    events, ``a_pos``, ``b_pos`` (k_pair, dim) the centres of A and B at those impacts (m),
+    and positions and velocities of every body after its last impact, advanced to the last
+    event time (to compare with the run's final state).
+    """
+    x0 = np.asarray(x0, dtype=float)
+    v0 = np.asarray(v0, dtype=float)
+    t = np.asarray(events["t"], dtype=float)
+    a = np.asarray(events["a"], dtype=np.int64)
+    b = np.asarray(events["b"], dtype=np.int64)
+    nrm = np.asarray(events["n"], dtype=float)
+    P = np.asarray(events["P"], dtype=float)
+    n, dim = x0.shape
+    k = t.size
+    if P.shape[1] > 1 and k and np.max(np.abs(P[:, 1:])) > 1e-12 * max(
+            float(np.max(np.abs(P[:, 0]))), 1e-300):
+        raise ValueError("replay_contacts: tangential impulses: only smooth bodies replay")
+    dv = P[:, :1] * nrm / mass                      # velocity change of A (m/s)
+    pair = np.flatnonzero(b >= 0)
+    # one entry per body and impact: (body, time, dv, event)
+    body = np.concatenate([a, b[pair]])
+    tt = np.concatenate([t, t[pair]])
+    dd = np.concatenate([dv, -dv[pair]])
+    ev = np.concatenate([np.arange(k), pair])
+    order = np.lexsort((ev, body))                  # by body, then chronologically
+    body, tt, dd, ev = body[order], tt[order], dd[order], ev[order]
+    first = np.ones(body.size, dtype=bool)
+    first[1:] = body[1:] != body[:-1]
+    # velocity before each entry: v0 + the changes of the body's earlier entries
+    cum = np.cumsum(dd, axis=0)
+    start = np.maximum.accumulate(np.where(first, np.arange(body.size), 0))
+    before = cum - dd - (cum[start] - dd[start])    # sum of the body's earlier dd
+    vel = v0[body] + before
+    tprev = np.empty_like(tt)
+    tprev[1:] = tt[:-1]
+    tprev[first] = t0
+    step = vel * (tt - tprev)[:, None]
+    cs = np.cumsum(step, axis=0)
+    pos = x0[body] + cs - (cs[start] - step[start])
+    # the position of each event's A and B
+    where = np.empty((k, 2), dtype=np.int64)
+    where.fill(-1)
+    is_a = np.zeros(body.size, dtype=bool)
+    # the first entry of an event in body order belongs to whichever body sorts first;
+    # identify A's entry as the one whose body is the event's a
+    is_a[:] = body == a[ev]
+    where[ev[is_a], 0] = np.flatnonzero(is_a)
+    other = ~is_a
+    where[ev[other], 1] = np.flatnonzero(other)
+    a_pos = pos[where[pair, 0]]
+    b_pos = pos[where[pair, 1]]
+    # final state: after each body's last entry, advanced to the last event time
+    x_end, v_end = x0.copy(), v0.copy()
+    last = np.ones(body.size, dtype=bool)
+    last[:-1] = body[:-1] != body[1:]
+    t_last = t[-1] if k else t0
+    lb = body[last]
+    v_end[lb] = vel[last] + dd[last]
+    x_end[lb] = pos[last] + v_end[lb] * (t_last - tt[last])[:, None]
+    untouched = np.setdiff1d(np.arange(n), lb)
+    x_end[untouched] += v0[untouched] * (t_last - t0)
+    return pair, a_pos, b_pos, x_end, v_end
 
 
 # ------------------------------------------------------------------ Haff's law

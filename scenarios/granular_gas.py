@@ -16,7 +16,7 @@ packing fraction `packing`, with Maxwellian velocities of temperature `temperatu
 k_B = 1: kinetic energy dim T / 2 per body) and zero total momentum (`start=equal_speeds`:
 the same speeds, every body at sqrt(dim T / m), in the same random directions: a
 non-Maxwellian start that relaxes). Body-body impacts use the law with `e` (and `mu`,
-`e_t` for rough bodies); the box walls are the engine's. The run is a many-body
+`e_t` for rough bodies), and so do the impacts on the box walls. The run is a many-body
 event-driven run (rbimpact.manybody.run_gas), not the single-body stepper; it lasts about
 `collisions` body-body collisions per particle (predicted by the Enskog frequency and, for
 e < 1, Haff's law), or `--t-end`.
@@ -27,7 +27,10 @@ particle 2 C / (N t) against the Enskog value integrated over the measured T(t)
 the whole box, so walls bias it by a few per cent), energy at start and end; for e = 1 the
 Maxwell-Boltzmann test of the velocities of the second half of the run (snapshots at least
 2 collision times apart), for e < 1 Haff's time tau fitted to T(t) against its theory
-1/tau = (1 - e^2) omega_E(T0) / (2 dim) (smooth particles: mu = 0). `--plot`: the speed
+1/tau = (1 - e^2) omega_E(T0) / (2 dim) (smooth particles: mu = 0), also with the walls'
+dissipation (a wall hit loses (1 - e^2) T on average, as a pair collision: 1/tau times
+1 + wall hits / collisions); the fit covers the first `fit_collisions` collisions per
+particle, before clusters form, with T0 measured. Inelastic collapse: the engine's TC model. `--plot`: the speed
 distribution against Maxwell-Boltzmann, and T(t) against Haff's law (e < 1) or the excess
 kurtosis of the velocities against time (e = 1). `--out`: the series t, T(t) as CSV."""
 
@@ -85,7 +88,7 @@ class GasScenario:
         from rbimpact import manybody
         t_end = self.t_end if t_end is None else float(t_end)
         state = self.make_state()
-        e0 = kinetic_energy(state.v, state.w, state.mass, state.inertia)
+        e0 = state.kinetic_energy()
         n, dim = np.shape(state.v)
         ns = max(10, min(N_SNAPSHOTS, SNAP_FLOATS // (n * dim)))
         t0 = time.perf_counter()
@@ -110,20 +113,6 @@ class GasScenario:
                                         f"{exc.strerror or exc}" for w, p, exc in unwritten),
                               summary=text, paths=[p for _, p, _ in unwritten])
         return text
-
-
-def kinetic_energy(v, w, mass, inertia):
-    """Translational plus rotational kinetic energy (J) of bodies with velocities ``v``
-    (n, dim), angular velocities ``w`` ((n,) in 2D, (n, 3) in 3D), masses and moments of
-    inertia (scalars or one per body)."""
-    v = np.asarray(v, dtype=float)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), (v.shape[0],))
-    e = 0.5 * float(np.sum(m * np.sum(v * v, axis=1)))
-    if w is not None and inertia is not None:
-        w = np.asarray(w, dtype=float).reshape(v.shape[0], -1)
-        inertia = np.broadcast_to(np.asarray(inertia, dtype=float), (v.shape[0],))
-        e += 0.5 * float(np.sum(inertia * np.sum(w * w, axis=1)))
-    return e
 
 
 def _series(state, res):
@@ -154,7 +143,7 @@ def analyse(sc, state, res, e0):
         tk, omk = np.append(tk, t_run), np.append(omk, omk[-1])
     predicted = 0.5 * N * float(np.trapezoid(omk, tk))
     a = dict(t=t, T=T, t_run=t_run, n_collisions=n_coll, n_wall=int(res.n_wall),
-             box=np.asarray(state.box, dtype=float), e0=e0, e1=kinetic_energy(res.v, res.w, state.mass, state.inertia),
+             box=np.asarray(state.box, dtype=float), e0=e0, e1=res.state.kinetic_energy(),
              omega=gs.collision_frequency(n_coll, N, t_run) if t_run > 0 else math.nan,
              omega_enskog=2.0 * predicted / (N * t_run) if t_run > 0 else math.nan,
              ratio=n_coll / predicted if predicted > 0 else math.nan,
@@ -175,8 +164,14 @@ def analyse(sc, state, res, e0):
     a["sample_t"] = t[pick]
     # scaled components have unit variance: temperature m (J) for mass m
     a["mb"] = gs.maxwell_boltzmann_test(scaled, mass=m, T=m)
-    if p["e"] < 1.0 and len(t) >= 3:
-        a["haff"] = gs.fit_haff(t, T)
+    if p["e"] < 1.0:
+        # the homogeneous phase: the first `fit_collisions` collisions per particle
+        # (Haff's clock: omega0 tau ln(1 + t/tau) of them by time t); T0 is measured
+        t_fit = th["tau"] * math.expm1(p["fit_collisions"] / (th["omega0"] * th["tau"]))
+        win = t <= t_fit * (1.0 + 1e-12)
+        a["t_fit"] = float(t[win][-1])
+        if np.count_nonzero(win) >= 3:
+            a["haff"] = gs.fit_haff(t[win], T[win], T0=T[0])
     return a
 
 
@@ -192,7 +187,9 @@ def summary_text(sc, res, a, wall, t_end):
     lines = [
         "scenario: granular_gas: " + spec("granular_gas").summary,
         f"law: {p['law']} ({law_text}); many-body engine rbimpact.manybody"
-        + (f", inelastic collapse: {th['collapse']}" if th.get("collapse") else ""),
+        + (f"; inelastic collapse: TC model (Luding & McNamara 1998), tc = {res.tc:.3g} s, "
+           f"{res.n_tc} impacts made elastic" if res.collapse == "tc" else
+           f"; inelastic collapse: {res.collapse}"),
     ]
     if changed:
         lines.append("settings: " + ", ".join(f"{k}={v}" for k, v in changed.items()))
@@ -200,7 +197,7 @@ def summary_text(sc, res, a, wall, t_end):
         f"gas: {p['n']} {shape} (dim {p['dim']}), radius {p['radius']:g} m, packing "
         f"{p['packing']:g} in a box " + " x ".join(f"{b:.4g}" for b in box) + " m, "
         f"T0 = {a['T'][0]:.6g} J, start {p['start']}, seed {p['seed']}",
-        f"status: ran to t = {a['t_run']:.6g} s of {t_end:.6g} s",
+        f"status: ran to t = {a['t_run']:.6g} s of {t_end:.6g} s (stop: {res.stop})",
         f"impacts: {a['n_collisions']} body-body collisions "
         f"({2 * a['n_collisions'] / p['n']:.1f} per particle), {a['n_wall']} wall hits",
         f"collision frequency per particle: {a['omega']:.6g} /s measured, Enskog "
@@ -221,10 +218,13 @@ def summary_text(sc, res, a, wall, t_end):
                  f"snapshots, t >= {a['sample_t'][0]:.4g} s")
     if a["haff"] is not None:
         h = a["haff"]
+        walls = 1.0 + a["n_wall"] / max(a["n_collisions"], 1)
         lines.append(
-            f"Haff's law: tau fitted {h.tau:.6g} s (+-{h.tau_se:.2g}, rms log residual "
-            f"{h.rms:.3g}), theory {th['tau']:.6g} s (ratio {h.tau / th['tau']:.4f}; "
-            f"smooth particles{'' if p['mu'] == 0 else ', mu > 0 also dissipates'}); "
+            f"Haff's law: tau fitted {h.tau:.6g} s over t <= {a['t_fit']:.4g} s (T0 "
+            f"measured; +-{h.tau_se:.2g}, rms log residual {h.rms:.3g}); theory {th['tau']:.6g} s (ratio {h.tau / th['tau']:.4f}), with "
+            f"the walls' dissipation (1/tau x (1 + wall hits / collisions)) "
+            f"{th['tau'] / walls:.6g} s (ratio {h.tau * walls / th['tau']:.4f}); smooth "
+            f"particles{'' if p['mu'] == 0 else ', mu > 0 also dissipates'}; "
             f"T(end)/T0 = {a['T'][-1] / a['T'][0]:.4g}")
     rate = (a["n_collisions"] + a["n_wall"]) / wall if wall > 0 else math.nan
     lines.append(f"run time: {wall:.3g} s ({rate:.3g} impacts/s, includes any compilation)")
@@ -248,15 +248,16 @@ def plot_gas(path, sc, a):
     m, dim = p["mass"], p["dim"]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     s = np.linalg.norm(a["samples"], axis=1)
-    bins = int(np.clip(np.sqrt(s.size) / 2.0, 15, 80))
-    ax1.hist(s, bins=bins, density=True, alpha=0.6, label=f"{s.size} speeds (scaled to T)")
-    x = np.linspace(0, s.max() * 1.05, 400)
-    ax1.plot(x, gs.speed_pdf(x, m, m, dim), "k-",
+    s0 = np.linalg.norm(a["V"][0] / math.sqrt(a["T"][0] / m), axis=1)
+    edges = np.linspace(0.0, max(s.max(), s0.max()) * 1.02,
+                        int(np.clip(np.sqrt(s.size) / 2.0, 15, 80)) + 1)
+    ax1.hist(s, bins=edges, density=True, alpha=0.6, label=f"{s.size} speeds (scaled to T)")
+    x = np.linspace(0, edges[-1], 400)
+    f = gs.speed_pdf(x, m, m, dim)
+    ax1.plot(x, f, "k-",
              label="Maxwell-Boltzmann (" + ("Rayleigh" if dim == 2 else "Maxwell") + ")")
-    if a["V"].shape[0]:
-        s0 = np.linalg.norm(a["V"][0] / math.sqrt(a["T"][0] / m), axis=1)
-        ax1.hist(s0, bins=bins, density=True, histtype="step", color="tab:red",
-                 label="t = 0")
+    ax1.hist(s0, bins=edges, density=True, histtype="step", color="tab:red", label="t = 0")
+    ax1.set_ylim(0.0, 1.6 * f.max())
     ax1.set_xlabel("speed / sqrt(T/m)")
     ax1.set_ylabel("probability density")
     ax1.set_title(f"Maxwell-Boltzmann test: p = {a['mb'].p_value:.3g}")
@@ -267,8 +268,12 @@ def plot_gas(path, sc, a):
         ax2.loglog(t[ok], T[ok], "o", ms=3, label="simulation")
         ax2.loglog(t[ok], gs.haff_temperature(t[ok], T[0], th["tau"]), "k-",
                    label=f"Haff, theory tau = {th['tau']:.4g} s")
+        walls = 1.0 + a["n_wall"] / max(a["n_collisions"], 1)
+        ax2.loglog(t[ok], gs.haff_temperature(t[ok], T[0], th["tau"] / walls), "k:",
+                   label=f"Haff with the walls' dissipation, tau = {th['tau'] / walls:.4g} s")
+        ax2.axvline(a["t_fit"], color="0.6", lw=0.8)
         ax2.loglog(t[ok], gs.haff_temperature(t[ok], a["haff"].T0, a["haff"].tau), "r--",
-                   label=f"Haff, fitted tau = {a['haff'].tau:.4g} s")
+                   label=f"Haff, fitted tau = {a['haff'].tau:.4g} s (t <= {a['t_fit']:.3g} s)")
         ax2.set_ylabel("T (J)")
     else:
         ax2.plot(t, a["kurtosis"], ".", ms=3, label="mean over components")
@@ -297,17 +302,20 @@ def plot_gas(path, sc, a):
                 "rough": "rough bodies: friction couples rotation (mu, e_t)",
                 "start": "initial velocities: maxwellian or equal_speeds",
                 "collisions": "run length in body-body collisions per particle (Enskog, "
-                              "Haff), > 0"},
+                              "Haff), > 0",
+                "fit_collisions": "e < 1: Haff's tau is fitted over the first this many "
+                                  "collisions per particle (the homogeneous phase), > 0"},
           choices={"start": ("maxwellian", "equal_speeds")})
 def build(law: str = "kane_levinson", e: float = 1.0, mu: float = 0.0, e_t: float = 0.0,
           restitution: str = "energetic", n: int = 1024, dim: int = 2,
           packing: float = 0.15, radius: float = 0.5, mass: float = 1.0,
           temperature: float = 1.0, seed: int = 0, gravity: float = 0.0,
-          rough: bool = False, start: str = "maxwellian", collisions: float = 50.0):
+          rough: bool = False, start: str = "maxwellian", collisions: float = 50.0,
+          fit_collisions: float = 20.0):
     from rbimpact import gas_stats as gs
     from rbimpact.laws import LAWS
     positive("granular_gas", radius=radius, mass=mass, temperature=temperature,
-             collisions=collisions)
+             collisions=collisions, fit_collisions=fit_collisions)
     nonnegative("granular_gas", gravity=gravity, seed=seed)
     if n < 2:
         raise ValueError(f"scenario 'granular_gas': n must be >= 2, got {n}")
@@ -319,7 +327,7 @@ def build(law: str = "kane_levinson", e: float = 1.0, mu: float = 0.0, e_t: floa
     values = dict(law=law, e=e, mu=mu, e_t=e_t, restitution=restitution, n=n, dim=dim,
                   packing=packing, radius=radius, mass=mass, temperature=temperature,
                   seed=seed, gravity=gravity, rough=rough, start=start,
-                  collisions=collisions)
+                  collisions=collisions, fit_collisions=fit_collisions)
     takes = LAWS[law].params
     lp = {k: values[k] for k in LAW_PARAMS if k in takes}
     sigma = 2.0 * radius
