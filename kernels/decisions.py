@@ -5,6 +5,8 @@ No decision is taken on the sign of round-off: a quantity that is zero up to rou
 counts as "zero" is either a property of the law and its parameters or a tolerance scaled
 to the contact's own speed.
 """
+import math
+
 from numba import njit
 
 from .common import P_E
@@ -19,3 +21,33 @@ def perforates(law_par_row, vfN):
     negative ``vfN`` from them is round-off of a plastic (``e = 0``) impact: the body stays
     on the plane (its contact is then handled as resting or accumulating)."""
     return law_par_row[P_E] < 0.0 and vfN < 0.0
+
+
+@njit(cache=True, _nrt=False)
+def impacts_before_rest(after, before, gn, t, t_end, eex, thr):
+    """Number of further impacts (a float, >= 0) of a round body bouncing on a plane before
+    its bounces accumulate onto it (Zeno) or the run ends, whichever comes first.
+
+    A disk's or sphere's normal impulse exerts no moment about its centre (``W_NT = 0``), so
+    every law gives the same normal restitution ratio ``e = -after / before`` (the centre's
+    normal velocity after / before the impact, m/s) at every later bounce: the bounces are
+    geometric. Its excess energy ``eex`` (J) falls by ``e^2`` per bounce to the accumulation
+    threshold ``thr`` = m zeno_speed^2 / 2 (J) after ``ln(eex / thr) / (2 ln(1/e))`` bounces;
+    its flight times ``f0 e^j`` (``f0 = 2 after / |g_n|``, s) reach the end of the run
+    ``t_end - t`` (s) after ``ln(1 - (t_end - t)(1 - e) / f0) / ln e`` bounces (never when
+    the logarithm's argument is <= 0). Returns 0 for a body not bouncing back
+    (``after <= 0``) or an elastic one (``e >= 1``: no accumulation; ``max_events`` bounds
+    it)."""
+    if not (before < 0.0 and after > 0.0 and gn < 0.0):
+        return 0.0
+    e = -after / before
+    if not e < 1.0:
+        return 0.0
+    n_thr = 0.0
+    if eex > thr > 0.0:
+        n_thr = 0.5 * math.log(eex / thr) / -math.log(e)
+    f0 = 2.0 * after / -gn
+    x = 1.0 - (t_end - t) * (1.0 - e) / f0
+    if x > 0.0:
+        return min(n_thr, math.log(x) / math.log(e))
+    return n_thr

@@ -120,16 +120,18 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
+from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, cluster_contacts,
+                      cluster_members)
 from .layout import B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_MODE, M_PLANE
-from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_JOINT_E, ERR_MISSED, ERR_NONFINITE,
-                   ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE, ERR_PGS, ERR_SEQ,
-                   ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY, ERR_TWO_PLANES, EVENT_KINDS,
-                   EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK,
-                   FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
-                   PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL,
-                   RC_DONE, RC_MAX_EVENTS)
+from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
+                   ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
+                   ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY,
+                   ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE,
+                   EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
+                   FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
+                   POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import P_E, P_MU
-from .decisions import perforates
+from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_2d_as
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
                        fly_row)
@@ -176,7 +178,8 @@ TI_SEQ_MAXSTEPS = 2
 TI_STALL = 3
 TI_POLICY = 4
 TI_MAX_EVENTS = 5
-N_TI = 6
+TI_ACC_MAX = 6         # max_accumulation_impacts
+N_TI = 7
 
 RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, M_FEAT]
 ROLL_RTOL = 8.0 * 2.220446049250313e-16
@@ -199,13 +202,7 @@ assert (2 * MAXC) ** 2 >= N_W
 N_CF = 13            # columns of the contact workspace c_f
 N_CI = 6             # columns of the contact workspace c_i
 
-# c_i columns
-CI_TYPE = 0          # 0: body-plane, 1: disk-disk
-CI_A = 1
-CI_B = 2             # plane index or body index
-CI_FEAT = 3          # vertex row in verts
-CI_LAW = 4
-CI_OFF = 5           # perforated during a sequential resolution
+# c_i columns: kernels/instant.py (CI_FEAT: the vertex row in verts)
 # c_f columns
 CF_NX, CF_NY, CF_PX, CF_PY, CF_RAX, CF_RAY, CF_RBX, CF_RBY = 0, 1, 2, 3, 4, 5, 6, 7
 CF_VIN, CF_VIT, CF_PN, CF_PT, CF_VCMN = 8, 9, 10, 11, 12
@@ -1683,40 +1680,12 @@ def _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb
              v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err):
     """Group the gathered contacts into clusters sharing a body and resolve each one."""
     policy = toli[TI_POLICY]
-    # clusters: contacts sharing a body
-    for c in range(nc):
-        comp[c] = c
-    changed = True
-    while changed:
-        changed = False
-        for c in range(nc):
-            for d in range(c + 1, nc):
-                if comp[c] == comp[d]:
-                    continue
-                share = c_i[c, CI_A] == c_i[d, CI_A]
-                if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
-                    share = True
-                if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
-                        c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
-                    share = True
-                if share:
-                    lo = min(comp[c], comp[d])
-                    comp[c] = lo
-                    comp[d] = lo
-                    changed = True
+    cluster_contacts(nc, c_i, comp)
     for root in range(nc):
-        K = 0
-        for c in range(nc):
-            if comp[c] == root:
-                K += 1
+        # members of this cluster, in contact order, stored in the tail of comp
+        K = cluster_members(nc, comp, root, MAXC)
         if K == 0:
             continue
-        # members of this cluster, in contact order, stored in the tail of comp
-        k = 0
-        for c in range(nc):
-            if comp[c] == root:
-                comp[MAXC + k] = c
-                k += 1
         members = comp[MAXC:MAXC + K]
         if K > 1 and policy == POL_SIMULTANEOUS:
             if joint is not None:
@@ -1850,8 +1819,8 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
 
 @njit(cache=True, _nrt=False)
 def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                   bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, c_i, c_f, bmark, ev_t,
-                   ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err):
+                   bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, toli, c_i, c_f, bmark,
+                   ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err):
     """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
     contacts, schedule accumulation points, hold a vertex whose impacts accumulate
     (integrated pivot contact; other single-point chatter is an error), log segments.
@@ -1903,8 +1872,17 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
             # accumulation on that rest only when consistent: the centre of mass is over
             # the face (stable), the motion left is below the threshold, and the snap
             # onto the face does not lift the body (create energy)
-            if not (stable and eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
-                    and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
+            thr = 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+            if not (stable and eex < thr and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
+                if bint[i, B_KIND] == SH_DISK:
+                    # near-elastic bounces: stop before stepping through millions of them
+                    vn = nx * st[i, VX] + ny * st[i, VY]
+                    n = impacts_before_rest(vn, c_f[c, CF_VCMN], gn, t, tolf[TF_T_END], eex,
+                                            thr)
+                    if n > toli[TI_ACC_MAX]:
+                        _set_err(err, t, i, -1 - p, st[i, X], st[i, Y],
+                                 -vn / c_f[c, CF_VCMN], n, 0.0)
+                        return ERR_FAR_ACCUMULATION
                 continue
             if wedge is not None and bint[i, B_KIND] == SH_DISK:
                 rc = _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm,
@@ -2145,8 +2123,8 @@ def loop_for(law):
                 return rc
             rc = _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes,
                                 grav, law_par, bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off,
-                                tolf, c_i, c_f, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s,
-                                cnt, tmp, w, err)
+                                tolf, toli, c_i, c_f, bmark, ev_t, ev_i, ev_f, seg_t, seg_b,
+                                seg_s, cnt, tmp, w, err)
             if rc < 0:
                 return rc
             pend = True

@@ -98,16 +98,19 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
+from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, cluster_contacts,
+                      cluster_members)
 from .layout import B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_FEAT, M_MODE, M_PLANE
-from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_JOINT_E, ERR_MISSED, ERR_NONFINITE,
-                   ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE, ERR_PGS, ERR_ROT, ERR_SEQ,
-                   ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY,
-                   ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE, EV_CONTACT, EV_IMPACT, EV_PIVOT,
-                   EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT,
-                   FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL,
-                   PM_SLIDE, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
+from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
+                   ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
+                   ERR_PGS, ERR_ROT, ERR_SEQ, ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING,
+                   ERR_TOI, ERR_TOO_MANY, ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE,
+                   EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK,
+                   FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
+                   PM_REST, PM_ROLL, PM_SLIDE, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
+                   RC_MAX_EVENTS)
 from .common import P_E, P_MU, spd3_solve
-from .decisions import perforates
+from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_3d_as
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
@@ -162,7 +165,8 @@ TI_POLICY = 4
 TI_MAX_EVENTS = 5
 TI_ROT_MAX_STEPS = 6
 TI_CAPTURE = 7
-N_TI = 8
+TI_ACC_MAX = 8         # max_accumulation_impacts
+N_TI = 9
 
 
 #: a slip is "along the slope" when the sine of the angle between the slip and the
@@ -200,7 +204,6 @@ SNAP_RTOL = 1e-12
 
 MAXC = 24          # contacts resolved at one instant
 N_CI = 6
-CI_TYPE, CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF = 0, 1, 2, 3, 4, 5
 N_CF = 25
 CF_N, CF_T1, CF_T2, CF_P, CF_RA, CF_RB, CF_VI, CF_PI, CF_VCMN = 0, 3, 6, 9, 12, 15, 18, 21, 24
 N_EF = 19
@@ -1949,7 +1952,7 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
 @njit(cache=True)
 def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
                   tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
-                  Ii, err, pivot):
+                  Ii, err, toli, pivot):
     """Body i (in flight) took part in the impacts at t: schedule an accumulation point,
     enter integrated point/edge contact, snap onto a face, or leave it in flight."""
     cw = MAXC - 1
@@ -1965,7 +1968,17 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             continue
         face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
         eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
-        if not eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn):
+        thr = 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+        if not eex < thr:
+            if bint[i, B_KIND] == SH_SPHERE:
+                # near-elastic bounces: stop before stepping through millions of them
+                vn = (planes[p, 0] * st[i, SV] + planes[p, 1] * st[i, SV + 1]
+                      + planes[p, 2] * st[i, SV + 2])
+                n = impacts_before_rest(vn, c_f[c, CF_VCMN], gn, t, tolf[TF_T_END], eex, thr)
+                if n > toli[TI_ACC_MAX]:
+                    _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2],
+                             -vn / c_f[c, CF_VCMN], n, 0.0)
+                    return ERR_FAR_ACCUMULATION
             continue
         if not _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex):
             continue
@@ -2286,38 +2299,11 @@ def loop_for(law):
                 c_f[c, CF_VCMN] = (c_f[c, CF_N] * st[a, SV] + c_f[c, CF_N + 1] * st[a, SV + 1]
                                    + c_f[c, CF_N + 2] * st[a, SV + 2])
             # clusters: contacts sharing a body
-            for c in range(nc):
-                comp[c] = c
-            changed = True
-            while changed:
-                changed = False
-                for c in range(nc):
-                    for d in range(c + 1, nc):
-                        if comp[c] == comp[d]:
-                            continue
-                        share = c_i[c, CI_A] == c_i[d, CI_A]
-                        if c_i[d, CI_TYPE] == 1 and c_i[c, CI_A] == c_i[d, CI_B]:
-                            share = True
-                        if c_i[c, CI_TYPE] == 1 and (c_i[c, CI_B] == c_i[d, CI_A] or (
-                                c_i[d, CI_TYPE] == 1 and c_i[c, CI_B] == c_i[d, CI_B])):
-                            share = True
-                        if share:
-                            lo = min(comp[c], comp[d])
-                            comp[c] = lo
-                            comp[d] = lo
-                            changed = True
+            cluster_contacts(nc, c_i, comp)
             for root in range(nc):
-                K = np.int64(0)
-                for c in range(nc):
-                    if comp[c] == root:
-                        K += 1
+                K = cluster_members(nc, comp, root, MAXC)
                 if K == 0:
                     continue
-                k = 0
-                for c in range(nc):
-                    if comp[c] == root:
-                        comp[MAXC + k] = c
-                        k += 1
                 members = comp[MAXC:MAXC + K]
                 if K == 1:
                     c = members[0]
@@ -2365,7 +2351,7 @@ def loop_for(law):
                     continue
                 rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par,
                                    bp_law, pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on,
-                                   pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, pivot)
+                                   pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, toli, pivot)
                 if rc < 0:
                     return rc
             for i in range(nb):

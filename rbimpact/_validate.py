@@ -207,9 +207,9 @@ def validate_run_args(t_end, max_events, who="run"):
 
 def validate_tolerance(who, name, value, unit):
     """One stepper keyword: a finite number >= 0 (``unit`` goes into the message); names
-    ending in max_iter, max_steps or events are iteration limits, integers in
+    ending in max_iter, max_steps, events or impacts are iteration limits, integers in
     [1, 2^63 - 1] (an integral float such as 1e5 is accepted)."""
-    if name.endswith(("max_iter", "max_steps", "events")):
+    if name.endswith(("max_iter", "max_steps", "events", "impacts")):
         return integer(f"{who}: {name}", value, integral_float=True)
     v = real(f"{who}: {name}", value, unit)
     if v < 0.0:

@@ -3,6 +3,7 @@ Numba cache, then with the warm cache; which functions compile (their count, the
 whether any 3D code compiles for a 2D scene). Used by ``rbimpact bench compile``."""
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -39,19 +40,23 @@ def _laws(names):
 
 def scene_compile(name):
     """One row: the scene's cold (empty cache) and warm process times (s, whole command
-    from the import of rbimpact), the number of functions compiled cold, the laws among
-    them, and the number of 3D functions compiled."""
+    from the interpreter's start: wall ``*_s`` and CPU ``*_cpu_s``), the number of functions
+    compiled cold, the laws among them, and the number of 3D functions compiled."""
     code = _SCRIPT.format(name=name)
     row = {"item": f"rbimpact run {name}"}
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache}
         for label in ("cold", "warm"):
             t0 = time.perf_counter()
+            c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
                                  capture_output=True, text=True).stdout
             wall = time.perf_counter() - t0
+            c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
             info = json.loads(out.strip().splitlines()[-1])
             row[f"{label}_s"] = wall
+            # CPU seconds of the process (user + system): robust on a loaded machine
+            row[f"{label}_cpu_s"] = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
             if label == "cold":
                 names = info["names"]
                 row["functions"] = len(names)

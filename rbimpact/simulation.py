@@ -160,6 +160,10 @@ TOLERANCES = {
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "max_accumulation_impacts": (1_000_000, "-", "a disk whose bounces on a plane would "
+                                 "accumulate (or reach t_end) only after more impacts than "
+                                 "this (e close to 1) stops the run with an error naming e "
+                                 "and the count, instead of stepping through them"),
 }
 POLICIES = ("simultaneous", "sequential")
 #: first capacity (rows beyond the loop's safety margin) of the event and segment buffers;
@@ -210,7 +214,8 @@ class Simulation:
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
     simul_tol 1e-14 (relative);
-    simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000.
+    simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000;
+    max_accumulation_impacts 1000000.
     """
 
     def __new__(cls, scene=None, *args, **kwargs):
@@ -313,6 +318,7 @@ class Simulation:
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
         toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
         toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_ACC_MAX] = tol["max_accumulation_impacts"]
         toli[k.TI_POLICY] = POLICIES.index(self.policy)
         st = np.zeros((nb, 9))
         for i, b in enumerate(self.scene.bodies):
@@ -477,6 +483,13 @@ class Simulation:
                 f"{int(err[5])} too and cannot rest on both: persistent contact with two "
                 f"planes at once (rolling or sliding in a groove or a corner) is not "
                 f"supported")
+        elif rc == k.ERR_FAR_ACCUMULATION:
+            exc = SimulationError(
+                f"{body} bounces on {self._where(b)} with restitution e = {err[5]:.12g} "
+                f"{at}: its bounces accumulate (or reach t_end) only after about "
+                f"{err[6]:.3g} more impacts, beyond max_accumulation_impacts = "
+                f"{self.tolerances['max_accumulation_impacts']}; end the run earlier, lower "
+                f"e, or raise max_accumulation_impacts")
         elif rc == k.ERR_NOT_COMPILED:
             exc = SimulationError(
                 f"internal error: {body} reached a contact handler ("

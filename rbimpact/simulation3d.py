@@ -76,6 +76,10 @@ TOLERANCES_3D = {
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "max_accumulation_impacts": (1_000_000, "-", "a sphere whose bounces on a plane would "
+                                 "accumulate (or reach t_end) only after more impacts than "
+                                 "this (e close to 1) stops the run with an error naming e "
+                                 "and the count, instead of stepping through them"),
     "rot_tol": (1e-12, "-", "error tolerance of the integrated rotation (general inertia; "
                 "a sliding sphere's orientation): per step, quaternion components within "
                 "rot_tol and body angular velocity within rot_tol |w(0)|"),
@@ -139,7 +143,8 @@ class Simulation3D:
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
-    seq_max_steps 1000; stall_events 10000; rot_tol 1e-12; rot_max_steps 1e7;
+    seq_max_steps 1000; stall_events 10000;
+    max_accumulation_impacts 1000000; rot_tol 1e-12; rot_max_steps 1e7;
     contact_tol 1e-10; slip_eps 1e-6 m/s.
     """
 
@@ -245,6 +250,7 @@ class Simulation3D:
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
         toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
         toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_ACC_MAX] = tol["max_accumulation_impacts"]
         toli[k.TI_POLICY] = POLICIES.index(self.policy)
         toli[k.TI_MAX_EVENTS] = max_events
         toli[k.TI_ROT_MAX_STEPS] = tol["rot_max_steps"]
@@ -436,6 +442,13 @@ class Simulation3D:
                                   f"across the slope (tangential gravity {err[7]:.3g} m/s^2, "
                                   f"mu = {err[8]:g}): the slip direction would curve, which "
                                   f"has no closed form and is not supported")
+        elif rc == k.ERR_FAR_ACCUMULATION:
+            exc = SimulationError(
+                f"{body} bounces on {self._where(b)} with restitution e = {err[6]:.12g} "
+                f"{at}: its bounces accumulate (or reach t_end) only after about "
+                f"{err[7]:.3g} more impacts, beyond max_accumulation_impacts = "
+                f"{self.tolerances['max_accumulation_impacts']}; end the run earlier, lower "
+                f"e, or raise max_accumulation_impacts")
         elif rc == k.ERR_NOT_COMPILED:
             exc = SimulationError(
                 f"internal error: {body} reached a contact handler ("

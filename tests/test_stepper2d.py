@@ -688,3 +688,52 @@ def test_exports_and_plot(tmp_path):
         pytest.importorskip("matplotlib")
     res.plot(tmp_path / "fig.png")
     assert (tmp_path / "fig.png").stat().st_size > 1000
+
+
+# ---------------------------------------------------------------- near-elastic bounces
+
+@pytest.mark.parametrize("law", ["kane_levinson", "routh", "chatterjee_ruina"])
+def test_near_elastic_bounces_stop_with_a_clear_error(law):
+    """e = 1 - 1e-6 (issue 13 item 5): the bounces would accumulate only after about
+    ln(v / zeno_speed) / (1 - e) ~ 1.1e7 impacts; the run stops at the first impact with an
+    error naming e and the count (it stepped 1.2e7 impacts before), whatever the friction
+    (a disk's bounces are geometric: its normal impulse has no moment)."""
+    from rbimpact.errors import SimulationError
+    e = 1.0 - 1e-6
+    sim = drop_ball(e=e, mu=0.3, vx=0.5, law=law)
+    with pytest.raises(SimulationError, match=r"e = 0\.999999.*about 1\.1e\+07 more impacts"
+                       r".*max_accumulation_impacts = 1000000") as info:
+        sim.run(1e9)
+    res = info.value.result
+    assert res.status == "far_accumulation"
+    assert len(res.events) == 1 and res.events["kind"][0] == "impact"
+    # a run that ends before the accumulation steps its bounces (h = 1 m: one per 0.9 s)
+    res = sim.run(10.0)
+    assert res.status == "done" and 10 <= len(res.events) <= 12
+    # the limit is a tolerance: raised, the same scene steps on (not run here: 1e7 impacts)
+    assert Simulation(sim.scene, sim.law,
+                      max_accumulation_impacts=10**8).tolerances[
+                          "max_accumulation_impacts"] == 10**8
+
+
+def test_far_accumulation_count_is_exact_for_a_geometric_series():
+    """impacts_before_rest against a direct count of the geometric bounces: the energy
+    threshold branch and the t_end branch."""
+    from rbimpact.kernels.decisions import impacts_before_rest
+    g, m, v0, e = 9.80665, 1.0, 4.0, 0.99
+    thr = 0.5 * m * 1e-4 ** 2
+    n_thr = impacts_before_rest(e * v0, -v0, -g, 0.0, 1e30, 0.5 * m * (e * v0) ** 2, thr)
+    v, k = e * v0, 0
+    while 0.5 * m * v * v >= thr:
+        v *= e
+        k += 1
+    assert abs(n_thr - k) < 1.0
+    t_end = 5.0
+    n_end = impacts_before_rest(e * v0, -v0, -g, 0.0, t_end, 0.5 * m * (e * v0) ** 2, thr)
+    t, v, k = 0.0, e * v0, 0
+    while t + 2 * v / g <= t_end:
+        t += 2 * v / g
+        v *= e
+        k += 1
+    assert abs(n_end - k) < 1.0
+    assert impacts_before_rest(v0, -v0, -g, 0.0, t_end, 1.0, thr) == 0.0     # elastic

@@ -554,3 +554,19 @@ def test_scenarios_show_what_they_describe():
     sc = scenarios.get("tumbling_capsule")
     sw = sc.reference.swerve(sc.simulate())
     assert np.any((sw > 20.0) & (sw < 160.0))
+
+
+def test_near_elastic_sphere_bounces_stop_with_a_clear_error():
+    """e = 1 - 1e-6 (issue 13 item 5), a spinning sphere with friction: its bounces are
+    geometric (the normal impulse has no moment), they would accumulate only after ~1.1e7
+    impacts: the run stops at the first impact with an error naming e and the count."""
+    e = 1.0 - 1e-6
+    sc = Scene3D(gravity=(0.0, 0.0, -9.80665))
+    sc.add_floor()
+    sc.add_body(Sphere(0.05), 1.0, (0.0, 0.0, 1.05), velocity=(0.3, -0.2, 0.0),
+                angular_velocity=(1.0, 2.0, 3.0))
+    sim = Simulation3D(sc, Law("kane_levinson", e=e, mu=0.3))
+    with pytest.raises(SimulationError, match=r"e = 0\.999999.*about 1\.1e\+07 more impacts"):
+        sim.run(1e9)
+    res = sim.run(10.0)        # ends before the accumulation: its ~11 bounces are stepped
+    assert res.status == "done" and 10 <= len(res.events) <= 12
