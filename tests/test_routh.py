@@ -690,3 +690,18 @@ def test_3d_tol_ladder_random_no_failure():
             assert mode != -2
             if mode < 0:
                 assert ref_routh(v[i], W[i], 0.5, 0.6, REST_POISSON)[0] != 'ok'
+
+
+ROUTH3D_ERR_PER_TOL = 2.0   # bench routh3d: error of v_f relative to |v| allowed per unit tol
+
+
+def test_bench_routh3d_error_follows_tol():
+    """``rbimpact bench routh3d``'s ladder on the DESIGN §5 swerve case: the error of v_f
+    against tol = 1e-14, relative to |v|, stays within ROUTH3D_ERR_PER_TOL * tol at every
+    tol (1e-3 .. 1e-12), and the rate columns are the inverse of the time per impact."""
+    from rbimpact import bench
+    rows = bench.bench_routh3d(repeat=1, n=4)
+    assert [r["tol"] for r in rows] == [10.0 ** -k for k in range(3, 13)]
+    for r in rows:
+        assert r["rel_error"] <= ROUTH3D_ERR_PER_TOL * r["tol"], r
+        assert r["impacts_per_s"] * r["time_per_impact_s"] == pytest.approx(1.0)
