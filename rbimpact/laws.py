@@ -371,8 +371,8 @@ class Law:
 
         With ``validate`` (default) every contact is checked inside the compiled loop:
         ``v`` and ``W`` finite, ``W`` symmetric to ``SYMMETRY_RTOL`` (then used as
-        ``(W + W^T) / 2``), positive definite (2D: exact-sign determinant; 3D: pivots of
-        ``L D L^T``), per-contact parameters in range; the first refused contact raises
+        ``(W + W^T) / 2``), positive definite (leading minors > 0, i.e. the pivots of
+        ``L D L^T``; 2x2 minors with an exact sign), per-contact parameters in range; the first refused contact raises
         ``ValueError`` naming its index and what is wrong. ``validate=False`` skips these
         checks and reads the upper triangle of ``W`` as given. ``energy_gain`` flags
         ``dE > ENERGY_GAIN_RTOL * sum_k |P_k| (|v_k| + |v_f,k|) / 2``, computed in the loop.
