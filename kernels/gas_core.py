@@ -610,7 +610,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt_new, tnow)
         i = q_top(qkey, qlink, qheap, qhead, qs, qdt)
         t = qkey[i] if i >= 0 else _INF
-        if i < 0 and t_end == _INF:
+        if t == _INF and t_end == _INF:     # nothing will ever happen (all at rest)
             status = RUN_EMPTY
             break
         if snap_dt > 0.0:
@@ -633,7 +633,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 stats[ST_NSNAP] = ks + 1
             if status != 0:
                 break
-        if i < 0:
+        if t == _INF:
             status = RUN_EMPTY
             break
         if t > t_end:

@@ -127,6 +127,30 @@ def test_recorded_impulse_is_the_law_on_that_contact():
     assert res.state.kinetic_energy() < s.kinetic_energy()
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_rough_energy_balance_matches_the_laws_dE(dim):
+    """The contact-space velocity and W handed to the law agree with the bodies' motion:
+    the sum of the laws' dE equals the change of kinetic energy (spin included)."""
+    s = random_gas(60, dim=dim, packing=0.2, law="kane_levinson", e=0.8, mu=0.5,
+                   rough=True, seed=9)
+    res = run_gas(s, max_impacts=5000, record="all", collapse="none")
+    de = res.state.kinetic_energy() - s.kinetic_energy()
+    assert de < -0.1 * s.kinetic_energy()
+    assert abs(res.events["dE"].sum() - de) <= 1e-10 * s.kinetic_energy()
+    assert np.any(res.w != 0.0)
+    assert _min_separation(res.x) >= 2 * s.radius * (1 - OVERLAP_RTOL)
+
+
+def test_bodies_at_rest_end_the_run_without_events():
+    s = random_gas(10, seed=0)
+    s.v[:] = 0.0
+    res = run_gas(s, max_impacts=100)
+    assert res.n_impacts == 0 and res.stop == "no event left"
+    res = run_gas(s, t_end=3.0)
+    assert res.t == 3.0 and res.stop in ("t_end", "no event left")
+    np.testing.assert_array_equal(res.x, s.x)
+
+
 def test_recording_modes_and_snapshots():
     s = random_gas(50, dim=2, law="kane_levinson", e=1.0, seed=1)
     full = run_gas(s, t_end=5.0, record="all", snapshot_dt=1.0)
