@@ -264,18 +264,9 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     for a in range(dim):
         nc[a] = max(1, int(L[a] / (CELL_DIAMETERS * 2.0 * r * (1.0 + gc.CELL_MARGIN))))
         cs[a] = L[a] / nc[a]
-    # bodies renumbered in cell order (row-major) for memory locality: neighbours in
-    # space are neighbours in memory (2.x faster at N = 65536); results are mapped back
-    xs = np.asarray(state.x, float)
-    cell = np.zeros(n, np.int64)
-    for a in reversed(range(dim)):
-        cell = cell * nc[a] + np.clip(np.floor(xs[:, a] / cs[a]), 0, nc[a] - 1).astype(np.int64)
-    perm = np.argsort(cell, kind="stable")        # internal body k is the user's perm[k]
-    x = np.ascontiguousarray(xs[perm])
-    v = np.ascontiguousarray(np.asarray(state.v, float)[perm])
-    w = np.ascontiguousarray(np.asarray(state.w, float).reshape(n, -1)[perm])
-    if mask is not None:
-        mask = np.ascontiguousarray(mask[perm])
+    x = np.ascontiguousarray(state.x, float).copy()
+    v = np.ascontiguousarray(state.v, float).copy()
+    w = np.ascontiguousarray(state.w, float).reshape(n, -1).copy()
     bt = np.zeros((n, gc.N_BT))
     bi = np.zeros((n, gc.N_BI), np.int64)
     chead = np.full(int(np.prod(nc)), -1, np.int64)
@@ -353,7 +344,6 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         t_fail = float(fstats[gc.FS_T])
         if status == gc.RUN_LAW_FAILED:
             a, b = int(stats[gc.ST_FAIL_A]), int(stats[gc.ST_FAIL_B])
-            a, b = int(perm[a]), (int(perm[b]) if b >= 0 else b)
             what = f"body {a} and body {b}" if b >= 0 else f"body {a} and wall {-1 - b}"
             raise SimulationError(
                 f"run_gas: law {state.law!r} has no solution (mode {int(stats[gc.ST_FAIL_MODE])})"
@@ -372,9 +362,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         rec_parts.append((rec_i[:stats[gc.ST_NREC]], rec_f[:stats[gc.ST_NREC]]))
         ri = np.concatenate([p[0] for p in rec_parts])
         rf = np.concatenate([p[1] for p in rec_parts])
-        b = ri[:, 1].copy()
-        b[b >= 0] = perm[b[b >= 0]]
-        events = {"t": rf[:, 0].copy(), "a": perm[ri[:, 0]], "b": b,
+        events = {"t": rf[:, 0].copy(), "a": ri[:, 0].copy(), "b": ri[:, 1].copy(),
                   "mode": ri[:, 2].copy(), "dE": rf[:, 1].copy(),
                   "n": rf[:, 2:2 + dim].copy(), "v": rf[:, 2 + dim:2 + 2 * dim].copy(),
                   "P": rf[:, 2 + 2 * dim:2 + 3 * dim].copy()}
@@ -386,8 +374,6 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         sw = np.concatenate([p[2] for p in snap_parts])
     else:
         st, sv, sw = np.zeros(0), np.zeros((0, n, dim)), np.zeros((0, n, w.shape[1]))
-    x, v, w = _unperm(x, perm, 0), _unperm(v, perm, 0), _unperm(w, perm, 0)
-    sv, sw = _unperm(sv, perm, 1), _unperm(sw, perm, 1)
     if dim == 2:
         w = w[:, 0].copy()
         sw = sw[:, :, 0]
@@ -410,16 +396,6 @@ def contact_W(state, wall=False):
 
 
 # ---- helpers ------------------------------------------------------------------------------
-
-def _unperm(a, perm, axis):
-    """Array indexed by the engine's body order -> indexed by the user's (axis ``axis``)."""
-    out = np.empty_like(a)
-    if axis == 0:
-        out[perm] = a
-    else:
-        out[:, perm] = a
-    return out
-
 
 def _kernels(dim):
     if dim == 2:

@@ -151,6 +151,20 @@ def test_bodies_at_rest_end_the_run_without_events():
     np.testing.assert_array_equal(res.x, s.x)
 
 
+def test_memory_with_recording_off_does_not_grow_with_events():
+    import tracemalloc
+    s = random_gas(200, dim=2, law="kane_levinson", e=1.0, seed=2)
+    run_gas(s, max_impacts=100)                 # compile/load outside the measurement
+    peaks = []
+    for m in (2_000, 100_000):
+        tracemalloc.start()
+        run_gas(s, max_impacts=m)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] <= peaks[0] + 4096            # bytes: same arrays, whatever the events
+    assert peaks[0] < 200 * 1024                  # ~ state, cells and queue: < 1 kB per body
+
+
 def test_recording_modes_and_snapshots():
     s = random_gas(50, dim=2, law="kane_levinson", e=1.0, seed=1)
     full = run_gas(s, t_end=5.0, record="all", snapshot_dt=1.0)
