@@ -45,7 +45,7 @@ def counts(df):
     return out
 
 
-def plot(df, path, seeds, seconds):
+def plot(df, path, seeds):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -56,27 +56,31 @@ def plot(df, path, seeds, seconds):
     faces = np.arange(1, 7)
     for ax, mu in zip(axes, MUS):
         ax.axhline(1 / 6, color="0.4", lw=1, ls="--", zorder=0)
+        ax.text(0.02, 0.09, "chi-square p:", transform=ax.transAxes, fontsize=7)
+        ax.text(0.02, 0.03, "errors:", transform=ax.transAxes, fontsize=7)
         for i, law in enumerate(LAWS):
             c, n, bad = table[law, mu]
             m = int(c.sum())
             lo, hi = wilson(c, m)
             p = c / m
             x = faces + (i - 2) * 0.13
-            pval = chisquare(c).pvalue
-            label = f"{LABELS[law]} (p={pval:.2f}" + (f", {bad} err" if bad else "") + ")"
             ax.errorbar(x, p, yerr=[p - lo, hi - p], fmt="o", ms=3.5, capsize=2, lw=1,
-                        color=colors[i], label=label)
-        ax.set_title(f"mu = {mu}")
+                        color=colors[i], label=LABELS[law] if mu == MUS[0] else None)
+            ax.text(0.3 + 0.14 * i, 0.09, f"{chisquare(c).pvalue:.2f}", color=colors[i],
+                    transform=ax.transAxes, fontsize=7)
+            ax.text(0.3 + 0.14 * i, 0.03, f"{bad}", color=colors[i],
+                    transform=ax.transAxes, fontsize=7)
+        ax.set_title(f"mu = {mu}", fontsize=10)
         ax.set_xticks(faces)
         ax.set_xlabel("face up")
-        ax.legend(fontsize=7, loc="lower center", frameon=False)
         ax.grid(axis="y", lw=0.3)
     axes[0].set_ylabel("frequency (Wilson 95 % CI)")
-    axes[0].set_ylim(0.09, 0.25)
-    fig.suptitle(f"die_toss: {seeds} random tosses per law and mu ({len(df)} runs, "
-                 f"{seconds:.0f} s); dashed: 1/6; p: chi-square test of a fair die",
-                 fontsize=10)
-    fig.tight_layout()
+    axes[0].set_ylim(0.08, 0.235)
+    fig.legend(loc="lower center", ncol=len(LAWS), fontsize=8, frameon=False)
+    fig.suptitle(f"die_toss: {seeds} random tosses per law and mu ({len(df)} runs); "
+                 f"dashed: 1/6; p: chi-square test of a fair die; errors: tosses not at "
+                 f"rest on a face", fontsize=9)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     fig.savefig(path, dpi=80)
 
 
@@ -91,7 +95,7 @@ def main(argv=None):
     df = rbimpact.sweep("die_toss", law=list(LAWS), grid={"mu": list(MUS)}, seeds=args.seeds,
                         workers=args.workers, out=args.table)
     seconds = time.perf_counter() - t0
-    plot(df, args.out, args.seeds, seconds)
+    plot(df, args.out, args.seeds)
     table = counts(df)
     print(f"{len(df)} tosses in {seconds:.1f} s ({df.attrs['ran']} computed now); figure: "
           f"{args.out}")

@@ -90,6 +90,31 @@ def test_resume_skips_finished_runs(tmp_path, table, monkeypatch):
         rbimpact.sweep("die_toss", grid={"spin": [10.0]}, out=out, progress=False)
 
 
+def test_a_distributed_sweep_killed_keeps_its_finished_runs(tmp_path, table, monkeypatch):
+    pytest.importorskip("distributed")
+    out = tmp_path / "k.parquet"
+    real = sweep_mod._Store.append
+    seen = []
+
+    def killed(self, row):                  # Ctrl-C after the third row arrived
+        real(self, row)
+        seen.append(row)
+        if len(seen) == 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(sweep_mod._Store, "append", killed)
+    monkeypatch.setattr(sweep_mod._Store, "consolidate", lambda self, df: None)
+    monkeypatch.setattr(sweep_mod, "TASKS_PER_WORKER", 4)     # chunks of one run
+    with pytest.raises(KeyboardInterrupt):
+        rbimpact.sweep("die_toss", grid=GRID, seeds=2, workers=2, out=out, progress=False)
+    monkeypatch.undo()
+    side = str(out) + ".partial.jsonl"
+    assert len(open(side).read().splitlines()) == 3
+    df = rbimpact.sweep("die_toss", grid=GRID, seeds=2, workers=2, out=out, progress=False)
+    assert df.attrs["skipped"] == 3 and df.attrs["ran"] == 5
+    pd.testing.assert_frame_equal(df.drop(columns="run_s"), table.drop(columns="run_s"))
+
+
 def test_a_failed_run_is_a_row(monkeypatch):
     real = sweep_mod._summary
 
