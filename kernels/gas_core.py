@@ -111,7 +111,8 @@ F_L = 12        # box lengths L_0, L_1, L_2 (m)
 F_CS = 15       # cell sides (m)
 F_SNAP_DT = 18  # snapshot period (s); <= 0: no snapshots
 F_SNAP_T0 = 19  # time of snapshot 0 (s)
-N_FPAR = 20
+F_FILL = 20     # calendar queue: mean bodies per bucket (BUCKET_FILL by default)
+N_FPAR = 21
 
 # ---- int parameters ``ipar`` ------------------------------------------------------------
 I_NC = 0        # cells per axis (3 entries; 1 for the unused third axis in 2D)
@@ -605,7 +606,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
         since += 1
         if since >= RETUNE_EVENTS * n and tnow > -_INF:
             since = 0
-            dt_new = q_fill_dt(qkey, tnow, BUCKET_FILL)
+            dt_new = q_fill_dt(qkey, tnow, fpar[F_FILL])
             if dt_new > 0.0 and not (0.5 * qdt[0] <= dt_new <= 2.0 * qdt[0]):
                 q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt_new, tnow)
         i = q_top(qkey, qlink, qheap, qhead, qs, qdt)

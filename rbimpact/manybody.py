@@ -40,6 +40,7 @@ MAX_PACKING = {2: 0.5, 3: 0.35}
 # the 3^dim block of cells around it). Larger cells mean fewer cell crossings and more
 # bodies per pair scan; tuned at packing 0.15 (bench manybody).
 CELL_DIAMETERS = 1.0     # measured at N = 4096: 1.0 and 1.5 equal, 2.0 8 % slower
+BUCKETS_PER_BODY = 1.0    # calendar queue: buckets >= this many per body (power of 2)
 REC_CHUNK = 1 << 16       # records per buffer chunk when recording
 SNAP_CHUNK = 64           # snapshots per buffer chunk when t_end is not given
 
@@ -264,11 +265,16 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     for a in range(dim):
         nc[a] = max(1, int(L[a] / (CELL_DIAMETERS * 2.0 * r * (1.0 + gc.CELL_MARGIN))))
         cs[a] = L[a] / nc[a]
-    x = np.ascontiguousarray(state.x, float).copy()
-    v = np.ascontiguousarray(state.v, float).copy()
+    # one row per body holding x, v and the event times (views): the fields a pair
+    # scan reads sit in one or two cache lines
+    rows = np.zeros((n, 2 * dim + gc.N_BT))
+    x = rows[:, :dim]
+    v = rows[:, dim:2 * dim]
+    bt = rows[:, 2 * dim:]
+    x[:] = state.x
+    v[:] = state.v
     w = np.ascontiguousarray(state.w, float).reshape(n, -1).copy()
-    bt = np.zeros((n, gc.N_BT))
-    bi = np.zeros((n, gc.N_BI), np.int64)
+    bi = np.zeros((n, gc.N_BI), np.int32)
     chead = np.full(int(np.prod(nc)), -1, np.int64)
     fpar = np.zeros(gc.N_FPAR)
     fpar[gc.F_R] = r
@@ -283,6 +289,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     fpar[gc.F_CS:gc.F_CS + 3] = cs
     fpar[gc.F_SNAP_DT] = snapshot_dt or 0.0
     fpar[gc.F_SNAP_T0] = t0
+    fpar[gc.F_FILL] = gc.BUCKET_FILL
     ipar = np.zeros(gc.N_IPAR, np.int64)
     ipar[gc.I_NC:gc.I_NC + 3] = nc
     ipar[gc.I_COLLAPSE] = gc.COLLAPSE_TC if collapse == "tc" else gc.COLLAPSE_NONE
@@ -291,7 +298,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     ipar[gc.I_MAXIMP] = max_imp
     from .kernels import scheduler as sch
     nb = 16
-    while nb < n:
+    while nb < BUCKETS_PER_BODY * n:
         nb *= 2
     qkey, qlink, qheap, qhead, qs, qdt = sch.q_alloc(n, nb)
     kern.prepare(x, v, bt, bi, chead, qkey, fpar, ipar, t0)
@@ -299,7 +306,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         raise ValueError("run_gas: the state holds non-finite values")
     fin = qkey[np.isfinite(qkey)] - t0
     tau = float(np.mean(fin)) if fin.size else 1.0
-    dt = max(tau * gc.BUCKET_FILL / n, 1e-300) if tau > 0 else 1.0
+    dt = max(tau * fpar[gc.F_FILL] / n, 1e-300) if tau > 0 else 1.0
     keys = qkey.copy()
     sch.q_init(qkey, qlink, qheap, qhead, qs, qdt, nb, dt, t0)
     for i in range(n):
@@ -379,6 +386,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         sw = sw[:, :, 0]
     stop = {gc.RUN_DONE_TEND: "t_end", gc.RUN_DONE_MAX: "max_impacts",
             gc.RUN_EMPTY: "no event left"}[status]
+    x, v = x.copy(), v.copy()
     final = replace(state, x=x, v=v, w=w, t=t_fin, law_params=dict(params))
     return GasResult(t=t_fin, x=x, v=v, w=w, n_collisions=int(stats[gc.ST_NCOLL]),
                      n_wall=int(stats[gc.ST_NWALL]), n_crossings=int(stats[gc.ST_NCROSS]),
