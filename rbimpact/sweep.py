@@ -481,7 +481,10 @@ def _local_cluster(workers):
     import dask
     from distributed import LocalCluster
     forked = _can_fork()
-    config = {"distributed.worker.multiprocessing-method": "fork"} if forked else {}
+    # no dashboard, so nobody reads the workers' statistical profiler: spare its sampling
+    config = {"distributed.worker.profile.enabled": False}
+    if forked:
+        config["distributed.worker.multiprocessing-method"] = "fork"
     sys.stdout.flush()
     sys.stderr.flush()
     with dask.config.set(config), warnings.catch_warnings():
