@@ -163,6 +163,8 @@ _INF = math.inf
 _NJ = dict(cache=True, inline="always", error_model="numpy")   # hot helpers: inlined
 # into the loop (compiled with _nrt=False), so no call and no reference counting
 _NJI = dict(cache=True, inline="always", error_model="numpy")  # the loop, once per entry
+_NJC = dict(cache=True, error_model="numpy", _nrt=False)       # cold paths: a call
+# (less code to compile in each entry; no reference counting either way)
 
 
 # ---- the laws, with one signature per dimension -------------------------------------------
@@ -534,7 +536,7 @@ def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar
     return mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn, wtt
 
 
-@njit(**_NJ)
+@njit(**_NJC)
 def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats,
            rec_i, rec_f):
     m = stats[ST_NREC]
@@ -556,6 +558,29 @@ def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats
         rec_f[m, 4] = n2
         rec_f[m, 4 + D] = v2
         rec_f[m, 4 + 2 * D] = P2
+
+
+@njit(**_NJC)
+def write_snapshots(D, t, t_end, v, w, bt, g, fpar, stats, snap_t, snap_v, snap_w):
+    """Write the snapshots due at or before time t (and t_end): all velocities at
+    ``F_SNAP_T0 + k F_SNAP_DT``. Returns 0, or RUN_SNAP_FULL when the buffer is full."""
+    snap_dt = fpar[F_SNAP_DT]
+    while True:
+        ks = stats[ST_NSNAP]
+        ts = fpar[F_SNAP_T0] + ks * snap_dt
+        if not (ts <= t and ts <= t_end):
+            return 0
+        if ks >= snap_t.shape[0]:
+            return RUN_SNAP_FULL
+        snap_t[ks] = ts
+        for b in range(v.shape[0]):
+            s = ts - bt[b, TL]
+            for a in range(D):
+                snap_v[ks, b, a] = v[b, a]
+            snap_v[ks, b, D - 1] -= g * s
+            for a in range(w.shape[1]):
+                snap_w[ks, b, a] = w[b, a]
+        stats[ST_NSNAP] = ks + 1
 
 
 @njit(**_NJ)
@@ -615,23 +640,8 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
             status = RUN_EMPTY
             break
         if snap_dt > 0.0:
-            while True:
-                ks = stats[ST_NSNAP]
-                ts = fpar[F_SNAP_T0] + ks * snap_dt
-                if not (ts <= t and ts <= t_end):
-                    break
-                if ks >= snap_t.shape[0]:
-                    status = RUN_SNAP_FULL
-                    break
-                snap_t[ks] = ts
-                for b in range(n):
-                    s = ts - bt[b, TL]
-                    for a in range(D):
-                        snap_v[ks, b, a] = v[b, a]
-                    snap_v[ks, b, D - 1] -= g * s
-                    for a in range(w.shape[1]):
-                        snap_w[ks, b, a] = w[b, a]
-                stats[ST_NSNAP] = ks + 1
+            status = write_snapshots(D, t, t_end, v, w, bt, g, fpar, stats, snap_t, snap_v,
+                                     snap_w)
             if status != 0:
                 break
         if t == _INF:

@@ -71,6 +71,8 @@ BIG_BLOCK = 1 << 62       # block of an infinite or absurdly far key
 _BIG_F = 4.0e18           # t / dt beyond this counts as BIG_BLOCK
 
 _NJ = dict(cache=True, inline="always", error_model="numpy")
+_NJC = dict(cache=True, error_model="numpy", _nrt=False)   # cold paths: not inlined
+# (less code for the caller's compile; they run once per calendar year or rarer)
 
 
 @njit(**_NJ)
@@ -219,7 +221,7 @@ def q_update(i, t, qkey, qlink, qheap, qhead, qs, qdt):
     _place(i, qkey, qlink, qheap, qhead, qs, qdt)
 
 
-@njit(**_NJ)
+@njit(**_NJC)
 def _redistribute(qkey, qlink, qheap, qhead, qs, qdt):
     """New calendar year: horizon = cur + nb; overflow bodies now inside it are placed."""
     nb = qs[S_NB]
@@ -234,6 +236,35 @@ def _redistribute(qkey, qlink, qheap, qhead, qs, qdt):
         i = nx
 
 
+@njit(**_NJC)
+def _jump(qkey, qlink, qheap, qhead, qs, qdt):
+    """Heap and buckets empty: set the calendar just before the earliest overflow block
+    (or, if only infinite keys are left, move them all into the heap)."""
+    nb = qs[S_NB]
+    m = BIG_BLOCK
+    i = qhead[nb]
+    while i >= 0:
+        b = q_block(qkey[i], qdt)
+        if b < m:
+            m = b
+        i = qlink[i, NEXT]
+    if m >= BIG_BLOCK:
+        # only infinite (or absurdly far) keys left: the heap takes them all and
+        # every later push (the calendar then degenerates into a binary heap)
+        i = qhead[nb]
+        while i >= 0:
+            nx = qlink[i, NEXT]
+            _list_remove(i, qlink, qhead)
+            qs[S_NOVER] -= 1
+            _heap_push(i, qkey, qlink, qheap, qs)
+            i = nx
+        qs[S_CUR] = BIG_BLOCK
+        qs[S_HOR] = BIG_BLOCK + nb
+        return
+    qs[S_CUR] = m - 1
+    qs[S_HOR] = m
+
+
 @njit(**_NJ)
 def q_top(qkey, qlink, qheap, qhead, qs, qdt):
     """Body with the smallest key (-1 if the queue is empty). Advances the calendar to
@@ -245,28 +276,9 @@ def q_top(qkey, qlink, qheap, qhead, qs, qdt):
             if qs[S_NOVER] == 0:
                 return -1
             # nothing before the horizon: jump to the earliest overflow block
-            m = BIG_BLOCK
-            i = qhead[nb]
-            while i >= 0:
-                b = q_block(qkey[i], qdt)
-                if b < m:
-                    m = b
-                i = qlink[i, NEXT]
-            if m >= BIG_BLOCK:
-                # only infinite (or absurdly far) keys left: the heap takes them all and
-                # every later push (the calendar then degenerates into a binary heap)
-                i = qhead[nb]
-                while i >= 0:
-                    nx = qlink[i, NEXT]
-                    _list_remove(i, qlink, qhead)
-                    qs[S_NOVER] -= 1
-                    _heap_push(i, qkey, qlink, qheap, qs)
-                    i = nx
-                qs[S_CUR] = BIG_BLOCK
-                qs[S_HOR] = BIG_BLOCK + nb
+            _jump(qkey, qlink, qheap, qhead, qs, qdt)
+            if qs[S_HSIZE] > 0:
                 continue
-            qs[S_CUR] = m - 1
-            qs[S_HOR] = m
         cur = qs[S_CUR] + 1
         qs[S_CUR] = cur
         if cur >= qs[S_HOR]:
@@ -313,7 +325,7 @@ def q_init(qkey, qlink, qheap, qhead, qs, qdt, nb, dt, t0):
     qs[S_NOVER] = 0
 
 
-@njit(**_NJ)
+@njit(**_NJC)
 def q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt, t0):
     """Re-bucket every queued body with the new bucket width ``dt`` (s), the calendar
     restarting at time ``t0`` (s, no key earlier). O(n); for a caller whose event rate
@@ -340,7 +352,7 @@ def q_rebuild(qkey, qlink, qheap, qhead, qs, qdt, dt, t0):
             _place(i, qkey, qlink, qheap, qhead, qs, qdt)
 
 
-@njit(**_NJ)
+@njit(**_NJC)
 def q_fill_dt(qkey, t0, fill):
     """Bucket width (s) that puts about ``fill`` bodies in a bucket: ``fill`` times the
     mean time to the next event (over finite keys, from ``t0``) divided by the number of
