@@ -2,9 +2,10 @@
 
 One ``run_<law>`` entry per law (a two-line ``@njit(cache=True)`` function calling the
 inline generic loop ``gas_core.gas_loop`` with that law's adapters, module-level compiled
-functions): calling one law compiles and caches that law only. All arguments and the model are described in ``gas_core``.
-Entries are compiled without Numba reference counting (``_nrt=False``): the loop only
-indexes the caller's arrays.
+functions): calling one law compiles and caches that law only (its 2D and 3D scalar
+kernels: the dimension branches are typed, then folded by LLVM). All arguments and the
+model are described in ``gas_core``. Entries are compiled without Numba reference
+counting (``_nrt=False``): the loop only indexes the caller's arrays.
 """
 from numba import njit
 

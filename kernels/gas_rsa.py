@@ -1,8 +1,6 @@
 """Random sequential insertion of non-overlapping equal disks/spheres (set-up of
 ``rbimpact.manybody.random_gas``): candidates are accepted in order when they overlap
 no accepted body, checked on a grid of cells of side >= 2r."""
-import math
-
 import numpy as np
 from numba import njit
 

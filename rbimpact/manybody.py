@@ -219,7 +219,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
 
     Raises ``ValueError`` for bad arguments, ``SimulationError`` if the law has no
     solution for an impact or the run stalls."""
-    from .laws import LAWS, Law
+    from .laws import Law
     if not isinstance(state, GasState):
         raise ValueError(f"run_gas: state must be a GasState (from random_gas), got "
                          f"{type(state).__name__}")
