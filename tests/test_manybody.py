@@ -285,3 +285,19 @@ def test_scheduler_orders_like_a_sort():
     assert sch.q_pop_k(*q) == -1
     expect = [i for i in np.argsort(keys, kind="stable") if i != 3]
     assert [keys[i] for i in order] == [keys[i] for i in expect]
+
+
+def test_bench_manybody_rows_on_a_tiny_size():
+    """Structure of the bench rows (no timing thresholds: timings are not tested)."""
+    from rbimpact import bench_manybody as bm
+    rows = bm.bench_manybody(sizes=(64, 4096), cases=bm.CASES[:1], min_impacts=2000)
+    runs = [r for r in rows if "n" in r]
+    assert [(r["n"], r["record"]) for r in runs] == [(64, "none"), (64, "all"),
+                                                     (4096, "none"), (4096, "all")]
+    for r in runs:
+        assert r["impacts"] == max(2000, bm.IMPACTS_PER_BODY * r["n"])
+        assert r["collisions"] + r["wall"] == r["impacts"] and r["impacts_per_s"] > 0
+    ratio = {r["record"]: r for r in rows if "ratio" in r}
+    assert set(ratio) == {"none", "all"}
+    by = {(r["n"], r["record"]): r["impacts_per_s"] for r in runs}
+    assert math.isclose(ratio["none"]["ratio"], by[(4096, "none")] / by[(64, "none")])
