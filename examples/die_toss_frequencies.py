@@ -11,7 +11,6 @@ a row of the table (``--table`` keeps it, as Parquet, and a second call reuses i
 Needs the sweep extra and matplotlib.
 """
 import argparse
-import math
 import time
 
 import numpy as np

@@ -22,7 +22,6 @@ mass to above the corner, m g R (1 - cos(alpha - ANGLE)):
 Needs the sweep extra and matplotlib.
 """
 import argparse
-import math
 import time
 
 import numpy as np

@@ -43,9 +43,9 @@ each grid point) before anything runs: ``ValueError`` saying what is allowed.
 once it has loaded the scenario's compiled code, so they start without importing anything
 or loading the Numba cache: ``START_METHOD``), ``scheduler="tcp://host:port"`` uses an
 existing cluster instead (its workers load the code first, in parallel). The runs go out
-in about ``TASKS_PER_WORKER`` chunks per worker. Needs pandas, pyarrow, dask[distributed] (and tqdm for
-the progress bar): ``pip install 'rbimpact[sweep]'``. Importing this module imports none of
-them.
+in about ``TASKS_PER_WORKER`` chunks per worker. Needs pandas, pyarrow, dask[distributed]
+(and tqdm for the progress bar): ``pip install 'rbimpact[sweep]'``. Importing this module
+imports none of them.
 """
 import itertools
 import json

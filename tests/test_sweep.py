@@ -2,10 +2,8 @@
 skips finished runs (also after a kill), failed runs are rows, bad input is a one-line
 ValueError before anything runs; the command line; progress bars."""
 import io
-import json
 import os
 
-import numpy as np
 import pytest
 
 pd = pytest.importorskip("pandas")
