@@ -391,10 +391,12 @@ def q_pop_k(qkey, qlink, qheap, qhead, qs, qdt):
     return q_pop(qkey, qlink, qheap, qhead, qs, qdt)
 
 
-def q_alloc(n, nb):
+def q_alloc(n, nb, index_dtype="int64"):
     """NumPy arrays of a queue for ``n`` bodies and ``nb`` buckets (Python helper):
-    ``(qkey, qlink, qheap, qhead, qs, qdt)``."""
+    ``(qkey, qlink, qheap, qhead, qs, qdt)``. ``index_dtype``: of the body links
+    ("int32" halves their memory; n and nb must then be < 2^31). ``qs`` holds block
+    numbers: always int64."""
     import numpy as np
-    return (np.full(n, np.inf), np.full((n, N_QLINK), -1, np.int64),
-            np.full(n, -1, np.int64), np.full(nb + 1, -1, np.int64),
+    return (np.full(n, np.inf), np.full((n, N_QLINK), -1, index_dtype),
+            np.full(n, -1, index_dtype), np.full(nb + 1, -1, index_dtype),
             np.zeros(N_QS, np.int64), np.zeros(2))

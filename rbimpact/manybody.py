@@ -41,6 +41,7 @@ MAX_PACKING = {2: 0.5, 3: 0.35}
 # bodies per pair scan; tuned at packing 0.15 (bench manybody).
 CELL_DIAMETERS = 1.0     # measured at N = 4096: 1.0 and 1.5 equal, 2.0 8 % slower
 BUCKETS_PER_BODY = 1.0    # calendar queue: buckets >= this many per body (power of 2)
+QUEUE_INDEX_DTYPE = "int32"   # queue links (bodies < 2^31)
 REC_CHUNK = 1 << 16       # records per buffer chunk when recording
 SNAP_CHUNK = 64           # snapshots per buffer chunk when t_end is not given
 
@@ -283,7 +284,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     v[:] = state.v
     w = np.ascontiguousarray(state.w, float).reshape(n, -1).copy()
     bi = np.zeros((n, gc.N_BI), np.int32)
-    chead = np.full(int(np.prod(nc)), -1, np.int64)
+    chead = np.full(int(np.prod(nc)), -1, np.int32)
     fpar = np.zeros(gc.N_FPAR)
     fpar[gc.F_R] = r
     fpar[gc.F_SIG2] = (2.0 * r) ** 2
@@ -308,7 +309,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     nb = 16
     while nb < BUCKETS_PER_BODY * n:
         nb *= 2
-    qkey, qlink, qheap, qhead, qs, qdt = sch.q_alloc(n, nb)
+    qkey, qlink, qheap, qhead, qs, qdt = sch.q_alloc(n, nb, QUEUE_INDEX_DTYPE)
     kern.prepare(x, v, bt, bi, chead, qkey, fpar, ipar, t0)
     if not np.all(np.isfinite(x)) or not np.all(np.isfinite(v)):
         raise ValueError("run_gas: the state holds non-finite values")
