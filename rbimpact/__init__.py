@@ -21,6 +21,8 @@ _LAZY = {
     "Sphere": "shapes3d", "Box3D": "shapes3d", "Capsule": "shapes3d",
     "Scene3D": "scene3d", "Simulation3D": "simulation3d", "Result3D": "result3d",
     "sweep": "sweep",   # needs the sweep extra (pandas, pyarrow, dask) only when called
+    "random_gas": "manybody", "run_gas": "manybody", "GasState": "manybody",
+    "GasResult": "manybody",
 }
 
 __all__ = ["NoSolutionError", "SimulationError", *_LAZY]

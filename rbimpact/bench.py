@@ -260,7 +260,8 @@ def bench_compile():
                          "first_calls_s": float(out[1]), "process_wall_s": wall})
     for r in rows:  # ratio: against the empty cache (compilation)
         r["vs_empty_cache"] = r["first_calls_s"] / rows[0]["first_calls_s"]
-    return rows
+    from .bench_compile import bench_compile_scenes
+    return rows + bench_compile_scenes()
 
 
 #: the stepper's target rate on the elastic bouncing ball (impacts per second)
@@ -496,8 +497,18 @@ def _print_compile(rows):
     print("Start-up in a new process (s)")
     print(f"{'what':<44}{'import':>9}{'first calls':>13}{'process':>10}")
     for r in rows:
-        print(f"{r['item']:<44}{r['import_s']:>9.3f}{r['first_calls_s']:>13.3f}"
-              f"{r['process_wall_s']:>10.2f}  ({r['vs_empty_cache']:.3f} x empty cache)")
+        if "import_s" in r:
+            print(f"{r['item']:<44}{r['import_s']:>9.3f}{r['first_calls_s']:>13.3f}"
+                  f"{r['process_wall_s']:>10.2f}  ({r['vs_empty_cache']:.3f} x empty cache)")
+    print("\nA scene's first run in a new process: empty cache (cold) and warm (s, whole "
+          "command); functions compiled cold")
+    print(f"{'what':<30}{'cold':>7}{'cold CPU':>10}{'warm':>7}{'warm CPU':>10}"
+          f"{'functions':>11}{'3D':>5}  laws")
+    for r in rows:
+        if "cold_s" in r:
+            print(f"{r['item']:<30}{r['cold_s']:>7.1f}{r['cold_cpu_s']:>10.1f}"
+                  f"{r['warm_s']:>7.2f}{r['warm_cpu_s']:>10.2f}{r['functions']:>11d}"
+                  f"{r['functions_3d']:>5d}  {r['laws']}")
 
 
 def _print_laws(rows):
@@ -655,7 +666,7 @@ def _print_sweep(rows):
 
 #: subcommand -> the figures it runs (key, function, printer), in order
 SECTIONS = ("laws", "overhead", "routh3d", "rotation3d", "stepper", "pymunk", "compile", "pay",
-            "sweep")
+            "sweep", "manybody")
 WHAT = {
     "laws": ("laws", "overhead"),
     "routh3d": ("routh3d",),
