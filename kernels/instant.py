@@ -15,7 +15,7 @@ CI_LAW = 4           # law row
 CI_OFF = 5           # perforated during a sequential resolution
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def cluster_contacts(nc, c_i, comp):
     """Label the first ``nc`` contacts by cluster: ``comp[c]`` becomes the smallest contact
     index of the cluster of contact c, a cluster being the contacts connected through
@@ -42,7 +42,7 @@ def cluster_contacts(nc, c_i, comp):
                     changed = True
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def cluster_members(nc, comp, root, tail):
     """Write the contacts of the cluster labelled ``root`` (in contact order) into
     ``comp[tail:]`` and return their number K (0: ``root`` labels no cluster)."""

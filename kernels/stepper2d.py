@@ -620,7 +620,7 @@ def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _recompute_marked(pivot, pair, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
                       zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
     """Recompute the candidates of every marked body (state at t_now) and of its pairs."""
@@ -1549,7 +1549,7 @@ def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, 
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli, tz,
             zp, bp_t, pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
@@ -2001,7 +2001,7 @@ def loop_for(law):
         cap_e = ev_t.shape[0]
         cap_s = seg_t.shape[0]
         # the candidates of the bodies marked at an instant are recomputed at the top of the
-        # next pass (a call compiled once per switch pattern, shared by every law)
+        # next pass (one call site, inlined: the per-impact path makes no large calls)
         pend = False
         while True:
             if pend:

@@ -11,7 +11,7 @@ import numpy as np
 from ._validate import choice, scene_energy_check, validate_run_args, validate_tolerances
 from .laws import N_PARAMS
 
-__all__ = ["check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
+__all__ = ["compiled_loop", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
 
 
 def check_tolerances(who, table, tolerances):
@@ -191,3 +191,20 @@ def run_status(k, rc):
             return name[4:].lower()
     return f"error {rc}"
 
+
+
+def compiled_loop(sim, k):
+    """``(run_loop, switches)`` of a ``Simulation`` or ``Simulation3D`` ``sim`` with stepper
+    module ``k``: the event loop compiled for the scene's one law (``k.loop_for``; every
+    law when its contacts have different laws) and the scene's feature switches
+    (``k.scene_features``: the modes the loop compiles), found once per simulation
+    (issue 14)."""
+    loop = sim.__dict__.get("_loop_switches")
+    if loop is None:
+        from .kernels.dispatch import LAW_ANY
+        laws = {int(x) for x in sim._law_ids}
+        law = laws.pop() if len(laws) == 1 else LAW_ANY
+        loop = (k.loop_for(law), k.scene_features(sim._bint, len(sim._planes),
+                                                  len(sim._pairs)))
+        sim._loop_switches = loop
+    return loop

@@ -129,8 +129,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances, pack_laws,
-                     run_status)
+from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances,
+                     compiled_loop, pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
 from .result import Result
 from .scene import Plane, Scene2D
@@ -362,15 +362,6 @@ class Simulation:
         finally:
             self._arena = arena
 
-    def _loop(self, k):
-        """The event loop compiled for this scene's one law (every law when its contacts
-        have different laws); the modes it compiles follow ``k.scene_features`` (issue
-        14)."""
-        from .kernels.dispatch import LAW_ANY
-        laws = {int(x) for x in self._law_ids}
-        law = laws.pop() if len(laws) == 1 else LAW_ANY
-        return k.loop_for(law)
-
     def _run(self, k, arena, t_end, max_events):
         (tolf, toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
          c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err) = arena.reset()
@@ -387,8 +378,7 @@ class Simulation:
         seg_t = np.empty(cap_s)
         seg_b = np.empty(cap_s, np.int64)
         seg_s = np.empty((cap_s, 9))
-        run_loop = self._loop(k)
-        switches = k.scene_features(self._bint, len(self._planes), len(self._pairs))
+        run_loop, switches = compiled_loop(self, k)
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,

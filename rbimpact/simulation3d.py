@@ -49,8 +49,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import (check_law, check_run_args, check_scene, check_tolerances, pack_laws,
-                     run_status)
+from ._setup import (check_law, check_run_args, check_scene, check_tolerances, compiled_loop,
+                     pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
 from .result3d import EVENT_DTYPE_3D, Result3D
 from .scene3d import Plane3D, Scene3D
@@ -317,11 +317,7 @@ class Simulation3D:
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
-        pivot, pair, joint = k.scene_features(self._bint, len(self._planes),
-                                              len(self._pairs))
-        from .kernels.dispatch import LAW_ANY
-        laws = {int(x) for x in self._law_ids}
-        run_loop = k.loop_for(laws.pop() if len(laws) == 1 else LAW_ANY)
+        run_loop, (pivot, pair, joint) = compiled_loop(self, k)
         rc = k.init_run(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f,
                         skip, pose, fw, ybuf, vals, vals0, vfl, err, pair)
         while rc == 0 or rc == k.RC_BUFFER_FULL:
