@@ -1817,14 +1817,19 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                   bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off, tolf, toli, c_i, c_f, bmark,
-                   ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, tmp, w, err):
+                   bp_law, pairs, pm, sched, bp_off, pr_off, tolf, toli, c_i, c_f, bmark, ev,
+                   seg, cnt, tmp, w, err):
     """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
     contacts, schedule accumulation points, hold a vertex whose impacts accumulate
     (integrated pivot contact; other single-point chatter is an error), log segments.
-    ``pivot``, ``wedge``: feature switches (see ``scene_features``)."""
+    ``pivot``, ``wedge``: feature switches (see ``scene_features``). ``sched`` = (tz, zp,
+    ttr), ``ev`` = (ev_t, ev_i, ev_f), ``seg`` = (seg_t, seg_b, seg_s) (bundled: a call of
+    more than 30 arguments cannot be inlined)."""
+    ev_t, ev_i, ev_f = ev
+    seg_t, seg_b, seg_s = seg
+    tz, zp, ttr = sched
     nb = st.shape[0]
     npr = pairs.shape[0]
     # perforating impacts disable their pair for good
@@ -2122,9 +2127,9 @@ def loop_for(law):
             if rc < 0:
                 return rc
             rc = _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes,
-                                grav, law_par, bp_law, pairs, pm, tz, zp, ttr, bp_off, pr_off,
-                                tolf, toli, c_i, c_f, bmark, ev_t, ev_i, ev_f, seg_t, seg_b,
-                                seg_s, cnt, tmp, w, err)
+                                grav, law_par, bp_law, pairs, pm, (tz, zp, ttr), bp_off,
+                                pr_off, tolf, toli, c_i, c_f, bmark, (ev_t, ev_i, ev_f),
+                                (seg_t, seg_b, seg_s), cnt, tmp, w, err)
             if rc < 0:
                 return rc
             pend = True
