@@ -221,7 +221,10 @@ def test_keyboard_interrupt_is_one_line_and_status_130(capsys, monkeypatch):
 
 def test_ctrl_c_in_a_real_process(tmp_path):
     """SIGINT to a running ``rbimpact run``: one line on stderr, status 130."""
-    code = ("import sys, time, rbimpact.run, rbimpact.cli\n"
+    # a child started from a non-interactive shell's background job inherits SIGINT ignored;
+    # a user's terminal delivers it: restore Python's handler as an interactive start has it
+    code = ("import signal, sys, time, rbimpact.run, rbimpact.cli\n"
+            "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
             "def slow(*a, **k):\n"
             "    print('running', flush=True)\n"
             "    time.sleep(60)\n"
