@@ -13,6 +13,7 @@ CI_B = 2             # plane index (CI_TYPE 0) or body B (CI_TYPE 1)
 CI_FEAT = 3          # contact feature row of A (vertex or feature table)
 CI_LAW = 4           # law row
 CI_OFF = 5           # perforated during a sequential resolution
+N_CI = 6             # columns of c_i
 
 
 @njit(cache=True, _nrt=False, inline="always")

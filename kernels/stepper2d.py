@@ -120,8 +120,8 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
-from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, cluster_contacts,
-                      cluster_members)
+from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
+                      cluster_contacts, cluster_members)
 from .layout import B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_MODE, M_PLANE
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
@@ -200,7 +200,6 @@ SNAP_RTOL = 1e-12
 # the pivot integrator's scratch is the joint solve's workspace Wb (2 MAXC x 2 MAXC)
 assert (2 * MAXC) ** 2 >= N_W
 N_CF = 13            # columns of the contact workspace c_f
-N_CI = 6             # columns of the contact workspace c_i
 
 # c_i columns: kernels/instant.py (CI_FEAT: the vertex row in verts)
 # c_f columns

@@ -98,8 +98,8 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
-from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, cluster_contacts,
-                      cluster_members)
+from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
+                      cluster_contacts, cluster_members)
 from .layout import B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_FEAT, M_MODE, M_PLANE
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
@@ -203,7 +203,6 @@ FACE_RTOL = 1e-12
 SNAP_RTOL = 1e-12
 
 MAXC = 24          # contacts resolved at one instant
-N_CI = 6
 N_CF = 25
 CF_N, CF_T1, CF_T2, CF_P, CF_RA, CF_RB, CF_VI, CF_PI, CF_VCMN = 0, 3, 6, 9, 12, 15, 18, 21, 24
 N_EF = 19
