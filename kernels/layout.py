@@ -22,4 +22,5 @@ M_MODE = 0      # mode (codes.PM_*)
 M_PLANE = 1     # the plane it is held on
 M_FEAT = 2      # 2D: face vertex 0, or the held vertex (PM_PIVOT); 3D: the face
 M_AUX = 3       # 2D: face vertex 1, or the held contact's status (0 stick, +-1 slide),
-                # or REL_TANGENT in flight just after a tangential release
+                # or REL_TANGENT in flight just after a tangential release; 3D: AUX_INTEGRATE
+                # on a sphere whose slide curves (integrated from its ttr on)

@@ -1962,11 +1962,13 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
     return 0
 
 
-def scene_features(bint, n_planes, n_pairs):
+def scene_features(bint, planes, grav, n_pairs):
     """The feature switches ``(pivot, wedge, pair, joint)`` of a scene (True, or None when
-    the scene cannot reach that mode), from its shape kinds (``bint[:, 0]``) and its
-    numbers of planes and of disk pairs."""
+    the scene cannot reach that mode), from its shape kinds (``bint[:, 0]``), its planes
+    (float64[np, 3]) and its number of disk pairs. ``grav`` (m/s^2; the signature of
+    ``stepper3d.scene_features``): no 2D mode depends on it."""
     kinds = {int(k) for k in bint[:, 0]}
+    n_planes = len(planes)
     pivot = SH_POLY in kinds or SH_ELLIPSE in kinds
     wedge = n_planes >= 2
     pair = n_pairs > 0

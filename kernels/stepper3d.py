@@ -100,7 +100,8 @@ guard(__name__, __file__)
 from . import evbuf
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
-from .layout import B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_FEAT, M_MODE, M_PLANE
+from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_AUX, M_FEAT, M_MODE,
+                     M_PLANE)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PGS, ERR_ROT, ERR_SEQ, ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING,
@@ -172,6 +173,9 @@ N_TI = 9
 #: a slip is "along the slope" when the sine of the angle between the slip and the
 #: tangential gravity is below this (dimensionless)
 PARALLEL_RTOL = 1e-12
+#: pm[i, M_AUX] of a sphere whose slip curves across a slope (no closed form): its
+#: persistent contact is integrated (pivot3d, one contact at its centre) from ttr on
+AUX_INTEGRATE = 1
 #: a sphere's contact point is at rest (it rolls) when its slip is below ROLL_RTOL times
 #: |v_T| + r |w| (dimensionless: the round-off of the slip, exactly zero in 2D)
 ROLL_RTOL = 1e-12
@@ -1367,6 +1371,7 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
     for j in range(3):
         st[i, SAL + j] = 0.0
     mode = PM_REST
+    pm[i, M_AUX] = 0
     if kind == SH_SPHERE:
         if bint[i, B_ROT] != ROT_SPHERICAL:
             _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 1.0, 0.0, 0.0)
@@ -1402,15 +1407,6 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             ex = cx / c
             ey = cy / c
             ez = cz / c
-            # the slip keeps its direction only if the slope is along it
-            if gt > 0.0:
-                sx = ey * gtz - ez * gty
-                sy = ez * gtx - ex * gtz
-                sz = ex * gty - ey * gtx
-                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], c, gt,
-                             mu)
-                    return ERR_SLIDE_CURVE
             fx = -mu * N * ex
             fy = -mu * N * ey
             fz = -mu * N * ez
@@ -1418,6 +1414,17 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N * kinv
             if k < 0.0:
                 ttr[i] = t + c / (-k)
+            # the slip keeps its direction only if the slope is along it; else it curves
+            # (no closed form): the contact is integrated from now on (the loop's
+            # scheduled switch at ttr = t, _integrate_slide); the accelerations set below
+            # hold for that instant only
+            if gt > 0.0:
+                sx = ey * gtz - ez * gty
+                sy = ez * gtx - ex * gtz
+                sz = ex * gty - ey * gtx
+                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
+                    pm[i, M_AUX] = AUX_INTEGRATE
+                    ttr[i] = t
         st[i, SA] = gtx + fx / m
         st[i, SA + 1] = gty + fy / m
         st[i, SA + 2] = gtz + fz / m
@@ -1605,6 +1612,82 @@ def _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi
          vi0, vi1, vi2, v0, v1, v2, 0.0, 0.0, 0.0, 0.0)
 
 
+@njit(cache=True, inline="always")
+def _roll_exact(i, p, st, bflt, planes):
+    """Sphere i on plane p: its contact point exactly at rest, ``w = (w.n) n + n x v_T / r``
+    (the rolling the slip stopped into; the change of w is the slip's round-off)."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
+    r = bflt[i, B_RADIUS]
+    vtx = st[i, SV] - vN * nx
+    vty = st[i, SV + 1] - vN * ny
+    vtz = st[i, SV + 2] - vN * nz
+    wn = st[i, SW] * nx + st[i, SW + 1] * ny + st[i, SW + 2] * nz
+    st[i, SW] = wn * nx + (ny * vtz - nz * vty) / r
+    st[i, SW + 1] = wn * ny + (nz * vtx - nx * vtz) / r
+    st[i, SW + 2] = wn * nz + (nx * vty - ny * vtx) / r
+
+
+@njit(cache=True)
+def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+                     ttr, tz, ws, tolf, toli, pose, pv, pw, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                     Ii, err):
+    """Sphere i slides on plane p across the slope (``pm[i, M_AUX] == AUX_INTEGRATE``, set by
+    ``_persist_setup``): its slip direction turns under gravity and friction, a motion with
+    no closed form here. It enters integrated contact (``pivot3d``, one contact: the feature
+    at its centre, radius r; event "pivot") until the slip stops (then ``_sphere_rolls``),
+    the sphere lifts off or another feature hits a plane. Returns 0 or an error code."""
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    if rc < 0:
+        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
+        return rc
+    p = pm[i, M_PLANE]
+    pm[i, M_AUX] = 0
+    ttr[i] = INF
+    rc = _pivot_enter(i, p, bint[i, B_FIRST], -1, 1, t, st, bint, bflt, feats, planes, grav,
+                      law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                      cw, Ii, err)
+    if rc < 0:
+        return rc
+    if rc == 1:     # the plane no longer pushes
+        _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
+        return 0
+    if pv[i, CP_S1] == 1.0:     # a slip below slip_eps: it stuck at once
+        return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                             pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+    return 0
+
+
+@njit(cache=True)
+def _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, pv, tolf,
+                  ev_t, ev_i, ev_f, cnt, c_f, cw, err):
+    """Sphere i in integrated contact whose contact sticks (its slip stopped): it leaves
+    the integrator for the closed-form modes (``_persist_setup``: roll, rest, or a slide
+    along the slope), its normal velocity (the integrator's error, within contact_tol)
+    removed and its contact point exactly at rest (event "roll", "rest" or "slide")."""
+    p = int(pv[i, CP_PLANE])
+    pm[i, M_PLANE] = p
+    _foot(c_f, cw, st, i, planes, p)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    vN = planes[p, 0] * st[i, SV] + planes[p, 1] * st[i, SV + 1] + planes[p, 2] * st[i, SV + 2]
+    for j in range(3):
+        st[i, SV + j] -= vN * planes[p, j]
+    _roll_exact(i, p, st, bflt, planes)
+    for j in range(6):
+        st[i, SA + j] = 0.0
+    rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                        tolf, err)
+    if rc < 0:
+        return rc
+    if rc == 1:
+        _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
+        return 0
+    _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2)
+    return 0
+
+
 @njit(cache=True)
 def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, ws, tolf,
                 toli, ev_t, ev_i, ev_f, cnt, c_f, cw, pose, err, pv, pw, fw):
@@ -1622,15 +1705,7 @@ def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, t
     nz = planes[p, 2]
     vN = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
     if bint[i, B_KIND] == SH_SPHERE:
-        # contact point exactly at rest: w = (w.n) n + n x v_T / r
-        r = bflt[i, B_RADIUS]
-        vtx = st[i, SV] - vN * nx
-        vty = st[i, SV + 1] - vN * ny
-        vtz = st[i, SV + 2] - vN * nz
-        wn = st[i, SW] * nx + st[i, SW + 1] * ny + st[i, SW + 2] * nz
-        st[i, SW] = wn * nx + (ny * vtz - nz * vty) / r
-        st[i, SW + 1] = wn * ny + (nz * vtx - nx * vtz) / r
-        st[i, SW + 2] = wn * nz + (nx * vty - ny * vtx) / r
+        _roll_exact(i, p, st, bflt, planes)
     else:
         for j in range(3):
             st[i, SV + j] = 0.0
@@ -2046,13 +2121,19 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
     return 0
 
 
-def scene_features(bint, n_planes, n_pairs):
+def scene_features(bint, planes, grav, n_pairs):
     """The feature switches ``(pivot, pair, joint)`` of a scene (True, or None when the
     scene cannot reach that mode; ``codes.FEATURES``): a box or a capsule can be held on a
-    point or an edge (pivot3d) and touch with several points at once; sphere pairs; several
-    contacts at one instant (joint solve) with boxes, capsules, two planes or pairs."""
+    point or an edge (pivot3d), and a sphere on a plane that gravity does not meet
+    square-on (its slip can curve across the slope: integrated contact); boxes and capsules
+    touch with several points at once; sphere pairs; several contacts at one instant
+    (joint solve) with boxes, capsules, two planes or pairs. ``planes`` float64[np, 4]
+    (unit normal, offset), ``grav`` float64[3] (m/s^2)."""
     kinds = {int(k) for k in bint[:, 0]}
-    pivot = SH_BOX in kinds or SH_CAPSULE in kinds
+    n_planes = len(planes)
+    g = np.asarray(grav, float)
+    sloped = any(np.any(np.cross(np.asarray(pl[:3], float), g) != 0.0) for pl in planes)
+    pivot = SH_BOX in kinds or SH_CAPSULE in kinds or (SH_SPHERE in kinds and sloped)
     pair = n_pairs > 0
     joint = pivot or pair or n_planes >= 2
     return tuple(True if on else None for on in (pivot, pair, joint))
@@ -2150,6 +2231,22 @@ def loop_for(law):
                     rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt,
                                                  bpl, bft, pk, pv, pw, fw, ws, tolf, toli,
                                                  pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err)
+                    if rc < 0:
+                        return rc
+                    if (recompute and pm[i, M_MODE] == PM_PIVOT
+                            and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S1] == 1.0):
+                        rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law,
+                                           pm, ttr, pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                           err)
+                        if rc < 0:
+                            return rc
+                elif (ttr[i] <= t and pm[i, M_MODE] == PM_SLIDE
+                      and pm[i, M_AUX] == AUX_INTEGRATE):
+                    if pivot is None:
+                        return _not_compiled(err, t, i, FEATURE_PIVOT)
+                    rc = _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav,
+                                          law_par, bp_law, pm, ttr, tz, ws, tolf, toli, pose,
+                                          pv, pw, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err)
                     if rc < 0:
                         return rc
                 elif ttr[i] <= t:
@@ -2347,7 +2444,11 @@ def loop_for(law):
                                      ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
                     if rc < 0:
                         return rc
-                    continue
+                    if pm[i, M_MODE] != PM_FLIGHT:
+                        continue
+                    # released by an impact on another plane: its impacts there may
+                    # accumulate at once (a sphere rolling into the second plane of a
+                    # groove), decided below as for any body in flight
                 rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par,
                                    bp_law, pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on,
                                    pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, toli, pivot)

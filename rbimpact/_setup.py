@@ -204,7 +204,7 @@ def compiled_loop(sim, k):
         from .kernels.dispatch import LAW_ANY
         laws = {int(x) for x in sim._law_ids}
         law = laws.pop() if len(laws) == 1 else LAW_ANY
-        loop = (k.loop_for(law), k.scene_features(sim._bint, len(sim._planes),
+        loop = (k.loop_for(law), k.scene_features(sim._bint, sim._planes, sim._grav,
                                                   len(sim._pairs)))
         sim._loop_switches = loop
     return loop

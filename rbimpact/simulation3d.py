@@ -263,7 +263,7 @@ class Simulation3D:
             st[i, 7:10] = b.velocity
             st[i, 10:13] = b.angular_velocity
         tref = np.zeros(nb)
-        pm = np.zeros((nb, 3), np.int64)
+        pm = np.zeros((nb, 4), np.int64)      # layout.M_MODE, M_PLANE, M_FEAT, M_AUX
         pm[:, 1:] = -1
         tz = np.full(nb, np.inf)
         zp = np.full(nb, -1, np.int64)
