@@ -14,7 +14,8 @@ earliest of three candidates kept in its row of ``bt``):
   ``BEST_P`` and the partner's collision counter ``BEST_C`` at prediction time). The
   relative motion of two bodies is linear even under gravity (same acceleration), so the
   time of impact is the smaller root of ``|dr + dv s|^2 = (2r)^2`` with ``dr . dv < 0``,
-  taken in the cancellation-free form ``s = c / (-b + sqrt(b^2 - a c))``;
+  taken in the cancellation-free form ``s = c / (-b + sqrt(b^2 - a c))``. Against a
+  sleeping body (static) the relative motion is a parabola: ``sleeper_toi``, below;
 * wall impact (``WALL_T``): exit of the centre from ``[r, L - r]`` on an axis, a linear
   or quadratic root (``_exit``, cancellation-free forms);
 * cell crossing (``CROSS_T``): exit from the body's cell of the cell list (cells of side
@@ -51,12 +52,48 @@ seconds earlier is resolved by the same law with ``e = 1, mu = 0`` (no dissipati
 the number of impacts per unit time stays finite. As a last guard, ``STALL_IMPACTS``
 impacts in a row without any advance of time end the run (status ``RUN_STALL``).
 
+Sleep (option ``SLEEP``, a compile-time constant of the loop: the entries ``run_<law>``
+pass False and their loop is the one without sleep, ``run_<law>_sleep`` pass True; it needs
+gravity). Bodies at rest would cost one impact per ``tc`` each (TC hops on the floor);
+a sleeper costs nothing:
+
+* falling asleep: after an impact of body i that leaves it slow (|v| and r |w| below
+  ``F_SLEEP_V``) for the ``I_SLEEP_N``-th time in a row, the impact being on the floor
+  (wall 2 (D - 1)) or on a sleeper that stays asleep, i sleeps (``fall_asleep``): v = w =
+  0, ``SLP`` set, its counter moved, no queue entry (key inf), still in its cell; its
+  kinetic energy goes to ``FS_SLEPT`` and into that impact's recorded dE. Every awake
+  body of its 3^D block gets its impact with i (now static) predicted at once (i has no
+  event of its own to carry it): a body whose partner was i rescans its block, the
+  others scan i's cell;
+* an impact of awake i on sleeper j is first resolved by the law with j's true mass and
+  v = w = 0. If j would leave slower than ``F_SLEEP_V`` the bed holds it: the impact is
+  resolved again with j fixed (W of a wall, ``kf = 1``), i rebounds, j's counter does not
+  move (predictions with it stay valid) and ``ST_NABSORB`` counts it. Else j wakes with
+  that velocity and ``wake_cluster`` wakes, from rest, every sleeper within
+  ``F_WAKE_GAP`` of contact with a woken body, recursively (a list through ``WLINK``):
+  all are marked first, then predicted and queued;
+* a static support needs a floor under the TC model: after an impact on the floor or on
+  a held sleeper, a rebound slower than ``g_n tc / 2`` (``g_n`` gravity's component
+  pressing i on the support) is raised to it, the normal speed paid from i's tangential
+  velocity (``min_hop``: |v| unchanged). Without it a body sliding over a sleeper with
+  zero normal speed would meet it again at the same instant for ever (the law returns
+  no impulse for v_N = 0);
+* pair prediction of awake i (falling) against sleeper k (static): the earliest root of
+  the quartic ``|d0 + u s + a s^2 / 2|^2 = (2r)^2`` (``sleeper_toi``: monotone pieces
+  between the roots of f'', bracket, Illinois polish to round-off of the time), searched
+  up to ``min(BEST_T, WALL_T)`` of i: i's next wall impact rescans its whole block, so a
+  later root is never needed (a cell crossing keeps the best; the crossing horizon alone
+  would not do). Sleepers are never paired with each other;
+* ``ST_SAME`` (the stall guard) restarts when a body falls asleep: a pile woken from rest
+  re-sleeps through impacts at one instant (zero-speed contacts, ``I_SLEEP_N`` each).
+
 Recording: none, all, or the impacts involving bodies flagged in ``rec_mask``; each
 record is ``rec_i = (a, b, mode)`` (``b = -1 - wall`` for a wall, ``wall = 2 axis + side``
 with side 1 for the face at ``L``) and ``rec_f = (t, dE, n[D], v[D], P[D])`` (contact
-space, normal first). Snapshots of all velocities every ``snap_dt``. When a buffer is
-full the loop returns (``RUN_REC_FULL`` / ``RUN_SNAP_FULL``) before touching the state,
-so the caller can hand over larger buffers and call again: the run is resumable and no
+space, normal first; dE includes the kinetic energy put to sleep by the impact).
+Snapshots of all velocities every ``snap_dt`` (a sleeper's are 0). When a buffer is full
+the loop returns (``RUN_REC_FULL`` / ``RUN_SNAP_FULL``) before touching the state, so the
+caller can hand over larger buffers and call again: the run is resumable and no
 allocation happens inside. Memory with recording off does not grow with the events.
 """
 import math
@@ -92,7 +129,10 @@ CROSS_K = 4   # cell face of the predicted crossing: 2 axis + (1 if upward)
 CX = 5        # cell coordinates (CX + a for axis a)
 CNEXT = 8     # cell list links
 CPREV = 9
-N_BI = 10
+SLP = 10      # 1 while the body sleeps (sleep option), else 0
+SLOW = 11     # consecutive impacts of the body that left it slow (sleep option)
+WLINK = 12    # link of the list of bodies woken by one impact (wake_cluster)
+N_BI = 13
 
 # ---- float parameters ``fpar`` ------------------------------------------------------------
 F_R = 0         # radius (m)
@@ -112,14 +152,18 @@ F_CS = 15       # cell sides (m)
 F_SNAP_DT = 18  # snapshot period (s); <= 0: no snapshots
 F_SNAP_T0 = 19  # time of snapshot 0 (s)
 F_FILL = 20     # calendar queue: mean bodies per bucket (BUCKET_FILL by default)
-N_FPAR = 21
+F_SLEEP_V = 21  # sleep speed (m/s): slow means |v| and r |w| below it
+F_WAKE_GAP = 22  # gap (m) within which a woken body wakes a sleeper it touches
+N_FPAR = 23
 
 # ---- int parameters ``ipar`` ------------------------------------------------------------
 I_NC = 0        # cells per axis (3 entries; 1 for the unused third axis in 2D)
 I_COLLAPSE = 3  # COLLAPSE_NONE or COLLAPSE_TC
 I_RECORD = 4    # REC_NONE, REC_ALL, REC_MASK
 I_MAXIMP = 5    # stop after this many impacts (pair + wall) in total
-N_IPAR = 6
+I_SLEEP = 6     # 1: bodies at rest sleep (needs gravity > 0), 0: they never do
+I_SLEEP_N = 7   # consecutive slow impacts before a body may fall asleep
+N_IPAR = 8
 
 COLLAPSE_NONE = 0
 COLLAPSE_TC = 1
@@ -140,9 +184,13 @@ ST_FAIL_B = 8
 ST_FAIL_MODE = 9
 ST_NTC = 10     # impacts resolved elastically by the TC model
 ST_SAME = 11    # impacts in a row at the same time (stall guard)
-N_ST = 12
+ST_NSLEEP = 12  # bodies that fell asleep
+ST_NWAKE = 13   # bodies woken (by an impact, or touching a woken body)
+ST_NABSORB = 14  # impacts on a sleeper that left it asleep (held fixed: a slow push)
+N_ST = 15
 FS_T = 0        # time of the last event handled (s)
-N_FS = 1
+FS_SLEPT = 1    # kinetic energy removed by sleep (J): bodies falling asleep, pushes absorbed
+N_FS = 2
 
 RUN_DONE_TEND = 1     # reached t_end
 RUN_DONE_MAX = 2      # reached max impacts
@@ -376,10 +424,236 @@ def cell_remove(k, bi, chead, ipar):
         bi[nx, CPREV] = pv
 
 
+# ---- awake body against a sleeping one -------------------------------------------------------
+# The awake body falls (acceleration a = -g along the vertical), the sleeper is static:
+# their relative position d(s) = d0 + u s + a s^2 / 2 is a parabola and the time of impact
+# is the earliest root of the quartic f(s) = |d(s)|^2 - sigma^2 (sigma = 2 r) where f goes
+# down through 0. It is found exactly: the roots of the quadratic f''(s)/2 cut the window
+# into at most three pieces on which h = f'/2 = d . d' is monotone; on each piece f is
+# monotone, or falls to one minimum, or rises to one maximum, and the first piece on which
+# f falls through 0 brackets the root, polished by Illinois regula falsi with bisection
+# every TOI_BISECT-th step to the round-off of the time (TOI_RTOL). f and h are evaluated
+# from d(s) itself, never from expanded coefficients (no cancellation).
+
+TOI_RTOL = 4.0 * 2.220446049250313e-16   # root bracket width, relative to the absolute time
+TOI_BISECT = 4          # every TOI_BISECT-th polishing step bisects (guaranteed halving)
+TOI_MAXIT = 400         # polishing steps at most (bisection alone needs < 2100 / TOI_BISECT)
+TOI_WINDOW_RTOL = 1e-12  # the cheap windows (vertical end, horizontal miss) are widened by
+                         # this much so that round-off in them can never drop a root
+
+
+@njit(**_NJ)
+def _fq(s, dx, dy, dz, ux, uy, uz, g, f0):
+    """f(s) = |d(s)|^2 - sigma^2 and h(s) = d(s) . d'(s) (= f'(s) / 2), ``f0 = f(0)``.
+    f is taken as ``f0 + 2 d0 . e + |e|^2`` with the displacement ``e = d(s) - d0``: near
+    contact |d|^2 - sigma^2 would lose all but the round-off of sigma^2 (its sign would
+    flicker for ~eps sigma^2 / h seconds around every root); this form varies smoothly
+    and f0's own rounding is a constant offset."""
+    ex = ux * s
+    ey = uy * s
+    ez = (uz - 0.5 * g * s) * s
+    f = f0 + (2.0 * (dx * ex + dy * ey + dz * ez) + (ex * ex + ey * ey + ez * ez))
+    return f, (dx + ex) * ux + (dy + ey) * uy + (dz + ez) * (uz - g * s)
+
+
+@njit(**_NJ)
+def _toi_root(lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
+    """The point where f crosses from > 0 (at lo) to <= 0 (at hi), f taking one sign on
+    each side of it: Illinois regula falsi, every TOI_BISECT-th step a bisection, until
+    the bracket is narrower than TOI_RTOL of the absolute time (``ta`` = |t| at s = 0);
+    returns the end where f <= 0."""
+    side = 0
+    for it in range(TOI_MAXIT):
+        if hi - lo <= TOI_RTOL * (ta + hi):
+            break
+        if it % TOI_BISECT == TOI_BISECT - 1:
+            c = 0.5 * (lo + hi)
+        else:
+            c = (lo * fhi - hi * flo) / (fhi - flo)
+        if not (lo < c < hi):
+            c = 0.5 * (lo + hi)
+            if not (lo < c < hi):
+                break
+        fc, hc = _fq(c, dx, dy, dz, ux, uy, uz, g, f0)
+        if fc > 0.0:
+            lo = c
+            flo = fc
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi = c
+            fhi = fc
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    return hi
+
+
+@njit(**_NJ)
+def _toi_crit(lo, hi, hlo, hhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
+    """Root of h (one sign change, h monotone) in [lo, hi]: a critical point of f."""
+    for it in range(TOI_MAXIT):
+        if hi - lo <= TOI_RTOL * (ta + hi):
+            break
+        if it % TOI_BISECT == TOI_BISECT - 1:
+            c = 0.5 * (lo + hi)
+        else:
+            c = (lo * hhi - hi * hlo) / (hhi - hlo)
+        if not (lo < c < hi):
+            c = 0.5 * (lo + hi)
+            if not (lo < c < hi):
+                break
+        fc, hc = _fq(c, dx, dy, dz, ux, uy, uz, g, f0)
+        if (hc > 0.0) == (hhi > 0.0):
+            hi = c
+            hhi = hc
+        else:
+            lo = c
+            hlo = hc
+    return 0.5 * (lo + hi)
+
+
+@njit(**_NJC)
+def sleeper_toi(dx, dy, dz, ux, uy, uz, g, sig2, H, t):
+    """Earliest s in [0, H] at which an awake body, at relative position ``(dx, dy, dz)``
+    (m) from a sleeping one and relative velocity ``(ux, uy, uz)`` (m/s), falling with
+    ``g`` (m/s^2, > 0) along minus the vertical ``z`` (2D: ``dy = uy = 0``), reaches the
+    distance ``sigma`` (``sig2 = sigma^2``) moving inwards; ``inf`` if none. ``t`` (s) is
+    the absolute time of s = 0 (the root is polished to TOI_RTOL of it).
+
+    As the linear pair formula: touching or overlapping (f(0) <= 0) and approaching
+    (``d0 . u < 0``, the sign the impact's normal velocity is computed with) is an impact
+    now; overlapping and separating is not (the body leaves and may come back)."""
+    f0 = dx * dx + dy * dy + dz * dz - sig2
+    b = dx * ux + dy * uy + dz * uz
+    if f0 <= 0.0 and b < 0.0:
+        return 0.0
+    # window 1 (vertical): after s_end the body is more than sigma below the sleeper
+    sig = math.sqrt(sig2)
+    c = dz + sig
+    if c < 0.0 and uz <= 0.0:
+        return _INF
+    disc = uz * uz + 2.0 * g * c
+    if disc < 0.0:
+        return _INF
+    sq = math.sqrt(disc)
+    if uz >= 0.0:
+        s_end = (uz + sq) / g
+    else:
+        s_end = 2.0 * c / (sq - uz)
+    s_end *= 1.0 + TOI_WINDOW_RTOL
+    S1 = H if H < s_end else s_end
+    if not S1 >= 0.0:
+        return _INF
+    # window 2 (horizontal, linear motion): the closest horizontal approach on [0, S1]
+    uu = ux * ux + uy * uy
+    sh = 0.0
+    if uu > 0.0:
+        sh = -(dx * ux + dy * uy) / uu
+        if sh < 0.0:
+            sh = 0.0
+        elif sh > S1:
+            sh = S1
+    qx = dx + ux * sh
+    qy = dy + uy * sh
+    if qx * qx + qy * qy > sig2 * (1.0 + TOI_WINDOW_RTOL):
+        return _INF
+    ta = abs(t)
+    # pieces of monotone h: roots of h'(s) = A s^2 + B s + C in (0, S1)
+    A = 1.5 * g * g
+    B = -3.0 * g * uz
+    C = ux * ux + uy * uy + uz * uz - g * dz
+    p1 = S1
+    p2 = S1
+    dq = B * B - 4.0 * A * C
+    if dq > 0.0:
+        q = -0.5 * (B + math.copysign(math.sqrt(dq), B))
+        r1 = q / A
+        r2 = C / q if q != 0.0 else r1
+        if r1 > r2:
+            r1, r2 = r2, r1
+        if 0.0 < r1 < S1:
+            p1 = r1
+        if 0.0 < r2 < S1:
+            if p1 < S1:
+                p2 = r2
+            else:
+                p1 = r2
+    lo = 0.0
+    flo = f0
+    hlo = b
+    for piece in range(3):
+        hi = p1 if piece == 0 else (p2 if piece == 1 else S1)
+        if hi <= lo:
+            continue
+        fhi, hhi = _fq(hi, dx, dy, dz, ux, uy, uz, g, f0)
+        if hlo <= 0.0 and hhi <= 0.0:
+            # f falls on the whole piece
+            if flo <= 0.0:
+                return lo
+            if fhi <= 0.0:
+                return _toi_root(lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0)
+        elif hlo < 0.0 < hhi:
+            # f falls to a minimum, then rises: look for the minimum only while f may
+            # still reach 0 (f >= f(p) + 2 h(p) (q - p) on [p, q], h increasing)
+            if flo <= 0.0:
+                return lo
+            p = lo
+            fp = flo
+            hp = hlo
+            q = hi
+            hq = hhi
+            for it in range(TOI_MAXIT):
+                if fp + 2.0 * hp * (q - p) > 0.0:
+                    break                     # f > 0 on the whole piece
+                if q - p <= TOI_RTOL * (ta + q):
+                    fq_, hq_ = _fq(q, dx, dy, dz, ux, uy, uz, g, f0)
+                    if fq_ <= 0.0:
+                        return _toi_root(p, q, fp, fq_, ta, dx, dy, dz, ux, uy, uz, g,
+                                         f0)
+                    break
+                if it % TOI_BISECT == TOI_BISECT - 1:
+                    m = 0.5 * (p + q)
+                else:
+                    m = (p * hq - q * hp) / (hq - hp)
+                if not (p < m < q):
+                    m = 0.5 * (p + q)
+                    if not (p < m < q):
+                        break
+                fm, hm = _fq(m, dx, dy, dz, ux, uy, uz, g, f0)
+                if fm <= 0.0:
+                    # f > 0 at p, <= 0 at m, one crossing between (falls, then rises
+                    # but stays <= 0 up to m)
+                    return _toi_root(p, m, fp, fm, ta, dx, dy, dz, ux, uy, uz, g, f0)
+                if hm < 0.0:
+                    p = m
+                    fp = fm
+                    hp = hm
+                else:
+                    q = m
+                    hq = hm
+        elif hlo > 0.0 > hhi:
+            # f rises to a maximum, then falls: the root is after the maximum (never on
+            # the rise: just after an impact f is 0 within its round-off, and its sign
+            # there is noise, for a time ~ eps sigma^2 / h)
+            if fhi <= 0.0:
+                cm = _toi_crit(lo, hi, hlo, hhi, ta, dx, dy, dz, ux, uy, uz, g, f0)
+                fc, hc = _fq(cm, dx, dy, dz, ux, uy, uz, g, f0)
+                if fc <= 0.0:
+                    return cm
+                return _toi_root(cm, hi, fc, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0)
+        lo = hi
+        flo = fhi
+        hlo = hhi
+    return _INF
+
+
 # ---- pair prediction -----------------------------------------------------------------------
 
 @njit(**_NJ)
-def scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar, ipar):
+def scan_block(D, SLEEP, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
+               ipar):
     """Earliest impact of body i (state at time t) with the bodies of the cells
     ``[lo0, hi0] x [lo1, hi1] x [lo2, hi2]`` (clipped to the grid) that is earlier than
     its current ``BEST_T``; updates ``BEST_T``, ``BEST_P``, ``BEST_C``."""
@@ -409,7 +683,21 @@ def scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
             for c0 in range(lo0, hi0 + 1):
                 k = chead[base + c0]
                 while k >= 0:
-                    if k != i:
+                    if SLEEP and bi[k, SLP] != 0:
+                        # k sleeps (static), i falls: the quartic, searched up to i's
+                        # next wall impact (which rescans) and the best so far
+                        hz = min(best, bt[i, WALL_T]) - t
+                        if D == 2:
+                            sk = sleeper_toi(xi0 - x[k, 0], 0.0, xi1 - x[k, 1], ui0, 0.0, ui1,
+                                             g, sig2, hz, t)
+                        else:
+                            sk = sleeper_toi(xi0 - x[k, 0], xi1 - x[k, 1], xi2 - x[k, 2], ui0,
+                                             ui1, ui2, g, sig2, hz, t)
+                        tk = t + sk
+                        if tk < best:
+                            best = tk
+                            bp = k
+                    elif k != i:
                         xk0, xk1, xk2, uk0, uk1, uk2 = state_at(D, k, t, x, v, bt, g)
                         d0 = xi0 - xk0
                         d1 = xi1 - xk1
@@ -441,7 +729,7 @@ def scan_block(D, i, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
 
 
 @njit(**_NJ)
-def full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar):
+def full_scan(D, SLEEP, i, t, x, v, bt, bi, chead, fpar, ipar):
     """Forget body i's pair prediction and scan its whole 3^D block."""
     bt[i, BEST_T] = _INF
     bi[i, BEST_P] = -1
@@ -449,12 +737,13 @@ def full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar):
     c1 = bi[i, CX + 1]
     c2 = bi[i, CX + 2]
     d2 = 1 if D == 3 else 0
-    scan_block(D, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - d2, c2 + d2, x, v, bt, bi, chead,
+    scan_block(D, SLEEP, i, t, c0 - 1, c0 + 1, c1 - 1, c1 + 1, c2 - d2, c2 + d2, x, v, bt, bi,
+               chead,
                fpar, ipar)
 
 
 @njit(**_NJ)
-def predict(D, i, t, x, v, bt, bi, chead, fpar, ipar):
+def predict(D, SLEEP, i, t, x, v, bt, bi, chead, fpar, ipar):
     """All predictions of body i after a change of its velocity at time t; returns the
     body's key (earliest of the three)."""
     g = fpar[F_G]
@@ -464,7 +753,7 @@ def predict(D, i, t, x, v, bt, bi, chead, fpar, ipar):
     tc, fk = cross_time(D, i, t, x, v, bt, bi, g, fpar, ipar)
     bt[i, CROSS_T] = tc
     bi[i, CROSS_K] = fk
-    full_scan(D, i, t, x, v, bt, bi, chead, fpar, ipar)
+    full_scan(D, SLEEP, i, t, x, v, bt, bi, chead, fpar, ipar)
     return min(bt[i, BEST_T], min(tw, tc))
 
 
@@ -537,7 +826,7 @@ def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar
 
 
 @njit(**_NJC)
-def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats,
+def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, dsleep, stats,
            rec_i, rec_f):
     m = stats[ST_NREC]
     stats[ST_NREC] = m + 1
@@ -545,9 +834,11 @@ def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats
     rec_i[m, 1] = b
     rec_i[m, 2] = mode
     rec_f[m, 0] = t
-    # dE = P . (v + v_f) / 2 with v_f = v + W P (W diagonal)
-    rec_f[m, 1] = 0.5 * (PN * (2.0 * vn + wnn * PN) + P1 * (2.0 * v1 + wtt * P1)
-                         + P2 * (2.0 * v2 + wtt * P2))
+    # dE = P . (v + v_f) / 2 with v_f = v + W P (W diagonal), plus dsleep (<= 0): the
+    # kinetic energy removed by sleep in this event
+    de = 0.5 * (PN * (2.0 * vn + wnn * PN) + P1 * (2.0 * v1 + wtt * P1)
+                + P2 * (2.0 * v2 + wtt * P2))
+    rec_f[m, 1] = de + dsleep if dsleep != 0.0 else de
     rec_f[m, 2] = n0
     rec_f[m, 3] = n1
     rec_f[m, 2 + D] = vn
@@ -561,9 +852,12 @@ def record(D, a, b, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt, stats
 
 
 @njit(**_NJC)
-def write_snapshots(D, t, t_end, v, w, bt, g, fpar, stats, snap_t, snap_v, snap_w):
+def write_snapshots(D, t, t_end, v, w, bt, bi, g, fpar, ipar, stats, snap_t, snap_v,
+                    snap_w):
     """Write the snapshots due at or before time t (and t_end): all velocities at
-    ``F_SNAP_T0 + k F_SNAP_DT``. Returns 0, or RUN_SNAP_FULL when the buffer is full."""
+    ``F_SNAP_T0 + k F_SNAP_DT`` (a sleeper's are 0). Returns 0, or RUN_SNAP_FULL when the
+    buffer is full."""
+    sleep_on = ipar[I_SLEEP] != 0
     snap_dt = fpar[F_SNAP_DT]
     while True:
         ks = stats[ST_NSNAP]
@@ -577,7 +871,8 @@ def write_snapshots(D, t, t_end, v, w, bt, g, fpar, stats, snap_t, snap_v, snap_
             s = ts - bt[b, TL]
             for a in range(D):
                 snap_v[ks, b, a] = v[b, a]
-            snap_v[ks, b, D - 1] -= g * s
+            if not (sleep_on and bi[b, SLP] != 0):
+                snap_v[ks, b, D - 1] -= g * s
             for a in range(w.shape[1]):
                 snap_w[ks, b, a] = w[b, a]
         stats[ST_NSNAP] = ks + 1
@@ -605,10 +900,174 @@ def _want(i, j, ipar, rec_mask):
     return False
 
 
+# ---- sleep and wake -------------------------------------------------------------------------
+
+@njit(**_NJ)
+def _slow(D, v0, v1, v2, w0, w1, w2, r, sleep_v2):
+    """|v| and r |w| both below the sleep speed (``sleep_v2`` its square)."""
+    if v0 * v0 + v1 * v1 + v2 * v2 >= sleep_v2:
+        return False
+    return r * r * (w0 * w0 + w1 * w1 + w2 * w2) < sleep_v2
+
+
+@njit(**_NJ)
+def _kinetic(D, v0, v1, v2, w0, w1, w2, invm, invi):
+    """Kinetic energy (J) of velocity v and spin w (smooth bodies: invi = 0, no spin)."""
+    e = 0.5 * (v0 * v0 + v1 * v1 + v2 * v2) / invm
+    if invi > 0.0:
+        e += 0.5 * (w0 * w0 + w1 * w1 + w2 * w2) / invi
+    return e
+
+
+@njit(**_NJ)
+def _count_slow(D, k, v, w, bi, r, sleep_v2):
+    """After an impact of k: one more consecutive slow impact, or the count restarts."""
+    if D == 2:
+        slow = _slow(D, v[k, 0], v[k, 1], 0.0, 0.0, 0.0, w[k, 0], r, sleep_v2)
+    else:
+        slow = _slow(D, v[k, 0], v[k, 1], v[k, 2], w[k, 0], w[k, 1], w[k, 2], r, sleep_v2)
+    bi[k, SLOW] = bi[k, SLOW] + 1 if slow else 0
+
+
+@njit(**_NJC)
+def min_hop(D, k, v, n0, n1, n2, g, tc):
+    """After body k's impact on a static support (the floor, or a sleeper; ``n`` the unit
+    normal from the support into k), leave it at least the normal speed
+    ``v_min = g_n tc / 2`` (``g_n`` gravity's component pressing k onto the support):
+    the rebound of the TC model's steady bounce, one hop per ``tc``. Without it a body
+    sliding over a sleeper (or along the floor) with zero normal speed meets it again at
+    the same instant, for ever (the law returns no impulse for v_N = 0). The normal speed
+    added is taken from k's tangential velocity (scaled down): |v| and the energy do not
+    change. A body too slow to pay for it is left as is (it is slow: it will sleep)."""
+    if D == 2:
+        gn = g * n1
+    else:
+        gn = g * n2
+    if not gn > 0.0:
+        return
+    vmin = 0.5 * gn * tc
+    vn = v[k, 0] * n0 + v[k, 1] * n1
+    if D == 3:
+        vn += v[k, 2] * n2
+    if vn >= vmin or vn <= -vmin:      # |vn| < vmin: 0 within round-off, or a feeble
+        return                         # rebound (-vmin < vn <= 0: the law saw v_N >= 0)
+    t0 = v[k, 0] - vn * n0
+    t1 = v[k, 1] - vn * n1
+    t2 = v[k, 2] - vn * n2 if D == 3 else 0.0
+    vt2 = t0 * t0 + t1 * t1 + t2 * t2
+    need = vmin * vmin - vn * vn
+    if not vt2 > need:
+        return
+    kt = math.sqrt(1.0 - need / vt2)
+    v[k, 0] = vmin * n0 + kt * t0
+    v[k, 1] = vmin * n1 + kt * t1
+    if D == 3:
+        v[k, 2] = vmin * n2 + kt * t2
+
+
+@njit(**_NJC)
+def fall_asleep(D, k, t, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt, fpar,
+                ipar, stats):
+    """Body k (out of the queue, at its impact time t) falls asleep: v = w = 0, no event,
+    still in its cell. Its collision counter moves (predictions with it are stale), and
+    every awake body of its 3^D block gets its impact with k, now static, predicted: a
+    body whose best partner was k rescans its whole block, any other scans k's cell."""
+    for a in range(D):
+        v[k, a] = 0.0
+    for a in range(w.shape[1]):
+        w[k, a] = 0.0
+    bt[k, TL] = t
+    bt[k, BEST_T] = _INF
+    bt[k, WALL_T] = _INF
+    bt[k, CROSS_T] = _INF
+    bi[k, BEST_P] = -1
+    bi[k, SLP] = 1
+    bi[k, SLOW] = 0
+    bi[k, CNT] += 1
+    qkey[k] = _INF
+    stats[ST_NSLEEP] += 1
+    nc0 = ipar[I_NC]
+    nc1 = ipar[I_NC + 1]
+    nc2 = ipar[I_NC + 2]
+    k0 = bi[k, CX]
+    k1 = bi[k, CX + 1]
+    k2 = bi[k, CX + 2]
+    d3 = 1 if D == 3 else 0
+    for c2 in range(max(k2 - d3, 0), min(k2 + d3, nc2 - 1) + 1):
+        for c1 in range(max(k1 - 1, 0), min(k1 + 1, nc1 - 1) + 1):
+            for c0 in range(max(k0 - 1, 0), min(k0 + 1, nc0 - 1) + 1):
+                m = chead[c0 + nc0 * (c1 + nc1 * c2)]
+                while m >= 0:
+                    if bi[m, SLP] == 0:
+                        if bi[m, BEST_P] == k:
+                            bt[m, BEST_T] = _INF
+                            bi[m, BEST_P] = -1
+                            a0, b0, a1, b1 = bi[m, CX] - 1, bi[m, CX] + 1, bi[m, CX + 1] - 1, \
+                                bi[m, CX + 1] + 1
+                            a2, b2 = bi[m, CX + 2] - d3, bi[m, CX + 2] + d3
+                        else:
+                            a0, b0, a1, b1, a2, b2 = k0, k0, k1, k1, k2, k2
+                        scan_block(D, True, m, t, a0, b0, a1, b1, a2, b2, x, v, bt, bi, chead,
+                                   fpar,
+                                   ipar)
+                        q_update(m, min(bt[m, BEST_T], min(bt[m, WALL_T], bt[m, CROSS_T])),
+                                 qkey, qlink, qheap, qhead, qs, qdt)
+                    m = bi[m, CNEXT]
+
+
+@njit(**_NJC)
+def wake_cluster(D, j, t, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt, fpar,
+                 ipar, stats):
+    """Body j (just woken, awake) wakes every sleeper within ``F_WAKE_GAP`` of contact,
+    and so on recursively (a list threaded through ``WLINK``). The woken bodies start
+    from rest at time t (v = w = 0, counters moved: predictions with them are stale),
+    all are marked first, then each is predicted and queued (j is predicted by the
+    caller)."""
+    reach = 2.0 * fpar[F_R] + fpar[F_WAKE_GAP]
+    reach2 = reach * reach
+    nc0 = ipar[I_NC]
+    nc1 = ipar[I_NC + 1]
+    nc2 = ipar[I_NC + 2]
+    d3 = 1 if D == 3 else 0
+    bi[j, WLINK] = -1
+    tail = j
+    c = j
+    while c >= 0:
+        k0 = bi[c, CX]
+        k1 = bi[c, CX + 1]
+        k2 = bi[c, CX + 2]
+        for c2 in range(max(k2 - d3, 0), min(k2 + d3, nc2 - 1) + 1):
+            for c1 in range(max(k1 - 1, 0), min(k1 + 1, nc1 - 1) + 1):
+                for c0 in range(max(k0 - 1, 0), min(k0 + 1, nc0 - 1) + 1):
+                    m = chead[c0 + nc0 * (c1 + nc1 * c2)]
+                    while m >= 0:
+                        if bi[m, SLP] != 0:
+                            d2 = 0.0
+                            for a in range(D):
+                                da = x[m, a] - x[c, a]
+                                d2 += da * da
+                            if d2 <= reach2:
+                                bi[m, SLP] = 0
+                                bi[m, SLOW] = 0
+                                bi[m, CNT] += 1
+                                bt[m, TL] = t
+                                bi[m, WLINK] = -1
+                                bi[tail, WLINK] = m
+                                tail = m
+                                stats[ST_NWAKE] += 1
+                        m = bi[m, CNEXT]
+        c = bi[c, WLINK]
+    c = bi[j, WLINK]
+    while c >= 0:
+        key = predict(D, True, c, t, x, v, bt, bi, chead, fpar, ipar)
+        q_update(c, key, qkey, qlink, qheap, qhead, qs, qdt)
+        c = bi[c, WLINK]
+
+
 # ---- the event loop ----------------------------------------------------------------------
 
 @njit(**_NJI)
-def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
+def gas_loop(D, LAW2, LAW3, SLEEP, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
              fpar, ipar, stats, fstats, rec_i, rec_f, rec_mask, snap_t, snap_v, snap_w):
     """Run until t_end, max impacts, a full buffer, or a failure; the status is in
     ``stats[ST_STATUS]`` and returned. Resumable (see the module docstring).
@@ -623,6 +1082,10 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
     recording = ipar[I_RECORD] != REC_NONE
     rec_cap = rec_i.shape[0]
     invm = fpar[F_INVM]
+    invi = fpar[F_INVI]
+    r = fpar[F_R]
+    sleep_on = SLEEP       # compile-time: the sleep code is folded away when False
+    sleep_v2 = fpar[F_SLEEP_V] * fpar[F_SLEEP_V]
     n = x.shape[0]
     status = 0
     since = 0
@@ -640,8 +1103,8 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
             status = RUN_EMPTY
             break
         if snap_dt > 0.0:
-            status = write_snapshots(D, t, t_end, v, w, bt, g, fpar, stats, snap_t, snap_v,
-                                     snap_w)
+            status = write_snapshots(D, t, t_end, v, w, bt, bi, g, fpar, ipar, stats,
+                                     snap_t, snap_v, snap_w)
             if status != 0:
                 break
         if t == _INF:
@@ -698,6 +1161,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 e1 = v[i, 1]
                 kf = 1.0
                 bpart = -1 - wk
+                jsl = False
                 if D == 3:
                     e2 = v[i, 2]
                     ws0, ws1, ws2 = w[i, 0], w[i, 1], w[i, 2]
@@ -706,7 +1170,9 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                     ws0, ws1, ws2 = 0.0, 0.0, w[i, 0]
             else:
                 j = bi[i, BEST_P]
-                advance(D, j, t, x, v, bt, g)
+                jsl = sleep_on and bi[j, SLP] != 0
+                if not jsl:                   # a sleeper is static (v = w = 0)
+                    advance(D, j, t, x, v, bt, g)
                 d0 = x[i, 0] - x[j, 0]
                 d1 = x[i, 1] - x[j, 1]
                 e0 = v[i, 0] - v[j, 0]
@@ -727,9 +1193,21 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 kf = 2.0
                 bpart = j
             e, mu = _tc_params(i, j, t, bt, fpar, ipar, stats)
-            (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
-             wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, kf,
-                           fpar, e, mu)
+            held = False           # j sleeps and stays asleep: it is held fixed
+            for attempt in range(2 if SLEEP else 1):
+                (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
+                 wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, kf,
+                               fpar, e, mu)
+                if mode < 0 or not jsl or held:
+                    break
+                # j sleeps: resolved with its true mass (v = w = 0), would it leave slower
+                # than the sleep speed? Then the bed holds it: solve again with j fixed
+                # (W of a wall), i rebounds from it; else j wakes with that velocity
+                if not _slow(D, -Px * invm, -Py * invm, -Pz * invm, dw0, dw1, dw2, r,
+                             sleep_v2):
+                    break
+                held = True
+                kf = 1.0
             if mode < 0:
                 stats[ST_FAIL_A] = i
                 stats[ST_FAIL_B] = bpart
@@ -747,36 +1225,75 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                 w[i, 2] += dw2
             bi[i, CNT] += 1
             bt[i, TLAST] = t
+            slept = 0.0                # kinetic energy removed by sleep in this event (J)
+            woke = jsl and not held
             if j >= 0:
-                v[j, 0] -= Px * invm
-                v[j, 1] -= Py * invm
-                if D == 2:
-                    w[j, 0] += dw2
+                if held:
+                    stats[ST_NABSORB] += 1
                 else:
-                    v[j, 2] -= Pz * invm
-                    w[j, 0] += dw0
-                    w[j, 1] += dw1
-                    w[j, 2] += dw2
-                bi[j, CNT] += 1
-                bt[j, TLAST] = t
+                    if woke:
+                        bi[j, SLP] = 0
+                        bt[j, TL] = t
+                        stats[ST_NWAKE] += 1
+                    v[j, 0] -= Px * invm
+                    v[j, 1] -= Py * invm
+                    if D == 2:
+                        w[j, 0] += dw2
+                    else:
+                        v[j, 2] -= Pz * invm
+                        w[j, 0] += dw0
+                        w[j, 1] += dw1
+                        w[j, 2] += dw2
+                    bi[j, CNT] += 1
+                    bt[j, TLAST] = t
                 stats[ST_NCOLL] += 1
             else:
                 stats[ST_NWALL] += 1
+            i_sleeps = False
+            if sleep_on:
+                if (j < 0 and bi[i, WALL_K] == 2 * (D - 1)) or held:
+                    # static support (floor, sleeper): at least the TC model's hop
+                    min_hop(D, i, v, n0, n1, n2, g, fpar[F_TC])
+                # consecutive slow impacts; i falls asleep on the floor or on a sleeper
+                _count_slow(D, i, v, w, bi, r, sleep_v2)
+                if j >= 0 and not jsl:
+                    _count_slow(D, j, v, w, bi, r, sleep_v2)
+                if bi[i, SLOW] >= ipar[I_SLEEP_N] and (
+                        (j < 0 and bi[i, WALL_K] == 2 * (D - 1)) or held):
+                    i_sleeps = True
+                    if D == 2:
+                        slept += _kinetic(D, v[i, 0], v[i, 1], 0.0, 0.0, 0.0, w[i, 0], invm,
+                                          invi)
+                    else:
+                        slept += _kinetic(D, v[i, 0], v[i, 1], v[i, 2], w[i, 0], w[i, 1],
+                                          w[i, 2], invm, invi)
+                fstats[FS_SLEPT] += slept
             if recording and _want(i, j, ipar, rec_mask):
                 record(D, i, bpart, mode, t, n0, n1, n2, vn, v1, v2, PN, P1, P2, wnn, wtt,
-                       stats, rec_i, rec_f)
-            if t == fstats[FS_T]:
+                       -slept, stats, rec_i, rec_f)
+            if t == fstats[FS_T] and not i_sleeps:
                 stats[ST_SAME] += 1
             else:
-                stats[ST_SAME] = 0
+                stats[ST_SAME] = 0         # time advanced, or a body fell asleep
             fstats[FS_T] = t
             if stats[ST_SAME] >= STALL_IMPACTS:
                 status = RUN_STALL
+            if held:
+                j = -1                     # j did not change: no new predictions
+            if woke:
+                # bodies touching the woken sleeper wake too (recursively): nothing is
+                # left floating when its support moves
+                wake_cluster(D, j, t, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs,
+                             qdt, fpar, ipar, stats)
+            if i_sleeps:
+                fall_asleep(D, i, t, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs,
+                            qdt, fpar, ipar, stats)
+                i = -1                     # nothing left to predict (j is -1 too)
         # ---- new predictions of the one or two bodies, and their queue keys
         for kk in range(2):
             b = i if kk == 0 else j
             if b < 0:
-                break
+                break               # i < 0 (fell asleep): j < 0 as well
             if moved:
                 tw2, wk2 = wall_time(D, b, t, x, v, bt, g, fpar[F_R], fpar)
                 bt[b, WALL_T] = tw2
@@ -801,7 +1318,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
                     lo1, hi1 = layer, layer
                 else:
                     lo2, hi2 = layer, layer
-            scan_block(D, b, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
+            scan_block(D, SLEEP, b, t, lo0, hi0, lo1, hi1, lo2, hi2, x, v, bt, bi, chead, fpar,
                        ipar)
             q_update(b, min(bt[b, BEST_T], min(bt[b, WALL_T], bt[b, CROSS_T])),
                      qkey, qlink, qheap, qhead, qs, qdt)
@@ -814,7 +1331,7 @@ def gas_loop(D, LAW2, LAW3, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, q
 # ---- set-up and end of a run (not hot) ----------------------------------------------------
 
 @njit(**_NJI)
-def gas_prepare(D, x, v, bt, bi, chead, qkey, fpar, ipar, t0):
+def gas_prepare(D, SLEEP, x, v, bt, bi, chead, qkey, fpar, ipar, t0):
     """Cells from the positions, local times ``t0``, all predictions; the keys are
     written to ``qkey`` (the caller then sizes and fills the queue)."""
     n = x.shape[0]
@@ -825,6 +1342,10 @@ def gas_prepare(D, x, v, bt, bi, chead, qkey, fpar, ipar, t0):
         bt[i, TLAST] = -_INF
         bi[i, CNT] = 0
         bi[i, CX + 2] = 0
+        bi[i, SLOW] = 0
+        bi[i, WLINK] = -1
+        if not SLEEP:
+            bi[i, SLP] = 0
         for a in range(D):
             c = int(math.floor(x[i, a] / fpar[F_CS + a]))
             if c < 0:
@@ -834,11 +1355,21 @@ def gas_prepare(D, x, v, bt, bi, chead, qkey, fpar, ipar, t0):
             bi[i, CX + a] = c
         cell_insert(i, bi, chead, ipar)
     for i in range(n):
-        qkey[i] = predict(D, i, t0, x, v, bt, bi, chead, fpar, ipar)
+        if bi[i, SLP] != 0:          # a sleeper (set by the caller): no event
+            bt[i, BEST_T] = _INF
+            bt[i, WALL_T] = _INF
+            bt[i, CROSS_T] = _INF
+            bi[i, BEST_P] = -1
+            qkey[i] = _INF
+        else:
+            qkey[i] = predict(D, SLEEP, i, t0, x, v, bt, bi, chead, fpar, ipar)
 
 
 @njit(**_NJI)
-def gas_finish(D, t, x, v, bt, g):
-    """Advance every body to time t (end of a run)."""
+def gas_finish(D, t, x, v, bt, bi, g):
+    """Advance every awake body to time t (end of a run); sleepers stay."""
     for i in range(x.shape[0]):
-        advance(D, i, t, x, v, bt, g)
+        if bi[i, SLP] != 0:
+            bt[i, TL] = t
+        else:
+            advance(D, i, t, x, v, bt, g)

@@ -40,7 +40,9 @@ queued, then push), ``q_top()`` (body with the smallest key, -1 if empty; advanc
 calendar, never changes the order), ``q_pop()`` (remove and return it), ``q_rebuild``
 (new bucket width; a caller whose event rate drifts, e.g. a cooling gas, calls it when
 ``q_fill_dt`` has moved by more than a factor of 2: a fixed width would leave the bodies
-in the overflow list or crowd one bucket). Every helper is
+in the overflow list or crowd one bucket). A body with no event for a while (a sleeping
+body of ``gas_core``) is simply left out: ``q_remove`` it and set its key to ``inf`` (which
+``q_fill_dt`` ignores); ``q_update`` queues it again when it wakes. Every helper is
 ``inline='always'`` so that a caller's hot loop (compiled with ``_nrt=False``) contains
 no call and no reference counting on the arrays (3x measured in a hot loop). Numba inlines
 at the IR level, so a caller should have few call sites of them (``gas_core.gas_loop``

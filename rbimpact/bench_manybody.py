@@ -10,6 +10,12 @@ with recording off and with every impact recorded. Impacts count body-body and w
 impacts, not cell crossings or stale predictions. Rates are wall-clock (median of
 ``repeat`` runs) and, beside them, per CPU second of this process (the machine may be
 shared). ``ratio`` is rate(4096) / rate(64) in the same run.
+
+Then the ``bed`` rows (``bench_bed``): a settling bed, ``BED["n"]`` inelastic disks
+dropped under gravity from a dilute random start, run to the same ``t_end`` with and
+without sleep (``run_gas(sleep=...)``): impacts and CPU seconds. The TC model's ``tc`` is
+given (``BED["tc"]``, far above the default) so that the run without sleep reaches
+``t_end`` at all: a resting body costs one impact per ``tc`` without sleep.
 """
 import time
 
@@ -32,12 +38,18 @@ TARGETS = {  # issue 15, impacts/s at N = 4096, recording off
     "3D smooth elastic spheres (kane_levinson e=1)": 0.4e6,
 }
 RATIO_TARGET = 0.5          # rate(4096) / rate(64), 2D smooth
+# the settling bed (bench_bed): 2D smooth disks, Kane & Levinson e = 0.7, r = 0.5 m,
+# g = 1 m/s^2 (sqrt(r / g) = 0.7 s), dilute start (packing 0.1 of the square box); the
+# bed is asleep by t ~ 20 s
+BED = dict(n=200, dim=2, law="kane_levinson", e=0.7, gravity=1.0, packing=0.1, seed=0,
+           t_end=40.0, tc=1e-3)
 
 
 def bench_manybody(repeat=1, sizes=SIZES, cases=None, records=("none", "all"),
-                   min_impacts=MIN_IMPACTS, seed=0):
+                   min_impacts=MIN_IMPACTS, seed=0, bed=True):
     """Rows ``{case, n, record, impacts, run_s, impacts_per_s, impacts_per_cpu_s,
-    collisions, wall, crossings, stale}`` plus one ``ratio`` row per case and record."""
+    collisions, wall, crossings, stale}`` plus one ``ratio`` row per case and record,
+    then (``bed``) the two rows of ``bench_bed``."""
     from .manybody import random_gas, run_gas
     rows = []
     for name, kw in (cases or CASES):
@@ -72,6 +84,28 @@ def bench_manybody(repeat=1, sizes=SIZES, cases=None, records=("none", "all"),
                                  / by_n[64]["impacts_per_s"],
                                  ratio_cpu=by_n[4096]["impacts_per_cpu_s"]
                                  / by_n[64]["impacts_per_cpu_s"]))
+    if bed:
+        rows += bench_bed()
+    return rows
+
+
+def bench_bed(**over):
+    """The settling bed (``BED``, keywords override it) run to ``t_end`` with sleep and
+    without: rows ``{bed: True, sleep, n, dim, t_end, tc, impacts, cpu_s, run_s, asleep,
+    sleeps, wakes}`` (the code is loaded or compiled by a short run first, untimed)."""
+    from .manybody import random_gas, run_gas
+    p = dict(BED, **over)
+    s = random_gas(p["n"], dim=p["dim"], packing=p["packing"], law=p["law"], seed=p["seed"],
+                   gravity=p["gravity"], e=p["e"])
+    rows = []
+    for sleep in (True, False):
+        run_gas(s, max_impacts=1000, tc=p["tc"], sleep=sleep)       # load / compile
+        t0, c0 = time.perf_counter(), time.process_time()
+        res = run_gas(s, t_end=p["t_end"], tc=p["tc"], sleep=sleep)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        rows.append(dict(bed=True, sleep=sleep, n=p["n"], dim=p["dim"], t_end=p["t_end"],
+                         tc=p["tc"], t=res.t, impacts=res.n_impacts, cpu_s=cpu, run_s=wall,
+                         asleep=res.n_asleep, sleeps=res.n_sleeps, wakes=res.n_wakes))
     return rows
 
 
@@ -81,6 +115,16 @@ def print_manybody(rows):
     print(f"{'case':<48}{'record':>7}{'N':>7}{'impacts':>9}{'M/s':>8}{'M/s cpu':>9}"
           f"{'coll':>9}{'wall':>7}{'cross/imp':>10}")
     for r in rows:
+        if r.get("bed"):
+            if r["sleep"]:
+                print(f"bed: {r['n']} disks (dim {r['dim']}) kane_levinson e = {BED['e']}, "
+                      f"g = {BED['gravity']} m/s^2, r = 0.5 m, settling from packing "
+                      f"{BED['packing']} to t_end = {r['t_end']:g} s, tc = {r['tc']:g} s")
+            print(f"  bed {'with sleep   ' if r['sleep'] else 'without sleep'}"
+                  f"{r['impacts']:>11} impacts {r['cpu_s']:>8.2f} s cpu {r['run_s']:>8.2f} s wall"
+                  f"   asleep at the end {r['asleep']:>4}, sleeps {r['sleeps']}, wakes "
+                  f"{r['wakes']}")
+            continue
         if "ratio" in r:
             tgt = f"  (target >= {RATIO_TARGET})" if r["case"].startswith("2D smooth") else ""
             print(f"{r['case']:<48}{r['record']:>7}  rate(4096)/rate(64) = {r['ratio']:.2f}"

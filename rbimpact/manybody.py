@@ -43,7 +43,23 @@ CELL_DIAMETERS = 1.0     # measured at N = 4096: 1.0 and 1.5 equal, 2.0 8 % slow
 BUCKETS_PER_BODY = 1.0    # calendar queue: buckets >= this many per body (power of 2)
 QUEUE_INDEX_DTYPE = "int32"   # queue links (bodies < 2^31)
 REC_CHUNK = 1 << 16       # records per buffer chunk when recording
-SNAP_CHUNK = 64           # snapshots per buffer chunk when t_end is not given
+SNAP_CHUNK = 64           # snapshots per buffer chunk when t_end is not given (or when an
+                          # observer takes them)
+
+# Sleep (run_gas(sleep=...)): every threshold is scaled to the scene's own r and g.
+# A body sleeps after SLEEP_IMPACTS consecutive impacts that each left it slower than the
+# sleep speed SLEEP_SPEED_REL sqrt(g r) (|v| and r |w|), the last one on the floor or on a
+# sleeper. At that speed a free bounce rises sleep_speed^2 / (2 g) = 0.005 r: a body that
+# slow is resting to the eye; and the bounces of a body settling with e <= 0.9 take it
+# from 1 to 0.001 of that speed in ~65 impacts, so 10 slow impacts in a row happen well
+# before the TC model makes its impacts elastic (tc is far below sqrt(r / g)).
+SLEEP_SPEED_REL = 0.1
+SLEEP_IMPACTS = 10
+# A woken body wakes the sleepers within wake_gap of contact: by default
+# max(WAKE_GAP_REL r, 2 sleep_speed^2 / g), 4 times the height a body can bounce at the
+# sleep speed (the largest gap a sleeper may keep below a body that fell asleep on it);
+# both 0.02 r at the default sleep speed.
+WAKE_GAP_REL = 0.02
 
 _STATUS_TEXT = {1: "t_end", 2: "max_impacts", 3: "no event left"}
 
@@ -56,7 +72,9 @@ class GasState:
     velocities (rad/s): (n,) in 2D (about z), (n, 3) in 3D; ``radius`` (m), ``mass`` (kg),
     ``inertia`` (kg m^2, central; ``inf`` for smooth bodies, which never spin), ``box``
     (dim,) (m), ``gravity`` (m/s^2, along minus the last axis), ``law`` (a name of
-    ``rbimpact.laws.LAWS``) and ``law_params`` (its parameters), ``t`` the time (s)."""
+    ``rbimpact.laws.LAWS``) and ``law_params`` (its parameters), ``t`` the time (s);
+    ``asleep`` None or (n,) bool: the bodies that sleep (``run_gas(sleep=True)``: static
+    until touched; they must be at rest, v = w = 0; ignored when sleep is off)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -70,6 +88,7 @@ class GasState:
     gravity: float = 0.0
     rough: bool = False
     t: float = 0.0
+    asleep: object = None
 
     @property
     def n(self):
@@ -86,6 +105,10 @@ class GasState:
             e += 0.5 * self.inertia * float(np.sum(self.w * self.w))
         return e
 
+    def potential_energy(self):
+        """Gravitational energy (J) above the floor (the face at 0 of the last axis)."""
+        return self.mass * self.gravity * float(np.sum(self.x[:, -1]))
+
 
 @dataclass
 class GasResult:
@@ -99,7 +122,14 @@ class GasResult:
     ``n`` (m, dim) normal from B into A, ``v`` (m, dim) contact-space pre-impact velocity
     (normal first, m/s), ``P`` (m, dim) contact-space impulse on A (N s), ``dE`` (J);
     ``stop`` why the run ended, ``collapse`` the collapse option and ``tc`` (s),
-    ``state`` the final ``GasState`` (to continue the run)."""
+    ``state`` the final ``GasState`` (to continue the run; its ``asleep`` holds the
+    sleepers). Sleep: ``sleep`` (the option), ``sleep_speed`` (m/s), ``sleep_impacts``,
+    ``wake_gap`` (m) as used (0 when off), ``n_sleeps`` bodies that fell asleep,
+    ``n_wakes`` bodies woken (by an impact or touching a woken body), ``n_absorbed``
+    impacts on a sleeper that stayed asleep (held fixed by the bed), ``energy_slept`` (J)
+    kinetic energy of the bodies as they fell asleep (also in the events' ``dE``),
+    ``asleep`` (n,) bool at the end. With an observer and ``keep=False``, ``events`` is
+    None and the snapshot arrays are empty (the observer had them)."""
 
     t: float
     x: np.ndarray
@@ -118,10 +148,24 @@ class GasResult:
     collapse: str
     tc: float
     state: GasState
+    sleep: bool = False
+    sleep_speed: float = 0.0
+    sleep_impacts: int = 0
+    wake_gap: float = 0.0
+    n_sleeps: int = 0
+    n_wakes: int = 0
+    n_absorbed: int = 0
+    energy_slept: float = 0.0
+    asleep: np.ndarray = None
 
     @property
     def n_impacts(self):
         return self.n_collisions + self.n_wall
+
+    @property
+    def n_asleep(self):
+        """Bodies asleep at the end."""
+        return 0 if self.asleep is None else int(np.count_nonzero(self.asleep))
 
 
 def box_for(n, dim, packing, radius):
@@ -195,7 +239,8 @@ def _place(cand, x, got, radius, L):
 
 
 def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None,
-            collapse="tc", tc=None):
+            collapse="tc", tc=None, sleep=None, sleep_speed=None, sleep_impacts=None,
+            wake_gap=None, observer=None, keep=None):
     """Run the gas ``state`` (a ``GasState``, not modified) until ``t_end`` (s, absolute
     time) or until ``max_impacts`` impacts (body-body plus wall), whichever comes first
     (at least one must be given).
@@ -208,12 +253,56 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     by the same law with e = 1, mu = 0) or "none" (the law as given; an inelastic gas may
     then collapse, which ends the run with a SimulationError after
     ``gas_core.STALL_IMPACTS`` impacts at one instant). ``tc`` (s, > 0): default
-    ``TC_REL * 2 r / v_rms`` of the initial state. Under gravity an inelastic gas
-    settles; bodies do not sleep (not implemented): a body settled on the floor keeps
-    hopping elastically (TC) with a period of about ``tc``, so a bed costs about one
-    impact per ``tc`` per resting body: give a larger ``tc`` for beds (e.g. 1e-2 s for
-    r = 0.5 m, g = 1 m/s^2: 200 disks settle and the time advances ~15 s per 10^6
-    impacts; with the default tc it advanced 0.5 s in 1.6 10^6 impacts).
+    ``TC_REL * 2 r / v_rms`` of the initial state.
+
+    Sleep (``sleep``: True, False, or None = True exactly when gravity > 0; it needs
+    gravity). Under gravity an inelastic gas settles, and a settled body would keep
+    bouncing on the floor, its impacts made elastic by the TC model: about one impact per
+    ``tc`` per resting body, so that simulated time nearly stops (200 disks with the
+    default tc advanced 0.5 s in 1.6 10^6 impacts; ``rbimpact bench manybody``, bed rows,
+    compares a bed with and without sleep). With sleep a body at rest costs no event:
+
+    * it falls asleep after ``sleep_impacts`` (default ``SLEEP_IMPACTS`` = 10, at most
+      ``gas_core.STALL_IMPACTS / 10``) consecutive impacts that each left it slower than
+      ``sleep_speed`` (m/s; |v| and r |w|; default ``SLEEP_SPEED_REL sqrt(g r)`` =
+      0.1 sqrt(g r), the speed of a bounce 0.005 r high), the last one on the floor (the
+      face at 0 of the last axis) or on a sleeper. Asleep it is static (v = w = 0, not
+      under gravity, no event of its own) and stays in the cell list; its kinetic energy
+      at that moment is removed and counted (``energy_slept``, and in that impact's
+      ``dE``: the recorded dE still sum to the change of kinetic plus potential energy);
+    * an awake body's impact on a sleeper is resolved by the law with the sleeper's true
+      mass and v = w = 0. If the sleeper would leave slower than ``sleep_speed`` the bed
+      holds it: it stays asleep and the impact is resolved again with the sleeper held
+      fixed (as a wall), the awake body rebounding. Else it wakes with that velocity, and
+      every sleeper within ``wake_gap`` (m, default ``max(WAKE_GAP_REL r,
+      2 sleep_speed^2 / g)`` = 0.02 r, four times the highest bounce at the sleep speed)
+      of contact with a woken body wakes too, from rest, recursively: nothing floats
+      when its support moves;
+    * a rebound on a static support (the floor, a held sleeper) slower than
+      ``g_n tc / 2`` (``g_n`` the part of gravity pressing the body on it: the TC
+      model's steady bounce) is raised to that, the normal speed taken from the body's
+      tangential velocity (its energy unchanged): a body sliding over a sleeper with zero
+      normal speed would otherwise meet it again at the same instant for ever;
+    * an awake body and a sleeper meet when the awake body's parabola reaches distance
+      2r from the static one: the earliest root of a quartic, found exactly
+      (``gas_core.sleeper_toi``); awake pairs stay linear, sleepers are never paired.
+
+    A settled bed then advances in time at no cost (once every body sleeps the run jumps
+    to ``t_end``, stop "no event left"). What sleep gives up: a body may fall asleep on an
+    unstable perch (10 slow impacts take far less time than sliding off a slope; it
+    stays until something touches it), a slow push on a sleeper is held by the bed rather
+    than passed on through it, and a strong impact on a bed wakes every sleeper connected
+    to it (the bed then settles again). ``state.asleep`` starts bodies asleep (continuing
+    a run); the final state carries the sleepers. Without sleep the engine is the one
+    before sleep existed, bit for bit (its loop is compiled without the sleep code).
+
+    ``observer``: a callable taking ``(kind, chunk)``, handed every non-empty chunk of
+    recorded events (``kind`` "events", ``chunk`` a dict as ``GasResult.events``) each
+    time the record buffer (``REC_CHUNK`` events) fills and once at the end, and of
+    snapshots (``kind`` "snapshots", ``chunk`` a dict ``t``, ``v``, ``w`` as ``snap_t``,
+    ``snap_v``, ``snap_w``; ``SNAP_CHUNK`` at most) as they come: memory then stays flat
+    however long the run. ``keep``: also keep them in the result (default: False with an
+    observer, True without).
 
     The bodies must not overlap initially (not checked: O(N^2)); ``random_gas``
     places them without overlap.
@@ -263,10 +352,22 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         tc = TC_REL * 2.0 * state.radius / vrms if vrms > 0 else 0.0
     else:
         tc = _positive("run_gas: tc", tc, "s")
+    sleep, sleep_speed, sleep_impacts, wake_gap = _sleep_options(
+        state, sleep, sleep_speed, sleep_impacts, wake_gap)
+    asleep0 = _asleep_flags(state, n) if sleep else np.zeros(n, bool)
+    if observer is not None and not callable(observer):
+        raise ValueError(f"run_gas: observer must be callable (kind, chunk), got "
+                         f"{_show(observer)}")
+    if keep is None:
+        keep = observer is None
+    else:
+        keep = _flag("run_gas: keep", keep)
 
     from .kernels import gas_core as gc
     kern = _kernels(dim)
-    run = getattr(kern, "run_" + state.law)
+    # the sleep option is compiled in or out: without it the loop is the plain one
+    run = getattr(kern, "run_" + state.law + ("_sleep" if sleep else ""))
+    prepare = kern.prepare_sleep if sleep else kern.prepare
     r = float(state.radius)
     L = np.asarray(state.box, float)
     nc = np.ones(3, np.int64)
@@ -284,6 +385,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     v[:] = state.v
     w = np.ascontiguousarray(state.w, float).reshape(n, -1).copy()
     bi = np.zeros((n, gc.N_BI), np.int32)
+    bi[:, gc.SLP] = asleep0
     chead = np.full(int(np.prod(nc)), -1, np.int32)
     fpar = np.zeros(gc.N_FPAR)
     fpar[gc.F_R] = r
@@ -299,18 +401,22 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     fpar[gc.F_SNAP_DT] = snapshot_dt or 0.0
     fpar[gc.F_SNAP_T0] = t0
     fpar[gc.F_FILL] = gc.BUCKET_FILL
+    fpar[gc.F_SLEEP_V] = sleep_speed
+    fpar[gc.F_WAKE_GAP] = wake_gap
     ipar = np.zeros(gc.N_IPAR, np.int64)
     ipar[gc.I_NC:gc.I_NC + 3] = nc
     ipar[gc.I_COLLAPSE] = gc.COLLAPSE_TC if collapse == "tc" else gc.COLLAPSE_NONE
     ipar[gc.I_RECORD] = (gc.REC_MASK if mask is not None else
                          gc.REC_ALL if record == "all" else gc.REC_NONE)
     ipar[gc.I_MAXIMP] = max_imp
+    ipar[gc.I_SLEEP] = 1 if sleep else 0
+    ipar[gc.I_SLEEP_N] = sleep_impacts
     from .kernels import scheduler as sch
     nb = 16
     while nb < BUCKETS_PER_BODY * n:
         nb *= 2
     qkey, qlink, qheap, qhead, qs, qdt = sch.q_alloc(n, nb, QUEUE_INDEX_DTYPE)
-    kern.prepare(x, v, bt, bi, chead, qkey, fpar, ipar, t0)
+    prepare(x, v, bt, bi, chead, qkey, fpar, ipar, t0)
     if not np.all(np.isfinite(x)) or not np.all(np.isfinite(v)):
         raise ValueError("run_gas: the state holds non-finite values")
     fin = qkey[np.isfinite(qkey)] - t0
@@ -319,10 +425,11 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     keys = qkey.copy()
     sch.q_init(qkey, qlink, qheap, qhead, qs, qdt, nb, dt, t0)
     for i in range(n):
-        sch.q_push_k(i, keys[i], qkey, qlink, qheap, qhead, qs, qdt)
+        if not asleep0[i]:                     # a sleeper has no event
+            sch.q_push_k(i, keys[i], qkey, qlink, qheap, qhead, qs, qdt)
 
     stats = np.zeros(gc.N_ST, np.int64)
-    fstats = np.full(gc.N_FS, t0)
+    fstats = np.zeros(gc.N_FS)
     fstats[gc.FS_T] = -math.inf
     nrf = 2 + 3 * dim
     recording = ipar[gc.I_RECORD] != gc.REC_NONE
@@ -333,25 +440,53 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     if mask is None:
         mask = np.zeros(1, np.uint8)
     if snapshot_dt:
-        ns = (int(math.floor((t_end - t0) / snapshot_dt)) + 1 if t_end is not None
-              else SNAP_CHUNK)
+        ns = (int(math.floor((t_end - t0) / snapshot_dt)) + 1
+              if t_end is not None and observer is None else SNAP_CHUNK)
     else:
         ns = 0
     snap_t = np.zeros(max(ns, 1))
     snap_v = np.zeros((max(ns, 1), n if ns else 1, dim))
     snap_w = np.zeros((max(ns, 1), n if ns else 1, w.shape[1]))
     snap_parts = []
+
+    def events_dict(ri, rf):
+        return {"t": rf[:, 0].copy(), "a": ri[:, 0].copy(), "b": ri[:, 1].copy(),
+                "mode": ri[:, 2].copy(), "dE": rf[:, 1].copy(),
+                "n": rf[:, 2:2 + dim].copy(), "v": rf[:, 2 + dim:2 + 2 * dim].copy(),
+                "P": rf[:, 2 + 2 * dim:2 + 3 * dim].copy()}
+
+    def snaps_dict(k):
+        sw = snap_w[:k].copy()
+        return {"t": snap_t[:k].copy(), "v": snap_v[:k].copy(),
+                "w": sw[:, :, 0] if dim == 2 else sw}
+
+    def hand_events(k):
+        if k == 0:
+            return
+        if observer is not None:
+            observer("events", events_dict(rec_i[:k], rec_f[:k]))
+        if keep:
+            rec_parts.append((rec_i[:k].copy(), rec_f[:k].copy()))
+
+    def hand_snaps(k):
+        if k == 0:
+            return
+        if observer is not None:
+            observer("snapshots", snaps_dict(k))
+        if keep:
+            snap_parts.append((snap_t[:k].copy(), snap_v[:k].copy(), snap_w[:k].copy()))
+
     while True:
         status = run(x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt, fpar, ipar,
                      stats, fstats, rec_i, rec_f, mask, snap_t, snap_v, snap_w)
         if status == gc.RUN_REC_FULL:
-            rec_parts.append((rec_i.copy(), rec_f.copy()))
+            hand_events(int(stats[gc.ST_NREC]))
             stats[gc.ST_NREC] = 0
             continue
         if status == gc.RUN_SNAP_FULL:
-            snap_parts.append((snap_t.copy(), snap_v.copy(), snap_w.copy()))
+            k = int(stats[gc.ST_NSNAP])
+            hand_snaps(k)
             # the kernel indexes snapshots from 0 in each buffer: shift the origin
-            k = stats[gc.ST_NSNAP]
             fpar[gc.F_SNAP_T0] += k * snapshot_dt
             stats[gc.ST_NSNAP] = 0
             continue
@@ -372,19 +507,18 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         t_fin = t_end
     else:
         t_fin = max(float(fstats[gc.FS_T]), t0)
-    kern.finish(t_fin, x, v, bt, state.gravity)
+    kern.finish(t_fin, x, v, bt, bi, state.gravity)
     events = None
     if recording:
-        rec_parts.append((rec_i[:stats[gc.ST_NREC]], rec_f[:stats[gc.ST_NREC]]))
-        ri = np.concatenate([p[0] for p in rec_parts])
-        rf = np.concatenate([p[1] for p in rec_parts])
-        events = {"t": rf[:, 0].copy(), "a": ri[:, 0].copy(), "b": ri[:, 1].copy(),
-                  "mode": ri[:, 2].copy(), "dE": rf[:, 1].copy(),
-                  "n": rf[:, 2:2 + dim].copy(), "v": rf[:, 2 + dim:2 + 2 * dim].copy(),
-                  "P": rf[:, 2 + 2 * dim:2 + 3 * dim].copy()}
+        hand_events(int(stats[gc.ST_NREC]))
+        if keep:
+            ri = (np.concatenate([p[0] for p in rec_parts]) if rec_parts
+                  else np.zeros((0, 3), np.int64))
+            rf = np.concatenate([p[1] for p in rec_parts]) if rec_parts else np.zeros((0, nrf))
+            events = events_dict(ri, rf)
     if ns:
-        k = stats[gc.ST_NSNAP]
-        snap_parts.append((snap_t[:k], snap_v[:k], snap_w[:k]))
+        hand_snaps(int(stats[gc.ST_NSNAP]))
+    if ns and keep and snap_parts:
         st = np.concatenate([p[0] for p in snap_parts])
         sv = np.concatenate([p[1] for p in snap_parts])
         sw = np.concatenate([p[2] for p in snap_parts])
@@ -396,12 +530,74 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
     stop = {gc.RUN_DONE_TEND: "t_end", gc.RUN_DONE_MAX: "max_impacts",
             gc.RUN_EMPTY: "no event left"}[status]
     x, v = x.copy(), v.copy()
-    final = replace(state, x=x, v=v, w=w, t=t_fin, law_params=dict(params))
+    asleep = bi[:, gc.SLP] != 0
+    final = replace(state, x=x, v=v, w=w, t=t_fin, law_params=dict(params),
+                    asleep=asleep.copy() if sleep else None)
     return GasResult(t=t_fin, x=x, v=v, w=w, n_collisions=int(stats[gc.ST_NCOLL]),
                      n_wall=int(stats[gc.ST_NWALL]), n_crossings=int(stats[gc.ST_NCROSS]),
                      n_stale=int(stats[gc.ST_NSTALE]), n_tc=int(stats[gc.ST_NTC]),
                      snap_t=st, snap_v=sv, snap_w=sw, events=events, stop=stop,
-                     collapse=collapse, tc=tc, state=final)
+                     collapse=collapse, tc=tc, state=final, sleep=sleep,
+                     sleep_speed=sleep_speed, sleep_impacts=sleep_impacts,
+                     wake_gap=wake_gap, n_sleeps=int(stats[gc.ST_NSLEEP]),
+                     n_wakes=int(stats[gc.ST_NWAKE]), n_absorbed=int(stats[gc.ST_NABSORB]),
+                     energy_slept=float(fstats[gc.FS_SLEPT]), asleep=asleep)
+
+
+def _sleep_options(state, sleep, sleep_speed, sleep_impacts, wake_gap):
+    """Checked ``(sleep, sleep_speed, sleep_impacts, wake_gap)`` of ``run_gas``; zeros when
+    sleep is off."""
+    g = float(state.gravity)
+    if sleep is None:
+        sleep = g > 0.0
+    else:
+        sleep = _flag("run_gas: sleep", sleep)
+    if not sleep:
+        given = [k for k, val in (("sleep_speed", sleep_speed), ("sleep_impacts", sleep_impacts),
+                                  ("wake_gap", wake_gap)) if val is not None]
+        if given:
+            raise ValueError(f"run_gas: {', '.join(given)} given but sleep is off")
+        return False, 0.0, 0, 0.0
+    if not g > 0.0:
+        raise ValueError("run_gas: sleep needs gravity > 0 (bodies sleep on the floor or on "
+                         "sleepers); this state has gravity 0")
+    r = float(state.radius)
+    if sleep_speed is None:
+        sleep_speed = SLEEP_SPEED_REL * math.sqrt(g * r)
+    else:
+        sleep_speed = _positive("run_gas: sleep_speed", sleep_speed, "m/s")
+    if sleep_impacts is None:
+        sleep_impacts = SLEEP_IMPACTS
+    else:
+        from .kernels.gas_core import STALL_IMPACTS
+        # a body resting from zero speed sleeps after sleep_impacts impacts at one
+        # instant: far fewer than the stall guard's
+        sleep_impacts = integer("run_gas: sleep_impacts", sleep_impacts, lo=1,
+                                hi=STALL_IMPACTS // 10)
+    if wake_gap is None:
+        wake_gap = max(WAKE_GAP_REL * r, 2.0 * sleep_speed ** 2 / g)
+    else:
+        wake_gap = real("run_gas: wake_gap", wake_gap, "m")
+        if not wake_gap >= 0.0:
+            raise ValueError(f"run_gas: wake_gap must be >= 0 (m), got {_show(wake_gap)}")
+    return True, sleep_speed, sleep_impacts, wake_gap
+
+
+def _asleep_flags(state, n):
+    """``state.asleep`` checked: (n,) bool, the flagged bodies at rest."""
+    if state.asleep is None:
+        return np.zeros(n, bool)
+    a = state.asleep
+    if not (isinstance(a, np.ndarray) and a.shape == (n,) and a.dtype == bool):
+        raise ValueError(f"run_gas: state.asleep must be None or a ({n},) bool array")
+    if a.any():
+        w = np.asarray(state.w).reshape(n, -1)
+        moving = a & ((np.abs(state.v).max(axis=1) > 0) | (np.abs(w).max(axis=1) > 0))
+        if moving.any():
+            k = int(np.nonzero(moving)[0][0])
+            raise ValueError(f"run_gas: body {k} is asleep (state.asleep) but moves: a sleeper "
+                             f"must have v = w = 0 (set state.asleep[{k}] = False to wake it)")
+    return a.copy()
 
 
 def contact_W(state, wall=False):

@@ -30,7 +30,10 @@ Maxwell-Boltzmann test of the velocities of the second half of the run (snapshot
 1/tau = (1 - e^2) omega_E(T0) / (2 dim) (smooth particles: mu = 0), also with the walls'
 dissipation (a wall hit loses (1 - e^2) T on average, as a pair collision: 1/tau times
 1 + wall hits / collisions); the fit covers the first `fit_collisions` collisions per
-particle, before clusters form, with T0 measured. Inelastic collapse: the engine's TC model. `--plot`: the speed
+particle, before clusters form, with T0 measured. Inelastic collapse: the engine's TC model.
+With `gravity` > 0 the gas settles into a bed on the floor and, with `sleep` (default), its
+bodies at rest fall asleep (static, no event: run_gas(sleep=True)); the summary counts
+them. `--plot`: the speed
 distribution against Maxwell-Boltzmann, and T(t) against Haff's law (e < 1) or the excess
 kurtosis of the velocities against time (e = 1). `--out`: the series t, T(t) as CSV."""
 
@@ -75,12 +78,18 @@ class GasScenario:
                                                           / p["mass"])
         return state
 
+    def run_options(self):
+        """Keywords of ``manybody.run_gas`` set by the scenario: ``sleep`` (bodies at rest
+        sleep when asked and gravity > 0)."""
+        return dict(sleep=bool(self.params["sleep"]) and self.params["gravity"] > 0)
+
     def simulate(self, t_end=None, **run_kwargs):
         """Run the gas to ``t_end`` (s, default ``self.t_end``); returns the ``GasResult``.
-        Keywords go to ``manybody.run_gas``."""
+        Keywords go to ``manybody.run_gas`` (over ``run_options``)."""
         from rbimpact import manybody
+        kw = dict(self.run_options(), **run_kwargs)
         return manybody.run_gas(self.make_state(),
-                                t_end=self.t_end if t_end is None else t_end, **run_kwargs)
+                                t_end=self.t_end if t_end is None else t_end, **kw)
 
     def report(self, t_end=None, out=None, plot=None):
         """Run with snapshots and return the summary text of ``rbimpact run``; ``out``:
@@ -92,7 +101,8 @@ class GasScenario:
         n, dim = np.shape(state.v)
         ns = max(10, min(N_SNAPSHOTS, SNAP_FLOATS // (n * dim)))
         t0 = time.perf_counter()
-        res = manybody.run_gas(state, t_end=t_end, record="none", snapshot_dt=t_end / ns)
+        res = manybody.run_gas(state, t_end=t_end, record="none", snapshot_dt=t_end / ns,
+                               **self.run_options())
         wall = time.perf_counter() - t0
         a = analyse(self, state, res, e0)
         lines = [summary_text(self, res, a, wall, t_end)]
@@ -147,23 +157,29 @@ def analyse(sc, state, res, e0):
              omega=gs.collision_frequency(n_coll, N, t_run) if t_run > 0 else math.nan,
              omega_enskog=2.0 * predicted / (N * t_run) if t_run > 0 else math.nan,
              ratio=n_coll / predicted if predicted > 0 else math.nan,
-             V=V, mb=None, haff=None, kurtosis=np.array([gs.excess_kurtosis(vk).mean()
-                                                         for vk in V]))
+             V=V, mb=None, haff=None,
+             kurtosis=np.array([gs.excess_kurtosis(vk).mean() if Tk > 0 else math.nan
+                                for vk, Tk in zip(V, T)]))
     # velocity samples: second half of the run, MB_SPACING collision times apart, each
     # snapshot scaled to unit temperature (the gas cools when e < 1)
+    # (snapshots where nothing moves, a bed asleep under gravity, have no velocities to
+    # test)
     tc = 1.0 / th["omega0"]
     pick, last = [], -math.inf
     for k, tk_ in enumerate(t):
-        if tk_ >= 0.5 * t_run and tk_ - last >= MB_SPACING * tc * math.sqrt(T[0] / T[k]):
+        if (T[k] > 0 and tk_ >= 0.5 * t_run
+                and tk_ - last >= MB_SPACING * tc * math.sqrt(T[0] / T[k])):
             pick.append(k)
             last = tk_
     if not pick:
-        pick = [len(t) - 1]
-    scaled = np.concatenate([V[k] / math.sqrt(T[k] / m) for k in pick])
-    a["samples"] = scaled
+        pick = [k for k in range(1, len(t)) if T[k] > 0][-1:]   # not the start itself
     a["sample_t"] = t[pick]
-    # scaled components have unit variance: temperature m (J) for mass m
-    a["mb"] = gs.maxwell_boltzmann_test(scaled, mass=m, T=m)
+    a["samples"] = np.zeros((0, dim))
+    if pick:
+        scaled = np.concatenate([V[k] / math.sqrt(T[k] / m) for k in pick])
+        a["samples"] = scaled
+        # scaled components have unit variance: temperature m (J) for mass m
+        a["mb"] = gs.maxwell_boltzmann_test(scaled, mass=m, T=m)
     if p["e"] < 1.0:
         # the homogeneous phase: the first `fit_collisions` collisions per particle
         # (Haff's clock: omega0 tau ln(1 + t/tau) of them by time t); T0 is measured
@@ -210,12 +226,15 @@ def summary_text(sc, res, a, wall, t_end):
     what = ("Maxwell-Boltzmann test" if p["e"] >= 1.0 else
             "velocities scaled by sqrt(T(t)) against Maxwell-Boltzmann (the homogeneous "
             "cooling state deviates slightly)")
-    lines.append(f"{what}: p = {mb.p_value:.3g} (KS components p = "
-                 + ", ".join(f"{x:.3g}" for x in mb.component_p)
-                 + f"; speeds p = {mb.speed_p:.3g}); excess kurtosis "
-                 + ", ".join(f"{k:+.3f}" for k in mb.kurtosis)
-                 + f" (+-{mb.kurtosis_se:.3f}); {mb.n} samples from {len(a['sample_t'])} "
-                 f"snapshots, t >= {a['sample_t'][0]:.4g} s")
+    if mb is None:
+        lines.append(f"{what}: none (no snapshot with a moving body)")
+    else:
+        lines.append(f"{what}: p = {mb.p_value:.3g} (KS components p = "
+                     + ", ".join(f"{x:.3g}" for x in mb.component_p)
+                     + f"; speeds p = {mb.speed_p:.3g}); excess kurtosis "
+                     + ", ".join(f"{k:+.3f}" for k in mb.kurtosis)
+                     + f" (+-{mb.kurtosis_se:.3f}); {mb.n} samples from "
+                     f"{len(a['sample_t'])} snapshots, t >= {a['sample_t'][0]:.4g} s")
     if a["haff"] is not None:
         h = a["haff"]
         walls = 1.0 + a["n_wall"] / max(a["n_collisions"], 1)
@@ -226,6 +245,12 @@ def summary_text(sc, res, a, wall, t_end):
             f"{th['tau'] / walls:.6g} s (ratio {h.tau * walls / th['tau']:.4f}); smooth "
             f"particles{'' if p['mu'] == 0 else ', mu > 0 also dissipates'}; "
             f"T(end)/T0 = {a['T'][-1] / a['T'][0]:.4g}")
+    if getattr(res, "sleep", False):
+        lines.append(f"sleep: {res.n_asleep} of {p['n']} bodies asleep at the end "
+                     f"({res.n_sleeps} fell asleep, {res.n_wakes} woken, {res.n_absorbed} "
+                     f"impacts held by sleepers; sleep speed {res.sleep_speed:.3g} m/s, "
+                     f"{res.sleep_impacts} slow impacts; kinetic energy put to sleep "
+                     f"{res.energy_slept:.6g} J)")
     rate = (a["n_collisions"] + a["n_wall"]) / wall if wall > 0 else math.nan
     lines.append(f"run time: {wall:.3g} s ({rate:.3g} impacts/s, includes any compilation)")
     return "\n".join(lines)
@@ -249,9 +274,11 @@ def plot_gas(path, sc, a):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     s = np.linalg.norm(a["samples"], axis=1)
     s0 = np.linalg.norm(a["V"][0] / math.sqrt(a["T"][0] / m), axis=1)
-    edges = np.linspace(0.0, max(s.max(), s0.max()) * 1.02,
+    edges = np.linspace(0.0, max(s.max() if s.size else 0.0, s0.max()) * 1.02,
                         int(np.clip(np.sqrt(s.size) / 2.0, 15, 80)) + 1)
-    ax1.hist(s, bins=edges, density=True, alpha=0.6, label=f"{s.size} speeds (scaled to T)")
+    if s.size:
+        ax1.hist(s, bins=edges, density=True, alpha=0.6,
+                 label=f"{s.size} speeds (scaled to T)")
     x = np.linspace(0, edges[-1], 400)
     f = gs.speed_pdf(x, m, m, dim)
     ax1.plot(x, f, "k-",
@@ -260,7 +287,8 @@ def plot_gas(path, sc, a):
     ax1.set_ylim(0.0, 1.6 * f.max())
     ax1.set_xlabel("speed / sqrt(T/m)")
     ax1.set_ylabel("probability density")
-    ax1.set_title(f"Maxwell-Boltzmann test: p = {a['mb'].p_value:.3g}")
+    ax1.set_title("Maxwell-Boltzmann test: " + (f"p = {a['mb'].p_value:.3g}" if a["mb"]
+                                                 else "no moving body"))
     ax1.legend(fontsize=8)
     t, T = a["t"], a["T"]
     if a["haff"] is not None:
@@ -298,8 +326,10 @@ def plot_gas(path, sc, a):
                 "mass": "body mass (kg), > 0",
                 "temperature": "initial temperature T0 (J, k_B = 1), > 0",
                 "seed": "random seed of positions and velocities, >= 0",
-                "gravity": "gravity (m/s^2) along -y, >= 0",
+                "gravity": "gravity (m/s^2) along -y (2D) or -z (3D), >= 0",
                 "rough": "rough bodies: friction couples rotation (mu, e_t)",
+                "sleep": "with gravity > 0: bodies at rest sleep (static, no event) and "
+                         "wake when touched",
                 "start": "initial velocities: maxwellian or equal_speeds",
                 "collisions": "run length in body-body collisions per particle (Enskog, "
                               "Haff), > 0",
@@ -311,7 +341,7 @@ def build(law: str = "kane_levinson", e: float = 1.0, mu: float = 0.0, e_t: floa
           packing: float = 0.15, radius: float = 0.5, mass: float = 1.0,
           temperature: float = 1.0, seed: int = 0, gravity: float = 0.0,
           rough: bool = False, start: str = "maxwellian", collisions: float = 50.0,
-          fit_collisions: float = 20.0):
+          fit_collisions: float = 20.0, sleep: bool = True):
     from rbimpact import gas_stats as gs
     from rbimpact.laws import LAWS
     positive("granular_gas", radius=radius, mass=mass, temperature=temperature,
@@ -327,7 +357,7 @@ def build(law: str = "kane_levinson", e: float = 1.0, mu: float = 0.0, e_t: floa
     values = dict(law=law, e=e, mu=mu, e_t=e_t, restitution=restitution, n=n, dim=dim,
                   packing=packing, radius=radius, mass=mass, temperature=temperature,
                   seed=seed, gravity=gravity, rough=rough, start=start,
-                  collisions=collisions, fit_collisions=fit_collisions)
+                  collisions=collisions, fit_collisions=fit_collisions, sleep=sleep)
     takes = LAWS[law].params
     lp = {k: values[k] for k in LAW_PARAMS if k in takes}
     sigma = 2.0 * radius

@@ -290,7 +290,8 @@ def test_scheduler_orders_like_a_sort():
 def test_bench_manybody_rows_on_a_tiny_size():
     """Structure of the bench rows (no timing thresholds: timings are not tested)."""
     from rbimpact import bench_manybody as bm
-    rows = bm.bench_manybody(sizes=(64, 4096), cases=bm.CASES[:1], min_impacts=2000)
+    rows = bm.bench_manybody(sizes=(64, 4096), cases=bm.CASES[:1], min_impacts=2000,
+                             bed=False)
     runs = [r for r in rows if "n" in r]
     assert [(r["n"], r["record"]) for r in runs] == [(64, "none"), (64, "all"),
                                                      (4096, "none"), (4096, "all")]
@@ -301,3 +302,14 @@ def test_bench_manybody_rows_on_a_tiny_size():
     assert set(ratio) == {"none", "all"}
     by = {(r["n"], r["record"]): r["impacts_per_s"] for r in runs}
     assert math.isclose(ratio["none"]["ratio"], by[(4096, "none")] / by[(64, "none")])
+
+
+def test_bench_bed_rows_on_a_small_bed():
+    """The settling bed with and without sleep (structure only, no timing thresholds)."""
+    from rbimpact import bench_manybody as bm
+    rows = bm.bench_bed(n=30, t_end=15.0)
+    assert [r["sleep"] for r in rows] == [True, False]
+    for r in rows:
+        assert r["bed"] and r["t"] == 15.0 and r["impacts"] > 0 and r["cpu_s"] >= 0
+    assert rows[1]["asleep"] == rows[1]["sleeps"] == 0 and rows[0]["sleeps"] > 0
+    assert rows[0]["impacts"] < rows[1]["impacts"]
