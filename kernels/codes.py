@@ -50,7 +50,8 @@ PM_SLIDE = 1
 PM_ROLL = 2
 PM_REST = 3
 PM_PIVOT = 4             # integrated vertex, edge or boundary contact (pivot2d, pivot3d)
-PM_WEDGED = 5            # 2D: at rest on two contacts (wedge2d)
+PM_WEDGED = 5            # held by two planes: 2D at rest on two contacts (wedge2d); 3D a
+                         # sphere rolling (sliding if mu = 0) along their groove, or at rest
 
 # simultaneous-contact policies
 POL_SIMULTANEOUS = 0

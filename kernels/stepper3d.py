@@ -55,8 +55,16 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   ``E_ex = m v_N^2 / 2 + m |g_n| (h - r) < m zeno_speed^2 / 2`` the run jumps to the
   accumulation point and the sphere then slides with Coulomb friction (slip direction
   fixed when the plane is level or the slip is along the slope: closed form) until its
-  contact point stops ("roll"), then rolls (or rests). A slip that would curve (slope not
-  along the slip) has no closed form: ``ERR_SLIDE_CURVE``. Requires spherical inertia.
+  contact point stops ("roll"), then rolls (or rests). A slip that curves (slope not
+  along the slip, mu > 0) has no closed form: the sphere enters integrated contact
+  (``_integrate_slide``: ``pivot3d`` with one contact at its centre) until the slip
+  stops, then rolls in closed form again (``_sphere_rolls``). Requires spherical inertia.
+* Sphere held by two planes (``PM_WEDGED``, ``_groove_enter``): when its impacts
+  accumulate on two planes at once (a groove, a corner) and both contact points move
+  slower than the accumulation speed, it rolls on both contacts along the groove axis
+  (closed form, constant acceleration), slides along it without friction, or rests;
+  rolling needs a squeeze that puts both contact forces in their cones, else (or while
+  it slips faster) the run stops (``ERR_UNSUPPORTED``: slipping along a groove).
 * Box (on the face most aligned with the plane) and capsule (on its side):
   ``E_ex = m v_N^2 / 2 + w . I w / 2 + m |g_n| (h - h_rest)``; when below the threshold
   and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
@@ -108,7 +116,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    ERR_TOI, ERR_TOO_MANY, ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE,
                    EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK,
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
-                   PM_REST, PM_ROLL, PM_SLIDE, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
+                   PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS)
 from .common import P_E, P_MU, spd3_solve
 from .decisions import impacts_before_rest, perforates
@@ -176,6 +184,12 @@ PARALLEL_RTOL = 1e-12
 #: pm[i, M_AUX] of a sphere whose slip curves across a slope (no closed form): its
 #: persistent contact is integrated (pivot3d, one contact at its centre) from ttr on
 AUX_INTEGRATE = 1
+#: a sphere held by two planes (PM_WEDGED): the planes form a groove when the sine of the
+#: angle between their normals exceeds GROOVE_SIN (dimensionless); rolling is consistent
+#: when some squeeze puts both contact forces in their friction cones, up to GROOVE_RTOL
+#: m |g| (N, the round-off of the force balance)
+GROOVE_SIN = 1e-9
+GROOVE_RTOL = 1e-12
 #: a sphere's contact point is at rest (it rolls) when its slip is below ROLL_RTOL times
 #: |v_T| + r |w| (dimensionless: the round-off of the slip, exactly zero in 2D)
 ROLL_RTOL = 1e-12
@@ -579,6 +593,16 @@ def _gap_accel(st, bflt, c_i, c_f, c):
 # ------------------------------------------------------------------ candidates
 
 
+@njit(cache=True, inline="always")
+def _holds(pm, i, p):
+    """Is body i in persistent contact with plane p (its plane; or either plane of a
+    groove, PM_WEDGED)?"""
+    m = pm[i, M_MODE]
+    if m == PM_FLIGHT:
+        return False
+    return pm[i, M_PLANE] == p or (m == PM_WEDGED and pm[i, M_FEAT] == p)
+
+
 @njit(cache=True)
 def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl,
                       bft, bp_off, ws, tolf, toli, skip, pose, hrow, err):
@@ -588,8 +612,7 @@ def _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
     npl = planes.shape[0]
     for p in range(npl):
         skip[p] = 0
-        if (bp_off[i, p] != 0 or (pm[i, M_MODE] != PM_FLIGHT and pm[i, M_PLANE] == p)
-                or (tz[i] < INF and zp[i] == p)):
+        if bp_off[i, p] != 0 or _holds(pm, i, p) or (tz[i] < INF and zp[i] == p):
             skip[p] = 1
     S = tolf[TF_T_END] - t_now
     row = st[i]
@@ -1412,13 +1435,13 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             fz = -mu * N * ez
             mode = PM_SLIDE
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N * kinv
-            if k < 0.0:
+            if k < 0.0 and mu > 0.0:     # without friction nothing stops the slip
                 ttr[i] = t + c / (-k)
             # the slip keeps its direction only if the slope is along it; else it curves
             # (no closed form): the contact is integrated from now on (the loop's
             # scheduled switch at ttr = t, _integrate_slide); the accelerations set below
             # hold for that instant only
-            if gt > 0.0:
+            if gt > 0.0 and mu > 0.0:
                 sx = ey * gtz - ez * gty
                 sy = ez * gtx - ex * gtz
                 sz = ex * gty - ey * gtx
@@ -1459,7 +1482,7 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             ex = vtx / vt
             ey = vty / vt
             ez = vtz / vt
-            if gt > 0.0:
+            if gt > 0.0 and mu > 0.0:
                 sx = ey * gtz - ez * gty
                 sy = ez * gtx - ex * gtz
                 sz = ex * gty - ey * gtx
@@ -1472,7 +1495,7 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             fz = -mu * N * ez
             mode = PM_SLIDE
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N / m
-            if k < 0.0:
+            if k < 0.0 and mu > 0.0:     # without friction nothing stops the slip
                 ttr[i] = t + vt / (-k)
         if mode == PM_REST:
             st[i, SA] = 0.0
@@ -1688,6 +1711,228 @@ def _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, 
     return 0
 
 
+@njit(cache=True, inline="always")
+def _cone_interval(Np, al, E, be, mu, fs):
+    """The interval [lo, hi] of the squeeze s (N) for which a contact force with normal
+    component ``Np + al s`` and tangential components ``(E, be s)`` lies in the Coulomb
+    cone ``|T| <= mu N`` (a line meets a convex cone in an interval; ``fs`` N: the force
+    scale for round-off). Empty when lo > hi."""
+    A = mu * mu * al * al - be * be
+    B = 2.0 * mu * mu * Np * al
+    C = mu * mu * Np * Np - E * E
+    if abs(A) <= 1e-15 * (mu * mu * al * al + be * be):
+        if abs(B) <= 1e-300:
+            if C >= -(GROOVE_RTOL * fs) ** 2 and Np >= -GROOVE_RTOL * fs:
+                return -INF, INF
+            return INF, -INF
+        r0 = -C / B
+        return (r0, INF) if B > 0.0 else (-INF, r0)
+    disc = B * B - 4.0 * A * C
+    if A > 0.0:
+        # the squeeze direction lies inside the cone: feasible on the nappe N >= 0
+        n0 = -Np / al
+        if disc <= 0.0:
+            return (n0, INF) if al > 0.0 else (-INF, n0)
+        q = -0.5 * (B + math.copysign(math.sqrt(disc), B))
+        r1 = q / A
+        r2 = C / q if q != 0.0 else r1
+        lo = min(r1, r2)
+        hi = max(r1, r2)
+        return (max(hi, n0), INF) if al > 0.0 else (-INF, min(lo, n0))
+    if disc < 0.0:
+        return INF, -INF
+    q = -0.5 * (B + math.copysign(math.sqrt(disc), B))
+    if q == 0.0:
+        lo = hi = 0.0
+    else:
+        r1 = q / A
+        r2 = C / q
+        lo = min(r1, r2)
+        hi = max(r1, r2)
+    if Np + al * 0.5 * (lo + hi) < 0.0:
+        return INF, -INF    # the segment lies on the nappe N < 0
+    return lo, hi
+
+
+@njit(cache=True)
+def _groove_enter(i, p, q, t, st, bflt, planes, grav, law_par, bp_law, pm, ttr, tolf, ev_t,
+                  ev_i, ev_f, cnt, c_f, cw, err):
+    """Sphere i (radius r, mass m, inertia I) touching planes p and q at t, its impacts
+    accumulating there: it is held by both (mode PM_WEDGED, ``M_PLANE`` p, ``M_FEAT`` q),
+    moving along the groove axis ``e = n_p x n_q / |n_p x n_q|`` (closed form).
+
+    With friction it rolls on both contacts: ``v = u e``, ``w = (u / rho) d`` with ``d =
+    (n_p - n_q) / |n_p - n_q|`` and ``rho = r |n_p + n_q| / 2`` (the distance from the
+    centre to the line through the contact points), so ``(m + I / rho^2) du/dt = m g.e``
+    (no work by the contact forces); entering, ``u`` is the momentum projection ``(m v.e +
+    I w.d / rho) / (m + I / rho^2)`` (both contacts stick: the kinetic energy of the
+    other five velocity components is removed). Rolling holds while some squeeze ``s``
+    (equal and opposite forces along d, which move nothing) puts both contact forces in
+    their friction cones (``_cone_interval``); the forces are constant, so it holds until
+    an impulse. Without friction on both planes (mu = 0) it slides: ``v = (v.e) e``,
+    ``w`` unchanged, ``dv/dt = (g.e) e``, if both normal forces are >= 0.
+
+    Entered when both contact points move slower than the accumulation speed
+    (``zeno_speed``, for the gravity pressing into the groove): their normal velocities
+    are an accumulating bounce and a slip that slow sticks (as on one plane; without
+    friction only the normal velocities count, the slip stays); events "contact" (mode
+    PM_WEDGED, ``dE`` the kinetic energy removed) and "rest" when u and g.e are 0.
+    Returns 0, 1 (a normal speed above the accumulation speed: a bounce, the caller lets
+    the body fly) or ``ERR_UNSUPPORTED`` (err code 4: accumulating on both planes while
+    slipping faster, or rolling needing more friction than mu: slipping along a groove
+    is not built)."""
+    n1x, n1y, n1z = planes[p, 0], planes[p, 1], planes[p, 2]
+    n2x, n2y, n2z = planes[q, 0], planes[q, 1], planes[q, 2]
+    ex = n1y * n2z - n1z * n2y
+    ey = n1z * n2x - n1x * n2z
+    ez = n1x * n2y - n1y * n2x
+    sg = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if sg <= GROOVE_SIN:
+        return 1
+    ex /= sg
+    ey /= sg
+    ez /= sg
+    dx, dy, dz = n1x - n2x, n1y - n2y, n1z - n2z
+    dl = math.sqrt(dx * dx + dy * dy + dz * dz)
+    dx /= dl
+    dy /= dl
+    dz /= dl
+    cx, cy, cz = n1x + n2x, n1y + n2y, n1z + n2z
+    cl = math.sqrt(cx * cx + cy * cy + cz * cz)
+    cx /= cl
+    cy /= cl
+    cz /= cl
+    r = bflt[i, B_RADIUS]
+    rho = 0.5 * r * cl
+    m = bflt[i, B_MASS]
+    inertia = bflt[i, B_I1]
+    mu1 = law_par[bp_law[i, p], P_MU]
+    mu2 = law_par[bp_law[i, q], P_MU]
+    gx, gy, gz = grav[0], grav[1], grav[2]
+    ge = gx * ex + gy * ey + gz * ez
+    gd = gx * dx + gy * dy + gz * dz
+    gc = gx * cx + gy * cy + gz * cz
+    gabs = math.sqrt(gx * gx + gy * gy + gz * gz)
+    fs = m * gabs
+    # normal forces with no tangential in-plane force: N1 n1 + N2 n2 = -m g_in (d, c axes)
+    a11 = n1x * dx + n1y * dy + n1z * dz
+    a12 = n2x * dx + n2y * dy + n2z * dz
+    a21 = n1x * cx + n1y * cy + n1z * cz
+    a22 = n2x * cx + n2y * cy + n2z * cz
+    det = a11 * a22 - a12 * a21
+    N1 = -m * (gd * a22 - a12 * gc) / det
+    N2 = -m * (a11 * gc - gd * a21) / det
+    smooth = mu1 == 0.0 and mu2 == 0.0
+    vx, vy, vz = st[i, SV], st[i, SV + 1], st[i, SV + 2]
+    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
+    ve = vx * ex + vy * ey + vz * ez
+    e_before = 0.5 * m * (vx * vx + vy * vy + vz * vz) + 0.5 * inertia * (
+        wx * wx + wy * wy + wz * wz)
+    if smooth:
+        if N1 < -GROOVE_RTOL * fs or N2 < -GROOVE_RTOL * fs:
+            return 1        # gravity does not press the sphere into both planes
+        u = ve
+        nwx, nwy, nwz = wx, wy, wz
+        acc = ge
+        alx = aly = alz = 0.0
+    else:
+        meff = m + inertia / (rho * rho)
+        u = (m * ve + inertia * (wx * dx + wy * dy + wz * dz) / rho) / meff
+        nwx, nwy, nwz = u / rho * dx, u / rho * dy, u / rho * dz
+        acc = m * ge / meff
+        alx, aly, alz = acc / rho * dx, acc / rho * dy, acc / rho * dz
+        # tangential forces along e from the torque I al = -r (n1 x f1 + n2 x f2), with
+        # b_k = n_k x e: the in-plane torque -r (E1 b1 + E2 b2) = (I acc / rho) d
+        b1x = n1y * ez - n1z * ey
+        b1y = n1z * ex - n1x * ez
+        b1z = n1x * ey - n1y * ex
+        b2x = n2y * ez - n2z * ey
+        b2y = n2z * ex - n2x * ez
+        b2z = n2x * ey - n2y * ex
+        m11 = b1x * dx + b1y * dy + b1z * dz
+        m12 = b2x * dx + b2y * dy + b2z * dz
+        m21 = b1x * cx + b1y * cy + b1z * cz
+        m22 = b2x * cx + b2y * cy + b2z * cz
+        rhs = -inertia * acc / (rho * r)
+        dm = m11 * m22 - m12 * m21
+        E1 = rhs * m22 / dm
+        E2 = -rhs * m21 / dm
+        # the squeeze s d on contact 1 and -s d on contact 2
+        lo1, hi1 = _cone_interval(N1, a11, E1, m11, mu1, fs)
+        lo2, hi2 = _cone_interval(N2, -a12, E2, -m12, mu2, fs)
+        lo = max(lo1, lo2)
+        hi = min(hi1, hi2)
+        if not lo <= hi + GROOVE_RTOL * fs:
+            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0,
+                     0.0)
+            return ERR_UNSUPPORTED
+    e_after = 0.5 * m * u * u + 0.5 * inertia * (nwx * nwx + nwy * nwy + nwz * nwz)
+    # both contact points slower than the accumulation speed (normal and slip: a slip
+    # that slow sticks, as on one plane), else the impacts go on
+    vz2 = _vz2(tolf, math.sqrt(gd * gd + gc * gc))
+    for k in range(2):
+        nx, ny, nz = (n1x, n1y, n1z) if k == 0 else (n2x, n2y, n2z)
+        px = vx - r * (wy * nz - wz * ny)
+        py = vy - r * (wz * nx - wx * nz)
+        pz = vz - r * (wx * ny - wy * nx)
+        pn = px * nx + py * ny + pz * nz
+        if not pn * pn <= vz2:
+            return 1        # a bounce, not yet an accumulation
+        if not smooth and not px * px + py * py + pz * pz <= vz2:
+            # accumulating on both planes while slipping: it would slide along the groove
+            # with friction on two contacts, an integrated motion not built
+            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0,
+                     0.0)
+            return ERR_UNSUPPORTED
+    _foot(c_f, cw, st, i, planes, p)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    st[i, SV] = u * ex
+    st[i, SV + 1] = u * ey
+    st[i, SV + 2] = u * ez
+    st[i, SW] = nwx
+    st[i, SW + 1] = nwy
+    st[i, SW + 2] = nwz
+    st[i, SA] = acc * ex
+    st[i, SA + 1] = acc * ey
+    st[i, SA + 2] = acc * ez
+    st[i, SAL] = alx
+    st[i, SAL + 1] = aly
+    st[i, SAL + 2] = alz
+    pm[i, M_MODE] = PM_WEDGED
+    pm[i, M_PLANE] = p
+    pm[i, M_FEAT] = q
+    pm[i, M_AUX] = 0
+    ttr[i] = INF
+    vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
+    P0 = m * ((u * ex - vx) * c_f[cw, CF_N] + (u * ey - vy) * c_f[cw, CF_N + 1]
+              + (u * ez - vz) * c_f[cw, CF_N + 2])
+    P1 = m * ((u * ex - vx) * c_f[cw, CF_T1] + (u * ey - vy) * c_f[cw, CF_T1 + 1]
+              + (u * ez - vz) * c_f[cw, CF_T1 + 2])
+    P2 = m * ((u * ex - vx) * c_f[cw, CF_T2] + (u * ey - vy) * c_f[cw, CF_T2 + 1]
+              + (u * ez - vz) * c_f[cw, CF_T2 + 2])
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, i, -1 - p, PM_WEDGED, 0, c_f, cw, vi0, vi1, vi2,
+         vf0, vf1, vf2, P0, P1, P2, e_after - e_before)
+    if u == 0.0 and acc == 0.0:
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_WEDGED, 0, c_f, cw, vf0, vf1,
+             vf2, vf0, vf1, vf2, 0.0, 0.0, 0.0, 0.0)
+    return 0
+
+
+@njit(cache=True)
+def _groove_from_impact(i, t, nc, c_i, st, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                        tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err):
+    """Sphere i stays in persistent contact with its plane after an impact on another
+    plane q at t: its impacts on q accumulate while it slides or rolls on the first, so it
+    is held by both when that is consistent (``_groove_enter``; else -- bouncing on q, or
+    slipping -- it goes on as it is and the next impacts decide). Returns 0."""
+    for c in range(nc):
+        if c_i[c, CI_TYPE] == 0 and c_i[c, CI_A] == i and c_i[c, CI_B] != pm[i, M_PLANE]:
+            _groove_enter(i, pm[i, M_PLANE], c_i[c, CI_B], t, st, bflt, planes, grav, law_par,
+                          bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+            return 0
+    return 0
+
+
 @njit(cache=True)
 def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, ws, tolf,
                 toli, ev_t, ev_i, ev_f, cnt, c_f, cw, pose, err, pv, pw, fw):
@@ -1722,8 +1967,16 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
                 ev_i, ev_f, cnt, c_f, cw, err):
     """A body in persistent contact received an impulse: keep the contact (zeroing the
     normal velocity and, not for a sphere, the rotation) when that motion carries less
-    energy than the accumulation threshold, else release it to free flight."""
+    energy than the accumulation threshold, else release it to free flight. A sphere in a
+    groove (PM_WEDGED) stays in it on the same rule (``_groove_enter``)."""
     p = pm[i, M_PLANE]
+    if pm[i, M_MODE] == PM_WEDGED:
+        rc = _groove_enter(i, p, pm[i, M_FEAT], t, st, bflt, planes, grav, law_par, bp_law,
+                           pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+        if rc != 1:
+            return rc
+        _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
+        return 0
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
@@ -2059,7 +2312,16 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         for d in range(nc):
             if c_i[d, CI_TYPE] == 0 and c_i[d, CI_A] == i and c_i[d, CI_B] != p:
                 # touching a second plane at this instant: settling on p alone would ignore
-                # it (a ball in a groove was snapped into the other plane, creating energy)
+                # it (a ball in a groove was snapped into the other plane, creating energy).
+                # A sphere is held by both when that motion is consistent (PM_WEDGED)
+                # (else, bouncing on q while accumulating on p, the run stops: flying on
+                # would leave p with a normal speed of round-off size)
+                if bint[i, B_KIND] == SH_SPHERE:
+                    rc = _groove_enter(i, p, c_i[d, CI_B], t, st, bflt, planes, grav, law_par,
+                                       bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                       err)
+                    if rc != 1:
+                        return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
                          0.0)
                 return ERR_UNSUPPORTED
@@ -2314,7 +2576,7 @@ def loop_for(law):
                 for p in range(npl):
                     if bp_off[i, p] != 0:
                         continue
-                    if pm[i, M_MODE] != PM_FLIGHT and not piv and pm[i, M_PLANE] == p:
+                    if not piv and _holds(pm, i, p):
                         continue
                     nx = planes[p, 0]
                     ny = planes[p, 1]
@@ -2445,6 +2707,10 @@ def loop_for(law):
                     if rc < 0:
                         return rc
                     if pm[i, M_MODE] != PM_FLIGHT:
+                        if bint[i, B_KIND] == SH_SPHERE and pm[i, M_MODE] != PM_WEDGED:
+                            _groove_from_impact(i, t, nc, c_i, st, bflt, planes, grav,
+                                                law_par, bp_law, pm, ttr, tolf, ev_t, ev_i,
+                                                ev_f, cnt, c_f, cw, err)
                         continue
                     # released by an impact on another plane: its impacts there may
                     # accumulate at once (a sphere rolling into the second plane of a

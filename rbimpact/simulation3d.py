@@ -453,7 +453,10 @@ class Simulation3D:
         elif rc == k.ERR_UNSUPPORTED:
             what = {1.0: "a sphere with non-spherical inertia in persistent contact",
                     2.0: "a capsule on its side sliding across its axis (it would roll)",
-                    3.0: "persistent contact with two planes at once"}.get(float(err[6]),
+                    3.0: "persistent contact with two planes at once",
+                    4.0: "a sphere slipping along the groove of two planes (rolling on both "
+                         "needs more friction, or its contact points slip faster than the "
+                         "accumulation speed)"}.get(float(err[6]),
                                                                            "this motion")
             exc = SimulationError(f"{body} on {self._where(b)} {at}: {what} is not supported")
         elif rc == k.ERR_PAINLEVE:
