@@ -89,11 +89,14 @@ class Result(ResultBase):
     policy that ran), ``t_start`` and ``t_end`` (s: the time reached; earlier than the
     requested end when status is "max_events"), ``t_requested`` (s), ``n_bodies``,
     ``masses`` (kg), ``moments`` (kg m^2), ``gravity`` (m/s^2), ``law`` (name of the default
-    law), ``tolerances`` (the Simulation keywords used), ``n_impacts``.
+    law), ``tolerances`` (the Simulation keywords used), ``n_impacts``; what the run kept
+    (``run``'s ``record``): ``record``, ``n_events``, ``event_counts``, ``snapshots``,
+    ``kept_from(i)`` (``ResultBase``).
     """
 
     def __init__(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, *, status, policy, t_start,
-                 t_end, t_requested, masses, moments, gravity, law, tolerances, kinds):
+                 t_end, t_requested, masses, moments, gravity, law, tolerances, kinds,
+                 recording=None):
         # raw event columns (see kernels/stepper2d.py); the structured array is built lazily
         self._ev_t, self._ev_i, self._ev_f = ev_t, ev_i, ev_f
         self._kinds = tuple(kinds)
@@ -111,22 +114,35 @@ class Result(ResultBase):
         self.gravity = np.asarray(gravity, dtype=float)
         self.law = law
         self.tolerances = dict(tolerances)
+        self._init_recording(recording)
 
     @property
     def events(self):
-        """The events as a structured array (built on first access, then cached)."""
+        """The events as a structured array (built on first access, then cached); with
+        ``record`` a list of bodies, the events involving one of them; ``record="none"``
+        raises ``NotRecordedError``."""
         if self._events is None:
+            self._require_events("events")
             self._events = _build_events(self._ev_t, self._ev_i, self._ev_f, self._kinds)
         return self._events
 
     @property
     def n_impacts(self):
-        """Number of "impact" events."""
+        """Number of "impact" events of the whole run (whatever ``record`` kept)."""
+        if self._rec is not None:
+            return int(self._rec.counts[self._kinds.index("impact")])
         return int(np.count_nonzero(self._ev_i[:, 0] == self._kinds.index("impact")))
+
+    @property
+    def n_events(self):
+        """Number of events of the whole run (whatever ``record`` kept)."""
+        if self._rec is not None:
+            return int(self._rec.counts.sum())
+        return len(self._ev_t)
 
     def __repr__(self):
         return (f"Result(status={self.status!r}, policy={self.policy!r}, t_end={self.t_end:g}, "
-                f"{len(self._ev_t)} events, {self.n_impacts} impacts)")
+                f"{self.n_events} events, {self.n_impacts} impacts)")
 
     def _segments(self):
         if self._seg_t is None:
@@ -139,18 +155,23 @@ class Result(ResultBase):
             self._raw_seg = None
         return self._seg_t, self._seg_s, self._seg_start
 
-    def sample(self, times):
+    def sample(self, times, bodies=None):
         """Exact state at ``times`` (s): dict of arrays "x", "y" (m), "angle" (rad), "vx",
-        "vy" (m/s), "omega" (rad/s), each of shape ``(len(times), n_bodies)``. At an event
-        time the state just after the event is returned."""
+        "vy" (m/s), "omega" (rad/s), each of shape ``(len(times), n_bodies)`` (or
+        ``(len(times), len(bodies))``: the columns of ``bodies``, body indices, in that
+        order). At an event time the state just after the event is returned. A time before
+        ``kept_from(i)`` of a body asked for (a run made with ``record="none"`` or a list
+        of bodies) raises ``NotRecordedError``."""
         from rbimpact.kernels.flight2d import sample_segments
         t = self._times(times)
-        shape = (t.size, self.n_bodies)
+        idx = self._body_indices(bodies, "Result.sample")
+        self._check_kept(t, idx, "sample")
+        shape = (t.size, idx.size)
         out = {k: np.empty(shape) for k in ("x", "y", "angle", "vx", "vy", "omega")}
         seg_t, seg_s, start = self._segments()
-        for i in range(self.n_bodies):
+        for col, i in enumerate(idx):
             sample_segments(seg_t, seg_s, start[i], start[i + 1], t, out["x"], out["y"],
-                            out["angle"], out["vx"], out["vy"], out["omega"], i)
+                            out["angle"], out["vx"], out["vy"], out["omega"], col)
         return out
 
     def energy(self, times, per_body=False):
@@ -176,6 +197,7 @@ class Result(ResultBase):
         """Save a figure to ``path``: trajectories of the centres of mass with impact
         markers, height against time, and total energy against time. Needs matplotlib
         (the ``plot`` extra)."""
+        self._require_full("plot")
         plt = pyplot("Result.plot")
         t = np.linspace(self.t_start, self.t_end, n)
         ev_t = self.events["t"]

@@ -53,6 +53,28 @@ FIELDS_CSV = ("t", "kind", "a", "b", "point_x", "point_y", "point_z", "normal_x"
                "mode", "dE", "cluster")
 
 
+def build_events_3d(ev_t, ev_i, ev_f, kinds):
+    """The structured events (``EVENT_DTYPE_3D``) of the raw rows of ``kernels/stepper3d.py``
+    (``ev_t`` s, ``ev_i`` kind/a/b/mode/cluster, ``ev_f`` point, normal, tangent, v_i, v_f,
+    P, dE); ``kinds``: the names of the kind codes."""
+    n = len(ev_t)
+    ev = np.zeros(n, dtype=EVENT_DTYPE_3D)
+    ev["t"] = ev_t[:n]
+    ev["kind"] = np.array(kinds)[ev_i[:n, 0]] if n else []
+    ev["a"] = ev_i[:n, 1]
+    ev["b"] = ev_i[:n, 2]
+    ev["mode"] = ev_i[:n, 3]
+    ev["cluster"] = ev_i[:n, 4]
+    ev["point"] = ev_f[:n, 0:3]
+    ev["normal"] = ev_f[:n, 3:6]
+    ev["tangent"] = ev_f[:n, 6:9]
+    ev["v_i"] = ev_f[:n, 9:12]
+    ev["v_f"] = ev_f[:n, 12:15]
+    ev["P"] = ev_f[:n, 15:18]
+    ev["dE"] = ev_f[:n, 18]
+    return ev
+
+
 class Result3D(ResultBase):
     """Outcome of ``Simulation3D.run``.
 
@@ -61,12 +83,14 @@ class Result3D(ResultBase):
     "no_solution", "stall", "painleve", ... from ``_setup.run_status``), ``policy``, ``t_start``, ``t_end`` (s: the time reached),
     ``t_requested`` (s), ``n_bodies``, ``masses`` (kg), ``inertias`` (principal moments,
     kg m^2, shape (n_bodies, 3)), ``gravity`` (m/s^2), ``law``, ``tolerances``,
-    ``n_impacts``.
+    ``n_impacts``; what the run kept (``run``'s ``record``): ``record``, ``n_events``,
+    ``event_counts``, ``snapshots``, ``kept_from(i)`` (``ResultBase``).
     """
 
     def __init__(self, events, seg_t, seg_b, seg_s, *, status, policy, t_start, t_end,
-                 t_requested, masses, inertias, rotation, gravity, law, tolerances):
-        self.events = events
+                 t_requested, masses, inertias, rotation, gravity, law, tolerances,
+                 recording=None):
+        self._events = events
         self.status = status
         self.policy = policy
         self.t_start = float(t_start)
@@ -84,26 +108,47 @@ class Result3D(ResultBase):
         self._seg_s = np.ascontiguousarray(seg_s[order])
         counts = np.bincount(seg_b, minlength=self.n_bodies)
         self._seg_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        self._init_recording(recording)
+
+    @property
+    def events(self):
+        """The events (structured array, see the module docstring); with ``record`` a list
+        of bodies, the events involving one of them; ``record="none"`` raises
+        ``NotRecordedError``."""
+        if self._events is None:
+            self._require_events("events")
+        return self._events
+
+    @events.setter
+    def events(self, value):
+        self._events = value
 
     @property
     def n_impacts(self):
+        """Number of "impact" events of the whole run (whatever ``record`` kept)."""
+        if self._rec is not None:
+            return int(self._rec.counts[self._rec.kinds.index("impact")])
         return int(np.count_nonzero(self.events["kind"] == "impact"))
 
     def __repr__(self):
         return (f"Result3D(status={self.status!r}, policy={self.policy!r}, "
-                f"t_end={self.t_end:g}, {len(self.events)} events, {self.n_impacts} impacts)")
+                f"t_end={self.t_end:g}, {self.n_events} events, {self.n_impacts} impacts)")
 
-    def sample(self, times):
+    def sample(self, times, bodies=None):
         """State at ``times`` (s): dict of arrays "position" (m) and "velocity" (m/s) of
         shape ``(len(times), n_bodies, 3)``, "orientation" (unit quaternion (w, x, y, z),
         ``(len(times), n_bodies, 4)``) and "angular_velocity" (rad/s, world frame,
-        ``(len(times), n_bodies, 3)``). At an event time the state just after the event is
-        returned."""
+        ``(len(times), n_bodies, 3)``); with ``bodies`` (body indices) the second axis holds
+        those bodies, in that order. At an event time the state just after the event is
+        returned. A time before ``kept_from(i)`` of a body asked for (a run made with
+        ``record="none"`` or a list of bodies) raises ``NotRecordedError``."""
         from rbimpact.kernels.flight3d import N_WS
         from rbimpact.kernels.pivot3d import N_FW, N_PW, sample_segments
         from .errors import SimulationError
         t = self._times(times)
-        out = np.empty((t.size, self.n_bodies, 13))
+        idx = self._body_indices(bodies, "Result3D.sample")
+        self._check_kept(t, idx, "sample")
+        out = np.empty((t.size, idx.size, 13))
         order = np.argsort(t, kind="stable")
         ws = np.zeros(N_WS)
         pw = np.zeros(N_PW)
@@ -112,12 +157,12 @@ class Result3D(ResultBase):
         rot_tol = float(self.tolerances.get("rot_tol", 1e-12))
         contact_tol = float(self.tolerances.get("contact_tol", 1e-10))
         max_steps = int(self.tolerances.get("rot_max_steps", 10_000_000))
-        for i in range(self.n_bodies):
+        for col, i in enumerate(idx):
             rk, axis = self._rotation[i]
             I1, I2, I3 = self.inertias[i]
             rc = sample_segments(self._seg_t, self._seg_s, self._seg_start[i],
                                  self._seg_start[i + 1], rk, axis, I1, I2, I3, rot_tol,
-                                 contact_tol, max_steps, t, order, out, i, ws, pw, fw, pose)
+                                 contact_tol, max_steps, t, order, out, col, ws, pw, fw, pose)
             if rc != 0:
                 raise SimulationError(f"sample: the integrator of body {i} failed (step "
                                       f"limit rot_max_steps = {max_steps})")
@@ -157,6 +202,7 @@ class Result3D(ResultBase):
         """Save a figure to ``path``: centre-of-mass trajectories seen from above (x, y) and
         from the side (x, z) with impact markers, and total energy against time. Needs
         matplotlib (the ``plot`` extra)."""
+        self._require_full("plot")
         plt = pyplot("Result3D.plot")
         t = np.linspace(self.t_start, self.t_end, n)
         ev_t = self.events["t"]

@@ -20,6 +20,8 @@ import math
 import numba
 import numpy as np
 
+from ._recording import NotRecordedError
+
 #: rows formatted per compiled call of ``to_csv`` (bounds its buffer to ~35 MB)
 CSV_CHUNK = 65536
 _SWEEP_EXTRA = "pip install 'rbimpact[sweep]'"
@@ -36,11 +38,113 @@ def require(module, what):
 
 
 class ResultBase:
-    """Base of ``Result`` and ``Result3D``: ``_times`` (sample-time check), and the exports
-    of ``self.events``: ``to_csv``, ``to_json``, ``to_pandas``, ``to_parquet``."""
+    """Base of ``Result`` and ``Result3D``: ``_times`` (sample-time check), what the run
+    kept (``record``, ``n_events``, ``event_counts``, ``snapshots``), and the exports of
+    ``self.events``: ``to_csv``, ``to_json``, ``to_pandas``, ``to_parquet``.
+
+    What a run made with ``record="none"`` or a list of bodies (``run``'s ``record``) can
+    give: ``status``, ``t_end``, ``n_events``, ``event_counts``, ``n_impacts`` (the whole
+    run's), ``snapshots``, and ``sample`` / ``energy`` at the times whose states were kept
+    (from ``kept_from(i)`` for body i: the final state at ``t_end`` always; a recorded
+    body's whole trajectory). ``events`` and the exports (``record="none"``: no event was
+    kept), ``plot`` and earlier samples raise ``NotRecordedError`` (a ``RuntimeError``)
+    saying so; with a list of bodies ``events`` holds the events involving those bodies.
+    """
 
     FIELDS_CSV = ()
     _EVENT_VECTORS = ()
+    # what the run kept (``_init_recording``); these defaults describe a full record
+    record = "all"
+    snapshots = None
+    _rec = None
+    _cover = None
+
+    def _init_recording(self, recording):
+        """Take a ``_recording.Recording`` (None: the whole run was kept)."""
+        self._rec = recording
+        if recording is None:
+            return
+        self.record = recording.record
+        self.snapshots = recording.snapshots
+        self._cover = recording.cover
+
+    def _record_text(self):
+        r = self.record
+        return f"record={r!r}" if isinstance(r, str) else f"record={[int(i) for i in r]}"
+
+    def _require_events(self, what):
+        """Raise ``NotRecordedError`` when the run kept no event (``record="none"``)."""
+        if isinstance(self.record, str) and self.record == "none":
+            raise NotRecordedError(
+                f"{type(self).__name__}.{what}: the run was made with record='none', which "
+                f"keeps only the event counts (n_events, event_counts, n_impacts), the "
+                f"final state and the snapshots; run with record='all' (or a list of body "
+                f"indices), or pass an observer to see the events as they happen")
+
+    def _require_full(self, what):
+        """Raise ``NotRecordedError`` unless the whole run was kept."""
+        self._require_events(what)
+        if not (isinstance(self.record, str) and self.record == "all"):
+            raise NotRecordedError(
+                f"{type(self).__name__}.{what} needs the whole run, but it was made with "
+                f"{self._record_text()} (only the events and trajectories of those bodies "
+                f"were kept); run with record='all'")
+
+    @property
+    def n_events(self):
+        """Number of events of the whole run (whatever ``record`` kept)."""
+        if self._rec is None:
+            return len(self.events)
+        return int(self._rec.counts.sum())
+
+    @property
+    def event_counts(self):
+        """Events of the whole run per kind: dict kind -> count (whatever ``record`` kept;
+        every kind of the stepper is a key)."""
+        if self._rec is None:
+            kinds, counts = np.unique(np.asarray(self.events["kind"]), return_counts=True)
+            return {str(k): int(c) for k, c in zip(kinds, counts)}
+        return {k: int(c) for k, c in zip(self._rec.kinds, self._rec.counts)}
+
+    def kept_from(self, body):
+        """The earliest time (s) at which ``sample`` can give body ``body``'s state: the
+        run's start when its whole trajectory was kept (``record="all"``, a recorded body),
+        else the start of its last trajectory segment kept (at or before ``t_end``)."""
+        b = self._body_indices([body], "kept_from")[0]
+        return self.t_start if self._cover is None else max(self.t_start,
+                                                             float(self._cover[b]))
+
+    def _body_indices(self, bodies, what):
+        """``bodies`` (None: all) as an int64 array of body indices, checked."""
+        if bodies is None:
+            return np.arange(self.n_bodies)
+        b = np.atleast_1d(np.asarray(bodies))
+        if b.ndim != 1 or (b.size and b.dtype.kind not in "iu"):
+            raise ValueError(f"{what}: bodies must be None or a 1-D sequence of body "
+                             f"indices (0..{self.n_bodies - 1}), got {bodies!r}")
+        b = b.astype(np.int64)
+        if b.size and (b.min() < 0 or b.max() >= self.n_bodies):
+            raise ValueError(f"{what}: bodies must be body indices (0..{self.n_bodies - 1}), "
+                             f"got {bodies!r}")
+        return b
+
+    def _check_kept(self, t, bodies, what):
+        """Raise ``NotRecordedError`` if a time of ``t`` precedes the kept part of the
+        trajectory of one of ``bodies``."""
+        if self._cover is None or not t.size:
+            return
+        cover = self._cover[bodies]
+        lo = float(t.min())
+        bad = bodies[cover > lo]
+        if bad.size:
+            b = int(bad[0])
+            raise NotRecordedError(
+                f"{type(self).__name__}.{what}: the run was made with {self._record_text()}: "
+                f"body {b}'s state is kept only from t = {float(self._cover[b]):.12g} s on "
+                f"(its final trajectory segment), and a time {lo:.12g} s was asked; "
+                f"use the snapshots (run's snapshot_dt), record the body, or record='all'"
+                + ("" if isinstance(self.record, str) else
+                   f"; sample(times, bodies=...) gives the recorded bodies alone"))
 
     def _rows(self):
         for ev in self.events:
@@ -99,6 +203,7 @@ class ResultBase:
         CRLF like ``csv.writer``; contact-space columns normal first; ``b < 0`` is plane
         ``-1 - b``; floats are their shortest round-trip text, as ``repr``). Needs only
         NumPy and Numba."""
+        self._require_events("to_csv")
         cols = self._columns()
         n = len(self.events)
         floats = [x for name, x in cols if x.dtype.kind == "f"]
@@ -151,6 +256,7 @@ class ResultBase:
         in 2D, ``v_i_N``, ``v_i_T1``, ``v_i_T2`` in 3D; units as in ``events``); ``kind``
         is categorical. ``df.attrs`` holds status, policy, law, t_start, t_end (s),
         n_bodies. Needs pandas (the ``sweep`` extra)."""
+        self._require_events("to_pandas")
         pd = require("pandas", f"{type(self).__name__}.to_pandas")
         data = {}
         for name, x in self._columns():
@@ -171,7 +277,10 @@ class ResultBase:
         self.to_pandas().to_parquet(path, index=False)
 
     def to_json(self, path):
-        """Write the run's metadata and events to ``path`` as JSON."""
+        """Write the run's metadata and events to ``path`` as JSON (a run made with a list
+        of bodies as ``record`` adds ``"record"``: those bodies, whose events are the ones
+        written)."""
+        self._require_events("to_json")
         doc = {
             "status": self.status, "policy": self.policy, "law": self.law,
             "t_start": self.t_start, "t_end": self.t_end, "t_requested": self.t_requested,
@@ -182,6 +291,8 @@ class ResultBase:
             "fields": list(self.FIELDS_CSV),
             "events": [dict(zip(self.FIELDS_CSV, row)) for row in self._rows()],
         }
+        if not isinstance(self.record, str):
+            doc["record"] = [int(i) for i in self.record]
         with open(path, "w") as f:
             json.dump(doc, f, indent=1)
 

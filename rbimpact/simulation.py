@@ -120,7 +120,9 @@ What the stepper does
 
 The event loop is compiled (``rbimpact.kernels.stepper2d``, Numba, cached on disk, with a
 guard that flushes that cache when a law kernel it has compiled in changes); event and
-trajectory buffers are preallocated and grown by doubling between compiled chunks. A scene
+trajectory buffers are preallocated and grown by doubling between compiled chunks (or, with
+``run(record="none")`` or a list of bodies, drained into fixed-size buffers: see
+``run`` and ``rbimpact._recording``). A scene
 runs only what it uses: no pair search without disk pairs, no rotation bound for
 non-rotating bodies (exact quadratics), the law kernel's own mu = 0 fast path.
 """
@@ -132,7 +134,8 @@ import numpy as np
 from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances,
                      compiled_loop, pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
-from .result import Result
+from ._recording import Recorder, check_record_args
+from .result import Result, _build_events
 from .scene import Plane, Scene2D
 
 __all__ = ["Simulation", "TOLERANCES"]
@@ -179,6 +182,11 @@ def _grow(a, used):
     out = np.empty((max(2 * len(a), GROWN_EVENT_ROWS),) + a.shape[1:], dtype=a.dtype)
     out[:used] = a[:used]
     return out
+
+
+def _grow_all(arrays, used):
+    """``_grow`` of each of ``arrays`` (buffers sharing their first dimension)."""
+    return tuple(_grow(a, used) for a in arrays)
 
 
 def _shape_name(body):
@@ -342,27 +350,63 @@ class Simulation:
             ("bmark", (nb,), I, 0), ("v2", (2,), F, 0.0), ("W2", (2, 2), F, 0.0),
             ("P2", (2,), F, 0.0), ("tmp", (2, 9), F, 0.0), ("err", (8,), F, 0.0)])
 
-    def run(self, t_end, max_events=1_000_000):
+    def run(self, t_end, max_events=1_000_000, record="all", observer=None, snapshot_dt=None):
         """Run from t = 0 to ``t_end`` (s) and return a ``Result``.
 
-        ``max_events``: stop after the instant at which the number of logged events
-        reaches it (status "max_events", with a ``RuntimeWarning``).
+        ``max_events``: stop after the instant at which the number of events of the run
+        reaches it (status "max_events", with a ``RuntimeWarning``), whatever ``record``
+        keeps.
+
+        ``record``: what the result keeps.
+
+        * ``"all"`` (default): every event and the whole trajectory of every body; memory
+          grows with the number of events (about 0.2 KB per event with its segments).
+        * ``"none"``: the event counts (``n_events``, ``event_counts``, ``n_impacts``), the
+          status and the final state (``sample`` at and after ``kept_from(i)``, the start of
+          each body's last trajectory segment; always at ``t_end``), and the snapshots. The
+          event and segment buffers keep a fixed size (``_recording.DRAIN_ROWS`` rows
+          beyond the loop's margins): memory does not grow with the number of events.
+          ``events``, the exports, ``plot`` and earlier samples raise ``NotRecordedError``.
+        * a 1-D array of body indices: the events involving one of those bodies (``a`` or
+          ``b``; a plane is never recorded on its own) and those bodies' whole
+          trajectories (``sample(times, bodies=...)``); the other bodies as with "none".
+          Memory grows with the recorded bodies' events only.
+
+        ``observer``: None or a callable, called with each chunk of events as the buffers
+        are drained (every ``DRAIN_ROWS`` events or so with ``record`` "none" or a list, at
+        each growth of the buffers with "all"), then once at the end with the last chunk
+        (possibly empty): a read-only structured array with the columns of
+        ``Result.events``, in time order; every event of the run (not only the recorded
+        ones) is passed exactly once. An exception raised by the observer propagates out
+        of ``run`` and stops the run (no result is returned).
+
+        ``snapshot_dt``: None or a time step (s, positive, finite): the states of every body
+        at ``0, dt, 2 dt, ...`` up to the end of the run, evaluated from the exact
+        trajectory as the run goes (any ``record``), are ``result.snapshots == (times,
+        states)``, ``states`` a dict like ``sample``'s (arrays of shape ``(len(times),
+        n_bodies)``). They take ``48 n_bodies`` bytes per snapshot.
 
         The fixed cost of a call is small (tens of microseconds): the scene is packed once
         when the ``Simulation`` is built and the run's arrays once on its first run; event
-        buffers start small and double as needed.
+        buffers start small and double as needed (``record="all"``).
         """
         from .kernels import stepper2d as k
         t_end, max_events = check_run_args(t_end, max_events)
+        rec = Recorder("Simulation", *check_record_args(
+            "Simulation", record, observer, snapshot_dt, len(self.scene.bodies), t_end),
+            n_bodies=len(self.scene.bodies), max_events=max_events, kinds=k.EVENT_KINDS,
+            ti_max_events=k.TI_MAX_EVENTS,
+            build_events=lambda t, i, f: _build_events(t, i, f, k.EVENT_KINDS),
+            sampler=self._sampler)
         # one set of run arrays per Simulation, taken for the duration of the run (a
         # concurrent run of the same Simulation from another thread allocates its own)
         arena = self.__dict__.pop("_arena", None) or self._make_arena(k)
         try:
-            return self._run(k, arena, t_end, max_events)
+            return self._run(k, arena, t_end, max_events, rec)
         finally:
             self._arena = arena
 
-    def _run(self, k, arena, t_end, max_events):
+    def _run(self, k, arena, t_end, max_events, rec):
         (tolf, toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
          c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err) = arena.reset()
         tolf[k.TF_T_END] = t_end
@@ -370,31 +414,23 @@ class Simulation:
         nb = st.shape[0]
         me = k.event_margin(toli, nb)
         ms = k.segment_margin(nb)
-        cap_e = me + min(max_events + 16, INITIAL_EVENT_ROWS)
-        cap_s = ms + nb + min(max_events + 16, INITIAL_EVENT_ROWS)
-        ev_t = np.empty(cap_e)
-        ev_i = np.empty((cap_e, 5), np.int64)
-        ev_f = np.empty((cap_e, 11))
-        seg_t = np.empty(cap_s)
-        seg_b = np.empty(cap_s, np.int64)
-        seg_s = np.empty((cap_s, 9))
+        cap_e, cap_s = rec.capacities(me, ms, INITIAL_EVENT_ROWS)
+        bufs = (np.empty(cap_e), np.empty((cap_e, 5), np.int64), np.empty((cap_e, 11)),
+                np.empty(cap_s), np.empty(cap_s, np.int64), np.empty((cap_s, 9)))
         run_loop, switches = compiled_loop(self, k)
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
-                      glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb,
-                      tb, comp, bmark, v2, W2, P2, tmp, err, *switches)
+                      glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2,
+                      tmp, err, *switches)
         while rc == k.RC_BUFFER_FULL:
-            if cnt[0] + me > len(ev_t):
-                ev_t, ev_i, ev_f = (_grow(x, int(cnt[0])) for x in (ev_t, ev_i, ev_f))
-            if cnt[1] + ms > len(seg_t):
-                seg_t, seg_b, seg_s = (_grow(x, int(cnt[1])) for x in (seg_t, seg_b, seg_s))
+            bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_all)
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
-                          pr_off, glob, cnt, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f,
-                          Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err, *switches)
+                          pr_off, glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark,
+                          v2, W2, P2, tmp, err, *switches)
         status = run_status(k, rc)
-        result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob,
-                              status, t_end)
+        *kept, recording = rec.finish(bufs, cnt, glob)
+        result = self._result(*kept, glob, status, t_end, recording)
         if rc < 0:
             raise self._error(rc, err, result)
         if status == "max_events":
@@ -404,15 +440,21 @@ class Simulation:
                           stacklevel=3)
         return result
 
-    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status, t_req):
+    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, glob, status, t_req,
+                recording=None):
         from .kernels.stepper2d import EVENT_KINDS
-        n = int(cnt[0])
-        m = int(cnt[1])
-        return Result(ev_t[:n], ev_i[:n], ev_f[:n], seg_t[:m], seg_b[:m], seg_s[:m],
+        return Result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s,
                       status=status, policy=self.policy, t_start=0.0, t_end=float(glob[0]),
                       t_requested=t_req, masses=self._masses, moments=self._moments,
                       gravity=self.scene.gravity, law=self._law_name,
-                      tolerances=self._result_tol, kinds=EVENT_KINDS)
+                      tolerances=self._result_tol, kinds=EVENT_KINDS, recording=recording)
+
+    def _sampler(self, seg_t, seg_b, seg_s, times):
+        """States at ``times`` (s) from logged segment rows (``Result.sample``)."""
+        ev = np.empty(0)
+        r = self._result(ev, np.empty((0, 5), np.int64), np.empty((0, 11)), seg_t, seg_b,
+                         seg_s, (float(times.max()),), "done", float(times.max()))
+        return r.sample(times)
 
     def _where(self, b):
         b = int(b)

@@ -52,7 +52,8 @@ import numpy as np
 from ._setup import (check_law, check_run_args, check_scene, check_tolerances, compiled_loop,
                      pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
-from .result3d import EVENT_DTYPE_3D, Result3D
+from ._recording import Recorder, check_record_args
+from .result3d import Result3D, build_events_3d
 from .scene3d import Plane3D, Scene3D
 
 __all__ = ["Simulation3D", "TOLERANCES_3D"]
@@ -95,6 +96,19 @@ TOLERANCES_3D = {
 POLICIES = ("simultaneous", "sequential")
 # rotation kinds (kernels/flight3d.py ROT_*)
 _ROT_SPHERICAL, _ROT_AXISYM, _ROT_GENERAL = 0, 1, 2
+
+
+#: first capacity (rows beyond the loop's safety margin) of the event and segment buffers
+#: of a run with ``record="all"``; they double when full
+INITIAL_EVENT_ROWS_3D = 1 << 14
+
+
+def _grow_doubling(arrays, used):
+    """Buffers sharing their first dimension, twice as long (zero-filled beyond the old
+    rows)."""
+    n = 2 * len(arrays[0])
+    return tuple(np.concatenate([a, np.zeros((n - len(a),) + a.shape[1:], a.dtype)])
+                 for a in arrays)
 
 
 def _shape_name(body):
@@ -218,16 +232,33 @@ class Simulation3D:
 
     # ------------------------------------------------------------ running
 
-    def run(self, t_end, max_events=1_000_000):
+    def run(self, t_end, max_events=1_000_000, record="all", observer=None, snapshot_dt=None):
         """Run from t = 0 to ``t_end`` (s) and return a ``Result3D``.
 
-        ``max_events``: stop after the instant at which the number of logged events
-        reaches it (status "max_events", with a ``RuntimeWarning``).
+        ``max_events``: stop after the instant at which the number of events of the run
+        reaches it (status "max_events", with a ``RuntimeWarning``), whatever ``record``
+        keeps.
+
+        ``record`` ("all", "none" or a 1-D array of body indices), ``observer`` (None or a
+        callable taking each chunk of events, a read-only array with the columns of
+        ``Result3D.events``; its exceptions propagate and stop the run) and
+        ``snapshot_dt`` (None or a time step in s: ``result.snapshots == (times,
+        states)``, ``states`` a dict like ``sample``'s) are those of ``Simulation.run``:
+        "all" keeps everything (memory grows with the events, about 0.6 KB per event with
+        its segments), "none" the counts, the final state and the snapshots in buffers of
+        fixed size (``_recording.DRAIN_ROWS`` rows beyond the loop's margins), a list of
+        bodies their events and trajectories.
         """
         from .kernels import stepper3d as k
         from .kernels.flight3d import N_WS
         from .kernels.pivot3d import N_CP, N_FW, N_PW
         t_end, max_events = check_run_args(t_end, max_events)
+        rec = Recorder("Simulation3D", *check_record_args(
+            "Simulation3D", record, observer, snapshot_dt, len(self.scene.bodies), t_end),
+            n_bodies=len(self.scene.bodies), max_events=max_events, kinds=k.EVENT_KINDS,
+            ti_max_events=k.TI_MAX_EVENTS,
+            build_events=lambda t, i, f: build_events_3d(t, i, f, k.EVENT_KINDS),
+            sampler=self._sampler)
         tol = self.tolerances
         nb = len(self.scene.bodies)
         npl = len(self.scene.planes)
@@ -289,14 +320,9 @@ class Simulation3D:
         vfl = np.zeros(nv)
         me = k.event_margin(toli, nb)
         ms = k.segment_margin(nb)
-        cap_e = me + min(max_events + 16, 1 << 14)
-        cap_s = ms + nb + min(max_events + 16, 1 << 14)
-        ev_t = np.zeros(cap_e)
-        ev_i = np.zeros((cap_e, 5), np.int64)
-        ev_f = np.zeros((cap_e, k.N_EF))
-        seg_t = np.zeros(cap_s)
-        seg_b = np.zeros(cap_s, np.int64)
-        seg_s = np.zeros((cap_s, k.N_SEG))
+        cap_e, cap_s = rec.capacities(me, ms, INITIAL_EVENT_ROWS_3D)
+        bufs = (np.zeros(cap_e), np.zeros((cap_e, 5), np.int64), np.zeros((cap_e, k.N_EF)),
+                np.zeros(cap_s), np.zeros(cap_s, np.int64), np.zeros((cap_s, k.N_SEG)))
         M = k.MAXC
         c_i = np.zeros((M, k.N_CI), np.int64)
         c_f = np.zeros((M, k.N_CF))
@@ -318,28 +344,20 @@ class Simulation3D:
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
         run_loop, (pivot, pair, joint) = compiled_loop(self, k)
-        rc = k.init_run(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f,
-                        skip, pose, fw, ybuf, vals, vals0, vfl, err, pair)
-        while rc == 0 or rc == k.RC_BUFFER_FULL:
-            if rc == k.RC_BUFFER_FULL:
-                if cnt[0] + me > len(ev_t):
-                    n = 2 * len(ev_t)
-                    ev_t = np.concatenate([ev_t, np.zeros(n - len(ev_t))])
-                    ev_i = np.concatenate([ev_i, np.zeros((n - len(ev_i), 5), np.int64)])
-                    ev_f = np.concatenate([ev_f, np.zeros((n - len(ev_f), k.N_EF))])
-                if cnt[1] + ms > len(seg_t):
-                    n = 2 * len(seg_t)
-                    seg_t = np.concatenate([seg_t, np.zeros(n - len(seg_t))])
-                    seg_b = np.concatenate([seg_b, np.zeros(n - len(seg_b), np.int64)])
-                    seg_s = np.concatenate([seg_s, np.zeros((n - len(seg_s), k.N_SEG))])
-            rc = run_loop(*scene_arrays, *state, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i,
-                          c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw,
-                          ybuf, vals, vals0, vfl, err, pivot, pair, joint)
-            if rc in (k.RC_DONE, k.RC_MAX_EVENTS):
-                break
+        rc = k.init_run(*scene_arrays, *state, *bufs, c_f, skip, pose, fw, ybuf, vals, vals0,
+                        vfl, err, pair)
+        if rc == 0:
+            rc = run_loop(*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark,
+                          v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl, err, pivot,
+                          pair, joint)
+            while rc == k.RC_BUFFER_FULL:
+                bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_doubling)
+                rc = run_loop(*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp,
+                              bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl,
+                              err, pivot, pair, joint)
         status = run_status(k, rc)
-        result = self._result(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status,
-                              float(t_end))
+        *kept, recording = rec.finish(bufs, cnt, glob)
+        result = self._result(*kept, glob, status, float(t_end), recording)
         if rc < 0:
             raise self._error(rc, err, result)
         if status == "max_events":
@@ -349,33 +367,27 @@ class Simulation3D:
                           stacklevel=2)
         return result
 
-    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, glob, status, t_req):
+    def _result(self, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, glob, status, t_req,
+                recording=None):
         from .kernels.stepper3d import EVENT_KINDS
-        n = int(cnt[0])
-        ev = np.zeros(n, dtype=EVENT_DTYPE_3D)
-        ev["t"] = ev_t[:n]
-        ev["kind"] = np.array(EVENT_KINDS)[ev_i[:n, 0]] if n else []
-        ev["a"] = ev_i[:n, 1]
-        ev["b"] = ev_i[:n, 2]
-        ev["mode"] = ev_i[:n, 3]
-        ev["cluster"] = ev_i[:n, 4]
-        ev["point"] = ev_f[:n, 0:3]
-        ev["normal"] = ev_f[:n, 3:6]
-        ev["tangent"] = ev_f[:n, 6:9]
-        ev["v_i"] = ev_f[:n, 9:12]
-        ev["v_f"] = ev_f[:n, 12:15]
-        ev["P"] = ev_f[:n, 15:18]
-        ev["dE"] = ev_f[:n, 18]
-        m = int(cnt[1])
+        ev = build_events_3d(ev_t, ev_i, ev_f, EVENT_KINDS)
         bodies = self.scene.bodies
-        return Result3D(ev, seg_t[:m].copy(), seg_b[:m].copy(), seg_s[:m].copy(),
+        return Result3D(ev, seg_t.copy(), seg_b.copy(), seg_s.copy(),
                         status=status, policy=self.policy, t_start=0.0, t_end=float(glob[0]),
                         t_requested=t_req, masses=[b.mass for b in bodies],
                         inertias=[b.inertia for b in bodies], rotation=self._rot,
                         gravity=self.scene.gravity,
                         law=getattr(self.law, "name", repr(self.law)),
                         tolerances={**self.tolerances, "policy": self.policy,
-                                    "capture": self.capture})
+                                    "capture": self.capture}, recording=recording)
+
+    def _sampler(self, seg_t, seg_b, seg_s, times):
+        """States at ``times`` (s) from logged segment rows (``Result3D.sample``)."""
+        from .kernels.stepper3d import N_EF
+        t = float(times.max())
+        r = self._result(np.empty(0), np.empty((0, 5), np.int64), np.empty((0, N_EF)), seg_t,
+                         seg_b, seg_s, (t,), "done", t)
+        return r.sample(times)
 
     def _where(self, b):
         b = int(b)
