@@ -666,7 +666,7 @@ def _print_sweep(rows):
 
 #: subcommand -> the figures it runs (key, function, printer), in order
 SECTIONS = ("laws", "overhead", "routh3d", "rotation3d", "stepper", "pymunk", "compile", "pay",
-            "sweep", "manybody")
+            "sweep", "manybody", "memory")
 WHAT = {
     "laws": ("laws", "overhead"),
     "routh3d": ("routh3d",),
@@ -677,6 +677,7 @@ WHAT = {
     "pay": ("pay",),
     "sweep": ("sweep",),
     "manybody": ("manybody",),
+    "memory": ("memory",),
     "all": SECTIONS,
 }
 
@@ -697,6 +698,7 @@ def main(what="laws", repeat=7, json_path=None):
     from ._validate import integer
     repeat = integer("bench: repeat", repeat)      # >= 1: a median of nothing is nan
     from . import bench_manybody as mb                # light: numpy and time only
+    from . import bench_memory as bm
     runners = {
         "laws": (lambda: bench_laws(repeat=repeat), _print_laws),
         "overhead": (lambda: bench_overhead(repeat=repeat), _print_overhead),
@@ -708,6 +710,7 @@ def main(what="laws", repeat=7, json_path=None):
         "pay": (lambda: bench_pay(repeat=max(1, repeat // 2)), _print_pay),
         "sweep": (lambda: bench_sweep(repeat=max(1, repeat // 4)), _print_sweep),
         "manybody": (lambda: mb.bench_manybody(repeat=max(1, repeat // 4)), mb.print_manybody),
+        "memory": (bm.bench_memory, bm.print_memory),
     }
     out = {}
     for key in WHAT[what]:

@@ -200,7 +200,7 @@ def _parser():
     q = sub.add_parser("bench", help="benchmarks: figures and ratios measured in one run")
     q.add_argument("what", nargs="?", default="laws",
                    choices=("laws", "routh3d", "rotation3d", "stepper", "crosscheck",
-                            "compile", "pay", "sweep", "manybody", "all"))
+                            "compile", "pay", "sweep", "manybody", "memory", "all"))
     q.add_argument("--repeat", type=_positive_int, default=7,
                    help="repeats per figure (median), >= 1")
     q.add_argument("--json", help="also write the figures to this JSON file")
