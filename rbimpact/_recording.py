@@ -129,12 +129,17 @@ class Recorder:
         self.who = who
         self.record = record
         self.keep_all = isinstance(record, str) and record == "all"
+        # the default run (everything kept, nothing streamed, no snapshot) pays nothing
+        # beyond the growth of its buffers: its result counts events from the events
+        self.plain = self.keep_all and observer is None and snapshot_dt is None
+        self.max_events = max_events
+        self.kinds = tuple(kinds)
+        self.nb = n_bodies
+        if self.plain:
+            return
         self.bodies = None if isinstance(record, str) else record
         self.observer = observer
         self.dt = snapshot_dt
-        self.nb = n_bodies
-        self.max_events = max_events
-        self.kinds = tuple(kinds)
         self.ti_max_events = ti_max_events
         self.build_events = build_events
         self.sampler = sampler
@@ -167,6 +172,8 @@ class Recorder:
     def _observe(self, ev_t, ev_i, ev_f, n, final=False):
         """Count the event rows ``observed:n`` and hand them to the observer (mid-run only
         when there are some; at the end always)."""
+        if self.plain:
+            return
         a = self.observed
         self.observed = n
         if n > a:
@@ -265,6 +272,8 @@ class Recorder:
         for the result (``record="all"``: the buffers' filled rows as views)."""
         ev_t, ev_i, ev_f, seg_t, seg_b, seg_s = bufs
         n, m = int(cnt[0]), int(cnt[1])
+        if self.plain:
+            return ev_t[:n], ev_i[:n], ev_f[:n], seg_t[:m], seg_b[:m], seg_s[:m], None
         self._observe(ev_t, ev_i, ev_f, n, final=True)
         if self.keep_all:
             out_ev = (ev_t[:n], ev_i[:n], ev_f[:n])

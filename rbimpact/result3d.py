@@ -36,6 +36,7 @@ re-integrated from the segment start with the run's ``rot_tol``, reproducing the
 
 import numpy as np
 
+from .kernels.codes import EVENT_KINDS
 from .result_base import ResultBase, pyplot
 
 __all__ = ["Result3D", "EVENT_DTYPE_3D"]
@@ -86,6 +87,8 @@ class Result3D(ResultBase):
     ``n_impacts``; what the run kept (``run``'s ``record``): ``record``, ``n_events``,
     ``event_counts``, ``snapshots``, ``kept_from(i)`` (``ResultBase``).
     """
+
+    _kinds = EVENT_KINDS        # the stepper's event kinds (event_counts' keys)
 
     def __init__(self, events, seg_t, seg_b, seg_s, *, status, policy, t_start, t_end,
                  t_requested, masses, inertias, rotation, gravity, law, tolerances,

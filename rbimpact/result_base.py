@@ -103,7 +103,9 @@ class ResultBase:
         every kind of the stepper is a key)."""
         if self._rec is None:
             kinds, counts = np.unique(np.asarray(self.events["kind"]), return_counts=True)
-            return {str(k): int(c) for k, c in zip(kinds, counts)}
+            out = {k: 0 for k in getattr(self, "_kinds", ())}
+            out.update({str(k): int(c) for k, c in zip(kinds, counts)})
+            return out
         return {k: int(c) for k, c in zip(self._rec.kinds, self._rec.counts)}
 
     def kept_from(self, body):
