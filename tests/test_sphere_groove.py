@@ -18,6 +18,7 @@ import pytest
 from rbimpact import Law, Scene3D, Simulation, SimulationError, Sphere
 from rbimpact.kernels import stepper3d as k
 from rbimpact.kernels.codes import ERR_UNSUPPORTED, PM_WEDGED
+from rbimpact.kernels.common import P_MU
 
 G = 9.81
 
@@ -187,7 +188,7 @@ def _enter(n1, n2, r, mu, u=0.3, spin=(0.4, -0.2, 0.1)):
     bflt[0, k.B_I1:k.B_I1 + 3] = 0.4 * r * r
     bflt[0, k.B_RADIUS] = r
     law_par = np.zeros((1, 5))
-    law_par[0, 1] = mu          # P_MU
+    law_par[0, P_MU] = mu
     bp_law = np.zeros((1, 2), np.int64)
     pm = np.zeros((1, 4), np.int64)
     ttr = np.full(1, np.inf)
