@@ -24,3 +24,6 @@ M_FEAT = 2      # 2D: face vertex 0, or the held vertex (PM_PIVOT); 3D: the face
 M_AUX = 3       # 2D: face vertex 1, or the held contact's status (0 stick, +-1 slide),
                 # or REL_TANGENT in flight just after a tangential release; 3D: AUX_INTEGRATE
                 # on a sphere whose slide curves (integrated from its ttr on)
+M_PLANE2 = 4    # 2D: the second plane of a body held on two planes (PM_PIVOT), else -1
+M_FEAT2 = 5     # 2D: the vertex held on M_PLANE2
+N_PM = 6        # pm columns (3D uses the first four)

@@ -1,7 +1,8 @@
-"""Persistent one-point contact in 2D: a body pivoting on one of its vertices on a plane,
-or an ellipse rolling / sliding on a plane on its curved boundary, sticking or sliding
-with Coulomb friction, integrated with error control and event location (the 2D
-counterpart of ``pivot3d``; used by ``stepper2d``'s ``PM_PIVOT``). The held feature is
+"""Persistent contact in 2D: a body pivoting on one of its vertices on a plane, or an
+ellipse rolling / sliding on a plane on its curved boundary, sticking or sliding with
+Coulomb friction, or a body sliding on two planes at once (section "Two contacts"),
+integrated with error control and event location (the 2D counterpart of ``pivot3d``; used
+by ``stepper2d``'s ``PM_PIVOT``). The held feature is
 ``w[CP_KIND]``: ``KIND_VERTEX`` (below) or ``KIND_ELLIPSE`` (section "Ellipse"); the
 integrator, the events and the recorded pieces are the same for both.
 
@@ -51,6 +52,28 @@ and the slip of the contact point is ``v_T = du/dt + h w``. Newton-Euler:
 The events are those of a vertex (lift-off, stick -> slip, slip -> stick or reverse, and
 the gap ``n_q . x - d_q - h_q(angle)`` of the ellipse to every other plane q). A rough
 ellipse rolling on a level plane rocks for ever (rolling is conservative).
+
+Two contacts (``CP_TWO = 1``: a body held on two planes, a groove or a corner; the second
+contact's plane, vertex and friction in ``CP_N2X ... CP_MU2``): each held feature k keeps
+``n_k . x = c_k(angle)`` (a vertex: ``c = d + rad - n . R p``, ``c' = -xi``, ``c'' = n . R p``;
+the ellipse: ``c = d + h``, ``c' = h'``, ``c'' = h''``; ``_offset``), so with ``N`` the matrix
+of the two normals (planes not parallel) the centre is ``x = N^-1 c``, ``v = A1 w`` and ``a =
+A1 dw/dt + A0 w^2`` with ``A1 = N^-1 c'``, ``A0 = N^-1 c''`` (``two_geometry``): one degree of
+freedom, the angle (the reduced state keeps ``u = t_1 . x`` and ``du/dt``, which follow).
+Both contacts slip together, ``v_Tk = k_k w`` with ``k_k = t_k . A1 - eta_ck`` (a disk: its
+centre is fixed, ``A1 = 0``, and it spins, ``k = rad``); sticking at both is rest, a static
+equilibrium (``wedge2d``), so a moving body slides at both with ``f_k = -mu_k sig_k lam_k``,
+``sig_k = sign(k_k w)``. Newton-Euler with the force directions ``e_k = n_k - mu_k sig_k t_k``
+and torque arms ``kap_k = xi_k + mu_k sig_k eta_ck`` (``E = [e_1 e_2]``):
+``m (A1 dw/dt + A0 w^2) = m g + E lam``, ``I dw/dt = kap . lam``, so
+``lam = m E^-1 (A1 dw/dt + A0 w^2 - g)`` and ``D dw/dt = m kap . E^-1 (A0 w^2 - g)`` with
+``D = I - m kap . E^-1 A1`` (``two_forces``; without friction ``D = I + m |A1|^2``, the
+reduced inertia of the Lagrangian ``T = (I + m |A1|^2) w^2 / 2``). ``D <= 0`` or ``det E = 0``
+is ``PV_PAINLEVE``. Events: either ``lam_k`` reaching 0 (that contact leaves: the body
+pivots on the other), a slip direction reversing while w does not (``k_k`` through 0:
+``sig_k s k_k``, s the sign of w), ``w`` reaching 0 (``PE_TURN``: both slips vanish; the
+stepper decides rest or a new direction), and the gaps of the other vertices. Friction
+works ``sum_k f_k v_Tk = -sum_k mu_k lam_k |k_k w| <= 0``: never energy created.
 
 The normal force does no work (``v_N = 0``) and the friction force works ``f v_T <= 0``:
 the motion never creates energy. Frictionless sliding (``mu = 0``) conserves energy and the
@@ -116,24 +139,38 @@ CP_V = 13       # velocity scale V (m/s)
 CP_KIND = 14    # held feature: KIND_VERTEX (p, rad) or KIND_ELLIPSE (the curve a, b)
 CP_EA = 15      # ellipse semi-axes a (body x), b (body y) (m)
 CP_EB = 16
-N_CP = 20
-W_TOL = 20      # integrator: tolerance, step, next step, largest step, step start (s)
-W_H = 21
-W_HNEXT = 22
-W_HMAX = 23
-W_S0 = 24
-W_SC = 28       # 28:32 error scales of (u, angle, du/dt, w)
-W_Y = 32        # step start
-W_YT = 36       # stage argument
-W_Y1 = 40       # step end
-W_K = 44        # 44:72 seven stages
-W_RC = 72       # 72:92 dense output
-W_YA = 92       # scratch states (4 each)
-W_YB = 96
-W_ROW = 100     # 100:109 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
-W_ROWB = 109    # 109:118 a second one
-W_ROWC = 118    # 118:127 a third one
-N_W = 127
+# the second held contact of a body held on two planes (CP_TWO = 1; module docstring,
+# "Two contacts"): its plane (normal, offset, index), its vertex (body frame, index),
+# friction coefficient and slip direction; CP_DIR is the sign s of w
+CP_TWO = 17     # 0: one held contact; 1: two (the second below)
+CP_N2X = 18
+CP_N2Y = 19
+CP_D2 = 20
+CP_Q2 = 21      # plane index of the second contact
+CP_P2X = 22
+CP_P2Y = 23
+CP_K2 = 24      # vertex index (body-relative) of the second contact
+CP_MU2 = 25
+CP_SIG2 = 26
+CP_DIR = 27     # +1 / -1: the sign of w while the body slides on its two contacts
+N_CP = 28
+W_TOL = 28      # integrator: tolerance, step, next step, largest step, step start (s)
+W_H = 29
+W_HNEXT = 30
+W_HMAX = 31
+W_S0 = 32
+W_SC = 36       # 36:40 error scales of (u, angle, du/dt, w)
+W_Y = 40        # step start
+W_YT = 44       # stage argument
+W_Y1 = 48       # step end
+W_K = 52        # 52:80 seven stages
+W_RC = 80       # 80:100 dense output
+W_YA = 100      # scratch states (4 each)
+W_YB = 104
+W_ROW = 108     # 108:117 a state row (x, y, angle, vx, vy, w, ax, ay, alpha)
+W_ROWB = 117    # 117:126 a second one
+W_ROWC = 126    # 126:135 a third one
+N_W = 135
 NY = 4
 
 # ---- tolerances (named, dimensionless unless stated) -------------------------------------
@@ -174,6 +211,15 @@ PE_LIFT = 1         # lam reaches 0
 PE_SLIP = 2         # a sticking force reaches the friction cone
 PE_STOP = 3         # a sliding contact's slip reaches 0
 PE_GAP = 4          # another vertex reaches a plane (index: plane * nv + vertex)
+PE_TURN = 5         # two contacts: w reaches 0 (both slips vanish together)
+
+# event functions (``_event``): the force and slip events, then one gap per (plane, vertex)
+EF_LAM = 0          # lam of the (first) held contact
+EF_SLIP = 1         # its stick margin, or its slip (two contacts: its slip direction)
+EF_LAM2 = 2         # two contacts: lam of the second
+EF_SLIP2 = 3        # two contacts: the slip direction of the second
+EF_TURN = 4         # two contacts: s w
+N_EF = 5            # gap events are N_EF + plane * nv + vertex
 
 
 # ------------------------------------------------------------------ state and forces
@@ -245,6 +291,9 @@ def pivot_forces(w, y0, y1, y2, y3):
     """Contact force and accelerations at the reduced state (u, angle, du/dt, w).
     Returns (code, lam (N), f (N), d2u/dt2 (m/s^2), dw/dt (rad/s^2)); see the module
     docstring for the equations."""
+    if w[CP_TWO] != 0.0:
+        code, lam1, lam2, wd, ax, ay = two_forces(w, y1, y3)
+        return code, lam1, -w[CP_MU] * w[CP_SIG] * lam1, w[CP_NY] * ax - w[CP_NX] * ay, wd
     if w[CP_KIND] == KIND_ELLIPSE:
         return _ellipse_forces(w, y1, y3)
     m = w[CP_M]
@@ -280,6 +329,20 @@ def pivot_row(w, y0, y1, y2, y3, row):
     ny = w[CP_NY]
     tx = ny
     ty = -nx
+    if w[CP_TWO] != 0.0:
+        # the angle and w determine the motion (y0, y2 follow: u = t . x)
+        code, lam1, lam2, wd, ax, ay = two_forces(w, y1, y3)
+        x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2 = two_geometry(w, y1)
+        row[0] = x
+        row[1] = y
+        row[2] = y1
+        row[3] = a1x * y3
+        row[4] = a1y * y3
+        row[5] = y3
+        row[6] = ax
+        row[7] = ay
+        row[8] = wd
+        return code
     if w[CP_KIND] == KIND_ELLIPSE:
         # centre at u t + (d + h) n, velocity (du/dt) t + h' w n
         h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, nx, ny)
@@ -317,7 +380,7 @@ def pivot_reduce(w, row, out):
     """Reduced state (u, angle, du/dt, w) of a full state row (vertex on the plane)."""
     nx = w[CP_NX]
     ny = w[CP_NY]
-    if w[CP_KIND] == KIND_ELLIPSE:
+    if w[CP_KIND] == KIND_ELLIPSE or w[CP_TWO] != 0.0:
         out[0] = ny * row[0] - nx * row[1]
         out[1] = row[2]
         out[2] = ny * row[3] - nx * row[4]
@@ -361,6 +424,107 @@ def pivot_slip_rate(w, y1, y3, ud, wd):
         h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, w[CP_NX], w[CP_NY])
         return ud + h * wd + h1 * y3 * y3
     return ud + wd * w[CP_RAD]
+
+
+# ------------------------------------------------------------------ two contacts
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _offset(w, th, nx, ny, d, px, py):
+    """A held feature's constraint ``n . x = c(angle)`` on the plane (n, d): returns
+    ``(c, dc/dangle, d2c/dangle2, xi, eta_c)`` with the contact point's arm (from the centre
+    of mass) ``xi t + eta_c n``. A vertex p with radius rad: ``c = d + rad - n . R p``,
+    ``c' = -xi``, ``c'' = n . R p``, ``eta_c = n . R p - rad``; the ellipse: ``c = d + h``,
+    ``c' = h'``, ``c'' = h''``, arm ``(-h', -h)`` (``ellipse_support3``)."""
+    if w[CP_KIND] == KIND_ELLIPSE:
+        h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], th, nx, ny)
+        return d + h, h1, h2, -h1, -h
+    c = math.cos(th)
+    s = math.sin(th)
+    rx = c * px - s * py
+    ry = s * px + c * py
+    xi = ny * rx - nx * ry
+    eta = nx * rx + ny * ry
+    return d + w[CP_RAD] - eta, -xi, eta, xi, eta - w[CP_RAD]
+
+
+@njit(cache=True, _nrt=False)
+def two_geometry(w, th):
+    """Kinematics of a body held on two planes at the angle th (module docstring, "Two
+    contacts"): the centre ``x = N^-1 c`` (m), its velocity per unit w ``A1 = N^-1 c'``
+    (m/rad) and acceleration term ``A0 = N^-1 c''`` (``a = A1 dw/dt + A0 w^2``), both
+    contacts' arms ``(xi_k, eta_ck)`` and slips per unit w ``k_k = t_k . A1 - eta_ck`` (m).
+    Returns ``(x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2)``."""
+    n1x = w[CP_NX]
+    n1y = w[CP_NY]
+    n2x = w[CP_N2X]
+    n2y = w[CP_N2Y]
+    c1, d1, dd1, xi1, ec1 = _offset(w, th, n1x, n1y, w[CP_D], w[CP_PX], w[CP_PY])
+    c2, d2, dd2, xi2, ec2 = _offset(w, th, n2x, n2y, w[CP_D2], w[CP_P2X], w[CP_P2Y])
+    det = n1x * n2y - n1y * n2x
+    x = (n2y * c1 - n1y * c2) / det
+    y = (n1x * c2 - n2x * c1) / det
+    a1x = (n2y * d1 - n1y * d2) / det
+    a1y = (n1x * d2 - n2x * d1) / det
+    a0x = (n2y * dd1 - n1y * dd2) / det
+    a0y = (n1x * dd2 - n2x * dd1) / det
+    k1 = n1y * a1x - n1x * a1y - ec1
+    k2 = n2y * a1x - n2x * a1y - ec2
+    return x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2
+
+
+@njit(cache=True, _nrt=False)
+def two_forces(w, th, om):
+    """Normal forces and accelerations of a body sliding on two planes at (angle th, w om):
+    ``(code, lam1 (N), lam2 (N), dw/dt (rad/s^2), ax, ay (m/s^2))``; ``PV_PAINLEVE`` when
+    the sliding system has no unique solution (``D <= 0`` or the force directions
+    parallel). Equations in the module docstring ("Two contacts")."""
+    x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2 = two_geometry(w, th)
+    m = w[CP_M]
+    inertia = w[CP_I]
+    n1x = w[CP_NX]
+    n1y = w[CP_NY]
+    n2x = w[CP_N2X]
+    n2y = w[CP_N2Y]
+    gx = w[CP_GN] * n1x + w[CP_GT] * n1y
+    gy = w[CP_GN] * n1y - w[CP_GT] * n1x
+    s1 = w[CP_MU] * w[CP_SIG]
+    s2 = w[CP_MU2] * w[CP_SIG2]
+    # force directions e_k = n_k - mu_k sig_k t_k (t = (n_y, -n_x)), torque arms kap_k
+    e1x = n1x - s1 * n1y
+    e1y = n1y + s1 * n1x
+    e2x = n2x - s2 * n2y
+    e2y = n2y + s2 * n2x
+    kap1 = xi1 + s1 * ec1
+    kap2 = xi2 + s2 * ec2
+    dete = e1x * e2y - e1y * e2x
+    if dete == 0.0:
+        return PV_PAINLEVE, 0.0, 0.0, 0.0, 0.0, 0.0
+    om2 = om * om
+    bx = a0x * om2 - gx
+    by = a0y * om2 - gy
+    ka1 = kap1 * (e2y * a1x - e2x * a1y) + kap2 * (e1x * a1y - e1y * a1x)
+    kb = kap1 * (e2y * bx - e2x * by) + kap2 * (e1x * by - e1y * bx)
+    D = inertia - m * ka1 / dete
+    if not D > 0.0:
+        return PV_PAINLEVE, 0.0, 0.0, 0.0, 0.0, 0.0
+    wd = m * kb / dete / D
+    rx = a1x * wd + bx
+    ry = a1y * wd + by
+    lam1 = m * (e2y * rx - e2x * ry) / dete
+    lam2 = m * (e1x * ry - e1y * rx) / dete
+    return PV_OK, lam1, lam2, wd, a1x * wd + a0x * om2, a1y * wd + a0y * om2
+
+
+@njit(cache=True, _nrt=False)
+def two_slip_signs(w, th):
+    """Set the slip directions of a body sliding on two planes with w of sign ``w[CP_DIR]``
+    at the angle th: ``sig_k = sign(k_k s)`` (a contact at the instantaneous centre, k_k =
+    0, takes +s; its reversal event fires at once if that is wrong)."""
+    x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2 = two_geometry(w, th)
+    s = w[CP_DIR]
+    w[CP_SIG] = 1.0 if k1 * s >= 0.0 else -1.0
+    w[CP_SIG2] = 1.0 if k2 * s >= 0.0 else -1.0
 
 
 # ------------------------------------------------------------------ integrator
@@ -431,17 +595,35 @@ def _dense(w, s, yo):
 
 @njit(cache=True, _nrt=False)
 def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
-    """Value of event function e at the reduced state w[yo:yo+4]: e = 0 lam (N), e = 1 the
-    stick margin mu lam - |f| (N) or the slip sig v_T (m/s; inf for mu = 0), e >= 2 the
-    gap (m) of vertex (e - 2) % nv to plane (e - 2) // nv (inf for the held vertex on its
-    plane)."""
+    """Value of event function e at the reduced state w[yo:yo+4] (inf where it does not
+    apply): ``EF_LAM`` lam (N); ``EF_SLIP`` the stick margin mu lam - |f| (N) or the slip
+    sig v_T (m/s; inf for mu = 0); with two contacts ``EF_SLIP`` and ``EF_SLIP2`` the slip
+    directions ``sig_k s k_k`` (m), ``EF_LAM2`` the second lam (N), ``EF_TURN`` ``s w``
+    (rad/s); ``e >= N_EF`` the gap (m) of vertex (e - N_EF) % nv to plane
+    (e - N_EF) // nv (inf for a held vertex on its plane)."""
     y0 = w[yo]
     y1 = w[yo + 1]
     y2 = w[yo + 2]
     y3 = w[yo + 3]
-    if e < 2:
+    two = w[CP_TWO] != 0.0
+    if e < N_EF:
+        if two:
+            if e == EF_TURN:
+                return w[CP_DIR] * y3
+            if e == EF_LAM or e == EF_LAM2:
+                code, lam1, lam2, wd, ax, ay = two_forces(w, y1, y3)
+                return lam1 if e == EF_LAM else lam2
+            mu = w[CP_MU] if e == EF_SLIP else w[CP_MU2]
+            if mu == 0.0:
+                return math.inf
+            x, y, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2 = two_geometry(w, y1)
+            if e == EF_SLIP:
+                return w[CP_SIG] * w[CP_DIR] * k1
+            return w[CP_SIG2] * w[CP_DIR] * k2
+        if e > EF_SLIP:
+            return math.inf
         code, lam, f, ud, wd = pivot_forces(w, y0, y1, y2, y3)
-        if e == 0:
+        if e == EF_LAM:
             return lam
         if w[CP_SIG] == 0.0:
             return w[CP_MU] * lam - abs(f)
@@ -451,26 +633,30 @@ def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
             h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, w[CP_NX], w[CP_NY])
             return w[CP_SIG] * (y2 + y3 * h)
         return w[CP_SIG] * (y2 + y3 * w[CP_RAD])
-    q = (e - 2) // nv
-    k = (e - 2) % nv
+    q = (e - N_EF) // nv
+    k = (e - N_EF) % nv
     if q == p0 and k == k0:
+        return math.inf
+    if two and q == int(w[CP_Q2]) and k == int(w[CP_K2]):
         return math.inf
     nx = w[CP_NX]
     ny = w[CP_NY]
-    if w[CP_KIND] == KIND_ELLIPSE:
-        # the ellipse's gap to plane q: n_q . x - d_q - h_q(angle)
-        ea = w[CP_EA]
-        eb = w[CP_EB]
-        h, h1, h2 = ellipse_support3(ea, eb, y1, nx, ny)
+    if two:
+        x, yy, a1x, a1y, a0x, a0y, xi1, ec1, xi2, ec2, k1, k2 = two_geometry(w, y1)
+    elif w[CP_KIND] == KIND_ELLIPSE:
+        h, h1, h2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, nx, ny)
         z = w[CP_D] + h
         x = y0 * ny + z * nx
         yy = -y0 * nx + z * ny
-        hq, hq1, hq2 = ellipse_support3(ea, eb, y1, planes[q, 0], planes[q, 1])
+    else:
+        rx, ry, xi, eta = _arm(w, y1)
+        h = w[CP_D] + w[CP_RAD]
+        x = y0 * ny + h * nx - rx
+        yy = -y0 * nx + h * ny - ry
+    if w[CP_KIND] == KIND_ELLIPSE:
+        # the ellipse's gap to plane q: n_q . x - d_q - h_q(angle)
+        hq, hq1, hq2 = ellipse_support3(w[CP_EA], w[CP_EB], y1, planes[q, 0], planes[q, 1])
         return planes[q, 0] * x + planes[q, 1] * yy - planes[q, 2] - hq
-    rx, ry, xi, eta = _arm(w, y1)
-    h = w[CP_D] + w[CP_RAD]
-    x = y0 * ny + h * nx - rx
-    yy = -y0 * nx + h * ny - ry
     c = math.cos(y1)
     s = math.sin(y1)
     px = verts[v0 + k, 0]
@@ -482,15 +668,20 @@ def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
 @njit(cache=True, _nrt=False, inline="always")
 def _floor(w, e, v):
     """Firing level of event e for a step starting at value v (see the module docstring)."""
-    if e == 0:
+    L = w[CP_L]
+    if e == EF_LAM or e == EF_LAM2:
         arm = FORCE_ARM * w[CP_M] * math.hypot(w[CP_GN], w[CP_GT])
-    elif e == 1:
+    elif e == EF_TURN:
+        arm = SLIP_ARM * w[CP_V] / L
+    elif e == EF_SLIP2 or (e == EF_SLIP and w[CP_TWO] != 0.0):
+        arm = SLIP_ARM * L
+    elif e == EF_SLIP:
         if w[CP_SIG] == 0.0:
             arm = FORCE_ARM * w[CP_M] * math.hypot(w[CP_GN], w[CP_GT])
         else:
             arm = SLIP_ARM * w[CP_V]
     else:
-        arm = GAP_ARM * w[CP_L]
+        arm = GAP_ARM * L
     if v > arm:
         return 0.0
     return min(0.0, v) - arm
@@ -521,7 +712,7 @@ def _locate(w, e, fl, sa, sb, verts, v0, nv, planes, p0, k0, t0, rtol, atol):
         else:
             sb = sm
             fb = fm
-    return sa if e >= 2 else sb
+    return sa if e >= N_EF else sb
 
 
 @njit(cache=True, _nrt=False)
@@ -550,7 +741,7 @@ def _first_event(w, sa, sb, ne, verts, v0, nv, planes, off, p0, k0, t0, rtol, at
                 hi = mid
         sm = hi
     for e in range(ne):
-        if e >= 2 and off[(e - 2) // nv] != 0:
+        if e >= N_EF and off[(e - N_EF) // nv] != 0:
             continue
         _dense(w, sa, W_YB)
         v = _event(w, W_YB, e, verts, v0, nv, planes, p0, k0)
@@ -672,7 +863,9 @@ def pivot_advance(w, row, verts, v0, nv, planes, off, p0, k0, t0, S, rtol, atol,
     h = min(hmax, hmax * PIVOT_TOL ** 0.2 * 10.0)
     pivot_reduce(w, row, w[W_Y:W_Y + NY])
     w[W_S0] = 0.0
-    ne = 2 + planes.shape[0] * nv
+    if w[CP_TWO] != 0.0:
+        two_slip_signs(w, row[2])
+    ne = N_EF + planes.shape[0] * nv
     if _rhs(w, W_Y, W_K) != PV_OK:
         return 0.0, PE_NONE, 0, PI_FORCES
     hp = math.inf
@@ -716,11 +909,15 @@ def pivot_advance(w, row, verts, v0, nv, planes, off, p0, k0, t0, S, rtol, atol,
             pivot_row(w, w[W_YA], w[W_YA + 1], w[W_YA + 2], w[W_YA + 3], row)
             if e < 0:
                 return send, PE_NONE, 0, PI_OK
-            if e == 0:
-                return send, PE_LIFT, 0, PI_OK
-            if e == 1:
+            if e == EF_LAM or e == EF_LAM2:
+                return send, PE_LIFT, (0 if e == EF_LAM else 1), PI_OK
+            if e == EF_SLIP:
                 return send, (PE_SLIP if w[CP_SIG] == 0.0 else PE_STOP), 0, PI_OK
-            return send, PE_GAP, e - 2, PI_OK
+            if e == EF_SLIP2:
+                return send, PE_STOP, 1, PI_OK
+            if e == EF_TURN:
+                return send, PE_TURN, 0, PI_OK
+            return send, PE_GAP, e - N_EF, PI_OK
         if rows >= PIECE_BUDGET:
             for j in range(NY):
                 w[W_YA + j] = w[W_Y1 + j]

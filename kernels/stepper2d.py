@@ -122,7 +122,8 @@ guard(__name__, __file__)
 from . import evbuf
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
-from .layout import B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_MODE, M_PLANE
+from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M_MODE,  # noqa: F401
+                     M_PLANE, M_PLANE2, N_PM)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY,
@@ -135,14 +136,16 @@ from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_2d_as
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
                        fly_row)
-from .pivot2d import (CP_D, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_KIND, CP_L, CP_M, CP_MU,
-                      CP_NX, CP_NY, CP_PX, CP_PY, CP_RAD, CP_SIG, KIND_ELLIPSE, KIND_VERTEX,
-                      N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP, PI_OK,
-                      PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_YA, ellipse_support3,
-                      pivot_advance, pivot_forces, pivot_reduce, pivot_slip_rate)
+from .pivot2d import (CP_D, CP_D2, CP_DIR, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_K2, CP_KIND,
+                      CP_L, CP_M, CP_MU, CP_MU2, CP_N2X, CP_N2Y, CP_NX, CP_NY, CP_P2X,
+                      CP_P2Y, CP_PX, CP_PY, CP_Q2, CP_RAD, CP_SIG, CP_TWO, KIND_ELLIPSE,
+                      KIND_VERTEX, N_W, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP, PE_STOP, PE_TURN,
+                      PI_OK, PI_TOO_MANY_STEPS, PIECE_BUDGET, PV_OK, W_ROW, W_YA,
+                      ellipse_support3, pivot_advance, pivot_forces, pivot_reduce, pivot_row,
+                      pivot_slip_rate, two_forces, two_slip_signs)
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
                     disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
-from .wedge2d import two_contact_rest
+from .wedge2d import three_contact_rest, two_contact_rest
 
 INF = math.inf
 
@@ -1044,6 +1047,20 @@ def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
     w[CP_PY] = verts[v0 + pm[i, M_FEAT], 1]
     w[CP_MU] = law_par[bp_law[i, p], P_MU]
     w[CP_SIG] = float(pm[i, M_AUX])
+    q = pm[i, M_PLANE2]
+    w[CP_TWO] = 0.0
+    if q >= 0:
+        # held on two planes: pm[i, M_AUX] is the sign of w (pivot2d, "Two contacts")
+        w[CP_TWO] = 1.0
+        w[CP_N2X] = planes[q, 0]
+        w[CP_N2Y] = planes[q, 1]
+        w[CP_D2] = planes[q, 2]
+        w[CP_Q2] = float(q)
+        w[CP_K2] = float(pm[i, M_FEAT2])
+        w[CP_P2X] = verts[v0 + pm[i, M_FEAT2], 0]
+        w[CP_P2Y] = verts[v0 + pm[i, M_FEAT2], 1]
+        w[CP_MU2] = law_par[bp_law[i, q], P_MU]
+        w[CP_DIR] = float(pm[i, M_AUX])
     if bint[i, B_KIND] == SH_ELLIPSE:
         # held on its curved boundary (pivot2d, KIND_ELLIPSE)
         w[CP_KIND] = KIND_ELLIPSE
@@ -1052,6 +1069,8 @@ def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
         w[CP_RAD] = 0.0
         w[CP_PX] = 0.0
         w[CP_PY] = 0.0
+        w[CP_P2X] = 0.0
+        w[CP_P2Y] = 0.0
         w[CP_L] = max(bflt[i, B_EA], bflt[i, B_EB])
         return
     w[CP_KIND] = KIND_VERTEX
@@ -1157,6 +1176,7 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     pm[i, M_PLANE] = p
     pm[i, M_FEAT] = k
     pm[i, M_AUX] = 0
+    pm[i, M_PLANE2] = -1
     e0 = _energy(st, bflt, grav, i)
     px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
@@ -1234,7 +1254,7 @@ def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
 
 @njit(cache=True, _nrt=False)
 def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
-                 bp_t, pm, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
+                 bp_t, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
                  err):
     """The event due at t of body i in integrated pivot contact (st[i] is its state at t),
     then the next pass. Returns (rc, action): action 0 a pass ran (its pieces are
@@ -1250,6 +1270,10 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
     if kind == PE_GAP:
         bp_t[i, idx // bint[i, B_COUNT]] = t
         return 0, 2
+    if pm[i, M_PLANE2] >= 0:
+        return _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_par,
+                          bp_law, bp_off, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t,
+                          seg_b, seg_s, cnt, err)
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
     px, py, rx, ry, viN, viT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     if kind == PE_LIFT:
@@ -1290,6 +1314,246 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
         _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK if pm[i, M_AUX] == 0 else EV_SLIDE, i, -1 - p,
              2 if pm[i, M_AUX] == 0 else 1, 0, px, py, nx, ny, viN, viT, vfN, vfT, PN, PT,
              _energy(st, bflt, grav, i) - e0)
+    rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
+                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
+    return rc, 0
+
+
+# ------------------------------------------------------------------ two held contacts
+
+
+@njit(cache=True, _nrt=False)
+def _two_contact(i, j, st, bint, bflt, verts, planes, pm):
+    """Held contact j of body i on two planes (0: ``pm[i, M_PLANE]``, ``M_FEAT``; 1:
+    ``M_PLANE2``, ``M_FEAT2``): (plane, px, py, rx, ry, v_N, v_T) at its current state."""
+    p = pm[i, M_PLANE] if j == 0 else pm[i, M_PLANE2]
+    k = pm[i, M_FEAT] if j == 0 else pm[i, M_FEAT2]
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + k, nx, ny)
+    ux, uy = _point_vel(st, i, rx, ry)
+    return p, px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
+
+
+@njit(cache=True, _nrt=False)
+def _two_choose(i, st, w, pm):
+    """Direction in which body i (on two planes, parameters in w, w = 0) starts to slide:
+    ``s = +1`` or ``-1`` with ``s dw/dt > 0`` and both normal forces >= 0 (consistent), set
+    in ``pm[i, M_AUX]``. Returns 0, 1 (neither direction is consistent) or ERR_PAINLEVE
+    (neither has a solution)."""
+    th = st[i, ANGLE]
+    painleve = True
+    for it in range(2):
+        s = 1.0 if it == 0 else -1.0
+        w[CP_DIR] = s
+        two_slip_signs(w, th)
+        code, lam1, lam2, wd, ax, ay = two_forces(w, th, 0.0)
+        if code != PV_OK:
+            continue
+        painleve = False
+        if s * wd > 0.0 and lam1 >= 0.0 and lam2 >= 0.0:
+            pm[i, M_AUX] = int(s)
+            return 0
+    return ERR_PAINLEVE if painleve else 1
+
+
+@njit(cache=True, _nrt=False)
+def _two_enter(i, p1, k1, p2, k2, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+               pm, tz, zp, ttr, w, ev_t, ev_i, ev_f, cnt):
+    """Body i (in flight at t) whose impacts accumulate at vertex k1 on plane p1 and at k2
+    on another plane p2 slides on both (mode table, "two contacts"; ``pivot2d``, "Two
+    contacts"). Both normal velocities (below the accumulation speed) are removed by the
+    normal impulses ``W_NN P = -v_N`` of the two contacts (a projection: ``dE = -v_N .
+    W_NN^-1 v_N / 2 <= 0``); the body then slides the way w turns (from w = 0: the
+    consistent way, ``_two_choose``), held on both, when both normal forces are >= 0.
+    Returns 0 (event "pivot" on each contact; a pass at t is scheduled) or 1 (no
+    consistent two-contact motion: the state is left as it was)."""
+    m = bflt[i, B_MASS]
+    inertia = bflt[i, B_INERTIA]
+    vx0 = st[i, VX]
+    vy0 = st[i, VY]
+    om0 = st[i, OMEGA]
+    old_mode = pm[i, M_MODE]
+    old_plane = pm[i, M_PLANE]
+    old_feat = pm[i, M_FEAT]
+    old_aux = pm[i, M_AUX]
+    pm[i, M_MODE] = PM_PIVOT
+    pm[i, M_PLANE] = p1
+    pm[i, M_FEAT] = k1
+    pm[i, M_PLANE2] = p2
+    pm[i, M_FEAT2] = k2
+    pm[i, M_AUX] = 1
+    e0 = _energy(st, bflt, grav, i)
+    q1, px1, py1, r1x, r1y, v1n, v1t = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
+    q2, px2, py2, r2x, r2y, v2n, v2t = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+    n1x = planes[p1, 0]
+    n1y = planes[p1, 1]
+    n2x = planes[p2, 0]
+    n2y = planes[p2, 1]
+    c1 = r1x * n1y - r1y * n1x
+    c2 = r2x * n2y - r2y * n2x
+    a11 = 1.0 / m + c1 * c1 / inertia
+    a12 = (n1x * n2x + n1y * n2y) / m + c1 * c2 / inertia
+    a22 = 1.0 / m + c2 * c2 / inertia
+    det = a11 * a22 - a12 * a12
+    ok = det > 0.0
+    P1 = 0.0
+    P2 = 0.0
+    if ok:
+        P1 = -(a22 * v1n - a12 * v2n) / det
+        P2 = -(a11 * v2n - a12 * v1n) / det
+        st[i, VX] += (P1 * n1x + P2 * n2x) / m
+        st[i, VY] += (P1 * n1y + P2 * n2y) / m
+        st[i, OMEGA] += (c1 * P1 + c2 * P2) / inertia
+        _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+        om = st[i, OMEGA]
+        if om != 0.0:
+            pm[i, M_AUX] = 1 if om > 0.0 else -1
+            w[CP_DIR] = float(pm[i, M_AUX])
+            two_slip_signs(w, st[i, ANGLE])
+            code, lam1, lam2, wd, ax, ay = two_forces(w, st[i, ANGLE], om)
+            ok = code == PV_OK and lam1 >= 0.0 and lam2 >= 0.0
+        else:
+            ok = _two_choose(i, st, w, pm) == 0
+    if not ok:
+        st[i, VX] = vx0
+        st[i, VY] = vy0
+        st[i, OMEGA] = om0
+        pm[i, M_MODE] = old_mode
+        pm[i, M_PLANE] = old_plane
+        pm[i, M_FEAT] = old_feat
+        pm[i, M_AUX] = old_aux
+        pm[i, M_PLANE2] = -1
+        return 1
+    tz[i] = INF
+    ttr[i] = t
+    zp[i] = PE_NONE
+    dE = _energy(st, bflt, grav, i) - e0
+    q1, px1, py1, r1x, r1y, f1n, f1t = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
+    q2, px2, py2, r2x, r2y, f2n, f2t = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p1, 1, 0, px1, py1, n1x, n1y, v1n, v1t,
+         f1n, f1t, P1, 0.0, dE)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p2, 1, 0, px2, py2, n2x, n2y, v2n, v2t,
+         f2n, f2t, P2, 0.0, 0.0)
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _two_drop(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, w, ev_t, ev_i,
+              ev_f, cnt):
+    """Body i at rest (w = 0) on two planes that can neither rest nor slide on both: it
+    keeps the contact j whose single held motion (``_pv_choose``) is consistent while the
+    other contact's gap accelerates away from its plane (``n . (a + alpha J r) >= 0``), and
+    lets the other go (event "release"). Returns 0, or 1 when neither contact can be kept
+    (pm left as it was)."""
+    p0 = pm[i, M_PLANE]
+    k0 = pm[i, M_FEAT]
+    p1 = pm[i, M_PLANE2]
+    k1 = pm[i, M_FEAT2]
+    aux = pm[i, M_AUX]
+    row = w[W_ROW:W_ROW + 9]
+    for j in range(2):
+        pk, kk, pd, kd = (p0, k0, p1, k1) if j == 0 else (p1, k1, p0, k0)
+        pm[i, M_PLANE] = pk
+        pm[i, M_FEAT] = kk
+        pm[i, M_PLANE2] = -1
+        pm[i, M_AUX] = 0
+        _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+        if _pv_choose(i, st, w, pm) != 0:
+            continue
+        y = w[W_YA:W_YA + 4]
+        pivot_reduce(w, st[i], y)
+        pivot_row(w, y[0], y[1], y[2], y[3], row)
+        nx = planes[pd, 0]
+        ny = planes[pd, 1]
+        px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + kd,
+                                        nx, ny)
+        if nx * (row[6] - row[8] * ry) + ny * (row[7] + row[8] * rx) < 0.0:
+            continue
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - pd, 0, 0, px, py, nx, ny, 0.0, 0.0,
+             0.0, 0.0, 0.0, 0.0, 0.0)
+        return 0
+    pm[i, M_PLANE] = p0
+    pm[i, M_FEAT] = k0
+    pm[i, M_PLANE2] = p1
+    pm[i, M_FEAT2] = k1
+    pm[i, M_AUX] = aux
+    return 1
+
+
+@njit(cache=True, _nrt=False)
+def _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
+               bp_off, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
+               err):
+    """The event due at t of body i sliding on two planes (st[i] its state at t), then the
+    next pass. ``PE_LIFT``: contact idx leaves (event "release" on its plane), the body
+    pivots on the other one (or flies when that cannot hold it either); ``PE_STOP``: the
+    slip of contact idx reverses while w does not (event "slide"); ``PE_TURN``: w reaches
+    0, where ``v = A1 w`` vanishes: the integration's round-off is removed, then the body
+    rests on both planes when that is a static equilibrium (``wedge2d``; event "rest",
+    ``PM_WEDGED``), else slides the consistent way (event "slide"; ERR_TWO_PLANES when
+    neither way is). Returns (rc, action) as ``_pivot_event``."""
+    _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+    if kind == PE_LIFT:
+        pg, px, py, rx, ry, vN, vT = _two_contact(i, idx, st, bint, bflt, verts, planes, pm)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - pg, 0, 0, px, py, planes[pg, 0],
+             planes[pg, 1], vN, vT, vN, vT, 0.0, 0.0, 0.0)
+        if idx == 0:
+            pm[i, M_PLANE] = pm[i, M_PLANE2]
+            pm[i, M_FEAT] = pm[i, M_FEAT2]
+        pm[i, M_PLANE2] = -1
+        p = pm[i, M_PLANE]
+        px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+        pm[i, M_AUX] = 0 if vT == 0.0 or w[CP_MU] == 0.0 else (1 if vT > 0.0 else -1)
+        _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
+        if pm[i, M_AUX] == 0:
+            rc = _pv_choose(i, st, w, pm)
+        else:
+            code, lam, f, aT = _pv_state(i, st, w)
+            rc = ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
+        if rc == ERR_PAINLEVE:
+            _set_err(err, t, i, -1 - p, px, py, w[CP_MU], vT, 0.0)
+            return rc, 0
+        if rc == 1:
+            # the other contact cannot hold the body either: free flight
+            pm[i, M_MODE] = PM_FLIGHT
+            pm[i, M_AUX] = REL_TANGENT
+            st[i, AX] = grav[0]
+            st[i, AY] = grav[1]
+            st[i, ALPHA] = 0.0
+            _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - p, 0, 0, px, py, planes[p, 0],
+                 planes[p, 1], vN, vT, vN, vT, 0.0, 0.0, 0.0)
+            return 0, 1
+    elif kind == PE_STOP:
+        pg, px, py, rx, ry, vN, vT = _two_contact(i, idx, st, bint, bflt, verts, planes, pm)
+        _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - pg, 1, 0, px, py, planes[pg, 0],
+             planes[pg, 1], vN, vT, vN, vT, 0.0, 0.0, 0.0)
+    elif kind == PE_TURN:
+        p1 = pm[i, M_PLANE]
+        p2 = pm[i, M_PLANE2]
+        q1, px, py, r1x, r1y, vN, vT = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
+        q2, px2, py2, r2x, r2y, vN2, vT2 = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+        if two_contact_rest(bflt[i, B_MASS], grav[0], grav[1], r1x, r1y, planes[p1, 0],
+                            planes[p1, 1], w[CP_MU], r2x, r2y, planes[p2, 0], planes[p2, 1],
+                            w[CP_MU2]):
+            pm[i, M_PLANE2] = -1
+            _wedge(i, p1, t, st, bflt, grav, pm, tz, ttr, px, py, vN, vT, planes, ev_t, ev_i,
+                   ev_f, cnt)
+            return 0, 1
+        e0 = _energy(st, bflt, grav, i)
+        st[i, VX] = 0.0
+        st[i, VY] = 0.0
+        st[i, OMEGA] = 0.0
+        mu1 = w[CP_MU]
+        mu2 = w[CP_MU2]
+        rc = _two_choose(i, st, w, pm)
+        if rc == 0:
+            _log(ev_t, ev_i, ev_f, cnt, t, EV_SLIDE, i, -1 - p1, 1, 0, px, py, planes[p1, 0],
+                 planes[p1, 1], vN, vT, 0.0, 0.0, 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
+        elif _two_drop(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, w,
+                       ev_t, ev_i, ev_f, cnt) != 0:
+            _set_err(err, t, i, -1 - p1, px, py, float(p2), mu1, mu2)
+            return (ERR_PAINLEVE if rc == ERR_PAINLEVE else ERR_TWO_PLANES), 0
     rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
                      bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
     return rc, 0
@@ -1479,8 +1743,11 @@ def _sequential(law, members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, 
                 toli, ev_t, ev_i, ev_f, cnt, err):
     """Sequential policy: repeatedly resolve, with its pair law, the contact that approaches
     fastest (ties: lowest contact index), until none approaches faster than vtol. A single
-    contact goes through here too, with vtol = 0 (resolved once if it approaches)."""
-    for step in range(toli[TI_SEQ_MAXSTEPS]):
+    contact goes through here too, with vtol = 0, and is resolved once if it approaches: the
+    law's answer is final (a law that leaves v_N = -1.6e-18 m/s, the round-off of its
+    impulse, gives the same answer again: 1000 resolutions and an error)."""
+    steps = toli[TI_SEQ_MAXSTEPS] if K > 1 else 1
+    for step in range(steps):
         best = -1
         vbest = -vtol
         for a in range(K):
@@ -1499,6 +1766,8 @@ def _sequential(law, members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, 
             return rc
         if perforates(law_par[c_i[best, CI_LAW]], vfN):
             c_i[best, CI_OFF] = 1
+    if K == 1:
+        return 0
     c = members[0]
     _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], K,
              toli[TI_SEQ_MAXSTEPS], 0.0)
@@ -1569,15 +1838,16 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
                     piv = True
         for p in range(npl):
             held = piv and p == pm[i, M_PLANE]
-            if bp_t[i, p] > tw and not held:
+            held2 = piv and p == pm[i, M_PLANE2]
+            if bp_t[i, p] > tw and not held and not held2:
                 continue
             bmark[i] = 1
             kind = FEAT_ELLIPSE if bint[i, B_KIND] == SH_ELLIPSE else FEAT_VERTEX
             v0 = bint[i, B_FIRST]
             nv = bint[i, B_COUNT]
             for k in range(nv):
-                if held and k == pm[i, M_FEAT]:
-                    pass    # the held vertex is in the cluster (at gap 0)
+                if (held and k == pm[i, M_FEAT]) or (held2 and k == pm[i, M_FEAT2]):
+                    pass    # a held vertex is in the cluster (at gap 0)
                 elif nv > 1:
                     s, code = plane_feature_toi(
                         kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, B_RADIUS],
@@ -1608,6 +1878,7 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
             # the integrated contact ends with the impact: in flight at t (after the
             # impacts, _after_impacts decides what persists)
             pm[i, M_MODE] = PM_FLIGHT
+            pm[i, M_PLANE2] = -1
             st[i, AX] = grav[0]
             st[i, AY] = grav[1]
             st[i, ALPHA] = 0.0
@@ -1704,13 +1975,14 @@ def _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb
 
 
 @njit(cache=True, _nrt=False)
-def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
+def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
                c_i, c_f, ev_t, ev_i, ev_f, cnt):
     """Rest on several points (mode table): after the impacts of an instant, body i whose
     kinetic energy is below the accumulation threshold ``m zeno_speed^2 / 2`` and that
     touches two different planes (two contacts of this instant, or one and the
-    plane it rolls, slides or rests on) on which it can rest in static equilibrium with
-    Coulomb friction (``wedge2d.two_contact_rest``) comes to rest there: its remaining
+    plane it rolls, slides or rests on: a disk's point, a polygon's face) on which it can
+    rest in static equilibrium with Coulomb friction (``wedge2d.two_contact_rest``,
+    ``three_contact_rest``) comes to rest there: its remaining
     motion (below the threshold) is removed, event "rest" (mode ``PM_WEDGED``). Returns
     True when the body was wedged."""
     m = bflt[i, B_MASS]
@@ -1739,6 +2011,25 @@ def _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz, 
                 break
         if first >= 0:
             break
+        # ... or with the face a polygon rests or slides on (its two corners: three
+        # contacts)
+        if ((pm[i, M_MODE] == PM_REST or pm[i, M_MODE] == PM_SLIDE)
+                and bint[i, B_KIND] == SH_POLY and pm[i, M_PLANE] != c_i[c, CI_B]):
+            q = pm[i, M_PLANE]
+            nqx = planes[q, 0]
+            nqy = planes[q, 1]
+            mu_q = law_par[bp_law[i, q], P_MU]
+            v0 = bint[i, B_FIRST]
+            a0x, a0y, r0x, r0y = _plane_contact(st, i, bint, bflt, verts, v0 + pm[i, M_FEAT],
+                                                nqx, nqy)
+            a1x, a1y, r1x, r1y = _plane_contact(st, i, bint, bflt, verts, v0 + pm[i, M_AUX],
+                                                nqx, nqy)
+            if three_contact_rest(m, grav[0], grav[1],
+                                  ((r0x, r0y, nqx, nqy, mu_q), (r1x, r1y, nqx, nqy, mu_q),
+                                   (c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
+                                    c_f[c, CF_NY], law_par[c_i[c, CI_LAW], P_MU]))):
+                first = c
+                break
         # ... or with the plane a disk rolls, slides or rests on
         if (bint[i, B_KIND] == SH_DISK and pm[i, M_MODE] != PM_FLIGHT
                 and pm[i, M_MODE] != PM_WEDGED and pm[i, M_PLANE] != c_i[c, CI_B]):
@@ -1782,9 +2073,10 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
     """Disk i's impacts accumulate on plane p: if it also touches another plane q (gap
     within gap_tol) and does not leave it, the accumulation on p alone would ignore q (a disk
     in a groove gained 1e-7 of the scene's energy, status 'done'). It rests on p and q when
-    that is a static equilibrium (event "rest", PM_WEDGED; returns 1), else the run stops
-    (ERR_TWO_PLANES: rolling or sliding on two planes is not built). Returns 0 when no
-    second plane is touched."""
+    its kinetic energy (spin included) is below the accumulation threshold ``m
+    zeno_speed^2 / 2`` and that is a static equilibrium (event "rest", PM_WEDGED; returns
+    1), else returns 2 + q (it may spin or slide on both planes: ``_two_enter``). Returns 0
+    when no second plane is touched."""
     rad = bflt[i, B_RADIUS]
     m = bflt[i, B_MASS]
     for q in range(planes.shape[0]):
@@ -1803,7 +2095,10 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
             continue        # leaving q
         npx = planes[p, 0]
         npy = planes[p, 1]
-        if two_contact_rest(m, grav[0], grav[1], -rad * npx, -rad * npy, npx, npy,
+        ke = 0.5 * m * (st[i, VX] * st[i, VX] + st[i, VY] * st[i, VY]) \
+            + 0.5 * bflt[i, B_INERTIA] * st[i, OMEGA] * st[i, OMEGA]
+        if ke <= 0.5 * m * _vz2(tolf, math.hypot(grav[0], grav[1])) and two_contact_rest(
+                m, grav[0], grav[1], -rad * npx, -rad * npy, npx, npy,
                             law_par[bp_law[i, p], P_MU], -rad * nqx, -rad * nqy, nqx, nqy,
                             law_par[bp_law[i, q], P_MU]):
             vN = npx * st[i, VX] + npy * st[i, VY]
@@ -1811,8 +2106,7 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
             _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, st[i, X] - rad * npx,
                    st[i, Y] - rad * npy, vN, vT, planes, ev_t, ev_i, ev_f, cnt)
             return 1
-        _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], float(q), g, 0.0)
-        return ERR_TWO_PLANES
+        return 2 + q
     return 0
 
 
@@ -1847,7 +2141,7 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
         if bmark[i] == 0:
             continue
         if wedge is not None:
-            if _try_wedge(i, nc, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, tz,
+            if _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
                           ttr, tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
                 continue
         if pm[i, M_MODE] != PM_FLIGHT:
@@ -1858,7 +2152,10 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                              bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
-            continue
+            if pm[i, M_MODE] != PM_FLIGHT:
+                continue
+            # released by this instant's impact on another plane: its impacts there may
+            # accumulate (below), as for a body in flight
         settled = False
         for c in range(nc):
             if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
@@ -1893,6 +2190,21 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                                         tz, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 if rc < 0:
                     return rc
+                if rc >= 2:
+                    # it does not rest on p and q: it spins (or slides) on both when it is
+                    # pressed into both, else its accumulation on p goes on (below)
+                    q = rc - 2
+                    if pivot is not None:
+                        rc2 = _two_enter(i, p, 0, q, 0, t, st, bint, bflt, verts, planes,
+                                         grav, law_par, bp_law, pm, tz, zp, ttr, w, ev_t, ev_i,
+                                         ev_f, cnt)
+                    else:
+                        rc2 = _not_compiled(err, t, i, FEATURE_PIVOT)
+                    if rc2 < 0:
+                        return rc2
+                    if rc2 == 0:
+                        settled = True
+                        break
                 if rc == 1:
                     settled = True      # wedged between p and a second plane
                     break
@@ -1912,9 +2224,11 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
         if not settled:
             # impacts accumulating at one point: a polygon (or rod) vertex, or an ellipse's
             # boundary, on a plane is held there (integrated pivot contact); the most
-            # strongly pushed one if several
+            # strongly pushed one if several; at points on two planes: held on both
             hold = -1
+            hold2 = -1
             amin = 0.0
+            amin2 = 0.0
             for c in range(nc):
                 if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
                     continue
@@ -1923,13 +2237,39 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
                 if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                    if c_i[c, CI_TYPE] != 0 or bint[i, B_KIND] == SH_DISK:
+                    if c_i[c, CI_TYPE] != 0:
                         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
                                  c_f[c, CF_PY], vN, acc, 0.0)
                         return ERR_CHATTER
                     if acc < amin:
                         amin = acc
                         hold = c
+            # ... and a contact on a second plane, as slow on the scale of the first (its
+            # free gap need not accelerate into its plane: a ladder's top is pushed into the
+            # wall by the floor): held on both when that is consistent (_two_enter)
+            if hold >= 0 and wedge is not None:
+                for c in range(nc):
+                    if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
+                            or c_i[c, CI_B] == c_i[hold, CI_B]):
+                        continue
+                    vN, vT = _contact_velocity(st, c_i, c_f, c)
+                    acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
+                    if vN * vN < _vz2(tolf, -amin) and (hold2 < 0 or acc < amin2):
+                        amin2 = acc
+                        hold2 = c
+            if hold2 >= 0 and wedge is not None and pivot is not None:
+                rc = _two_enter(i, c_i[hold, CI_B], c_i[hold, CI_FEAT] - bint[i, B_FIRST],
+                                c_i[hold2, CI_B], c_i[hold2, CI_FEAT] - bint[i, B_FIRST], t, st,
+                                bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+                                ttr, w, ev_t, ev_i, ev_f, cnt)
+                if rc == 0:
+                    continue    # its first pass (at t) records its motion
+            if hold >= 0 and bint[i, B_KIND] == SH_DISK:
+                c = hold
+                vN, vT = _contact_velocity(st, c_i, c_f, c)
+                _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN, amin,
+                         0.0)
+                return ERR_CHATTER
             if hold >= 0:
                 c = hold
                 if pivot is not None:
@@ -1969,8 +2309,9 @@ def scene_features(bint, planes, grav, n_pairs):
     ``stepper3d.scene_features``): no 2D mode depends on it."""
     kinds = {int(k) for k in bint[:, 0]}
     n_planes = len(planes)
-    pivot = SH_POLY in kinds or SH_ELLIPSE in kinds
     wedge = n_planes >= 2
+    # a disk pivots only on two planes (it spins on both: _two_enter)
+    pivot = SH_POLY in kinds or SH_ELLIPSE in kinds or (SH_DISK in kinds and wedge)
     pair = n_pairs > 0
     # several vertices of a polygon, several planes or a pair can touch at one instant
     joint = SH_POLY in kinds or wedge or pair
@@ -2072,7 +2413,7 @@ def loop_for(law):
                 if ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
                     if pivot is not None:
                         rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
-                                               grav, law_par, bp_law, bp_off, bp_t, pm, zp,
+                                               grav, law_par, bp_law, bp_off, bp_t, pm, tz, zp,
                                                ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b,
                                                seg_s, cnt, err)
                     else:

@@ -109,3 +109,70 @@ def two_contact_rest(m, gx, gy, r1x, r1y, n1x, n1y, mu1, r2x, r2y, n2x, n2y, mu2
         elif a < -tol:
             return False
     return lo <= hi
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _generator(c, g, L):
+    """Edge g of the friction cones of the contacts c (g // 2 the contact, g % 2 the
+    side): the unit force ``(n +- mu t) / |n +- mu t|`` and its moment about the centre of
+    mass divided by L (so the three components are forces, N per N)."""
+    rx, ry, nx, ny, mu = c[g // 2]
+    s = mu if g % 2 == 0 else -mu
+    fx = nx + s * ny
+    fy = ny - s * nx
+    h = math.hypot(fx, fy)
+    fx /= h
+    fy /= h
+    return fx, fy, (rx * fy - ry * fx) / L
+
+
+@njit(cache=True, _nrt=False)
+def three_contact_rest(m, gx, gy, c):
+    """True when the body can rest on the three contacts ``c`` (a tuple of three ``(r_x,
+    r_y, n_x, n_y, mu)``: arm from the centre of mass (m), unit normal into the body,
+    friction coefficient; e.g. a face's two corners on one plane and a corner on another).
+    Each contact force is a non-negative combination of its friction cone's two edges, so
+    the body rests iff ``A x = -(m g, 0)`` has a solution ``x >= 0`` over the six edges; by
+    Caratheodory's theorem some solution then uses at most three edges (a basic solution),
+    so the test enumerates the 20 triples (and the pairs and single edges, for degenerate
+    systems) and solves each exactly (Cramer), accepting coefficients and residuals within
+    ``FEAS_RTOL m |g|``."""
+    L = 1e-300
+    for k in range(3):
+        L = max(L, math.hypot(c[k][0], c[k][1]))
+    bx = -m * gx
+    by = -m * gy
+    tol = FEAS_RTOL * m * math.hypot(gx, gy)
+    for a in range(6):
+        ax, ay, am = _generator(c, a, L)
+        # one edge: b = x a
+        x = ax * bx + ay * by
+        if x >= -tol and math.hypot(bx - x * ax, by - x * ay) + abs(x * am) <= tol:
+            return True
+        for b in range(a + 1, 6):
+            cx, cy, cm = _generator(c, b, L)
+            # two edges: least squares on the 3 x 2 system, then its residual
+            s11 = ax * ax + ay * ay + am * am
+            s12 = ax * cx + ay * cy + am * cm
+            s22 = cx * cx + cy * cy + cm * cm
+            r1 = ax * bx + ay * by
+            r2 = cx * bx + cy * by
+            det2 = s11 * s22 - s12 * s12
+            if det2 > RANK_RTOL:
+                x1 = (s22 * r1 - s12 * r2) / det2
+                x2 = (s11 * r2 - s12 * r1) / det2
+                if (x1 >= -tol and x2 >= -tol
+                        and abs(bx - x1 * ax - x2 * cx) + abs(by - x1 * ay - x2 * cy)
+                        + abs(x1 * am + x2 * cm) <= tol):
+                    return True
+            for d in range(b + 1, 6):
+                ex, ey, em = _generator(c, d, L)
+                D = _det3(ax, cx, ex, ay, cy, ey, am, cm, em)
+                if not abs(D) > RANK_RTOL:
+                    continue
+                x1 = _det3(bx, cx, ex, by, cy, ey, 0.0, cm, em) / D
+                x2 = _det3(ax, bx, ex, ay, by, ey, am, 0.0, em) / D
+                x3 = _det3(ax, cx, bx, ay, cy, by, am, cm, 0.0) / D
+                if x1 >= -tol and x2 >= -tol and x3 >= -tol:
+                    return True
+    return False

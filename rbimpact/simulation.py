@@ -331,14 +331,14 @@ class Simulation:
         st = np.zeros((nb, 9))
         for i, b in enumerate(self.scene.bodies):
             st[i, :6] = (*b.position, b.angle, *b.velocity, b.angular_velocity)
-        pm = np.zeros((nb, 4), np.int64)
+        pm = np.zeros((nb, k.N_PM), np.int64)
         pm[:, 1:] = -1
         M = k.MAXC
         F, I = float, int
         return Arena([
             ("tolf", (k.N_TF,), F, tolf), ("toli", (k.N_TI,), I, toli),
             # dynamic state
-            ("st", (nb, 9), F, st), ("tref", (nb,), F, 0.0), ("pm", (nb, 4), I, pm),
+            ("st", (nb, 9), F, st), ("tref", (nb,), F, 0.0), ("pm", (nb, k.N_PM), I, pm),
             ("tz", (nb,), F, np.inf), ("zp", (nb,), I, -1), ("ttr", (nb,), F, np.inf),
             ("bp_t", (nb, npl), F, np.inf), ("bp_off", (nb, npl), I, 0),
             ("pr_t", (npr,), F, np.inf), ("pr_off", (npr,), I, 0), ("glob", (2,), F, 0.0),
@@ -511,10 +511,9 @@ class Simulation:
                 f"its step limit {at} (centre of mass ({err[3]:.9g}, {err[4]:.9g}))")
         elif rc == k.ERR_TWO_PLANES:
             exc = SimulationError(
-                f"{body} accumulates on {self._where(b)} {at} while it touches plane "
-                f"{int(err[5])} too and cannot rest on both: persistent contact with two "
-                f"planes at once (rolling or sliding in a groove or a corner) is not "
-                f"supported")
+                f"{body} is held by {self._where(b)} and plane {int(err[5])} {at} and has "
+                f"no consistent motion on both: it cannot rest there (static equilibrium "
+                f"with friction), nor slide on both with non-negative normal forces")
         elif rc == k.ERR_FAR_ACCUMULATION:
             exc = SimulationError(
                 f"{body} bounces on {self._where(b)} with restitution e = {err[5]:.12g} "
