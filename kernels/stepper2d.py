@@ -35,9 +35,10 @@ Scene arrays (constant during a run)
 Dynamic state (kept between calls)
 ----------------------------------
 ``st`` float64[nb, 9] state rows at ``tref`` (columns ``X, Y, ANGLE, VX, VY, OMEGA, AX,
-AY, ALPHA`` of ``flight2d``); ``pm`` int64[nb, 4] persistent contact (``M_MODE`` mode
+AY, ALPHA`` of ``flight2d``); ``pm`` int64[nb, N_PM] persistent contact (``M_MODE`` mode
 ``PM_*``, ``M_PLANE`` plane, ``M_FEAT`` face vertex 0, ``M_AUX`` face vertex 1;
 ``PM_PIVOT``: held vertex, contact status ``0`` sticking / ``+-1`` sliding along ``+-t``;
+``M_PLANE2``, ``M_FEAT2``: the second held contact on two planes, else -1;
 in flight ``pm[i, M_AUX] == REL_TANGENT`` marks a body just released tangentially from vertex
 ``pm[i, M_FEAT]`` on plane ``pm[i, M_PLANE]``, see ``_released_toi``); ``tz``/``zp`` pending
 accumulation (Zeno) point and its plane (``PM_PIVOT``: ``zp`` holds the pivot event due at
@@ -99,6 +100,23 @@ a slope friction cannot hold) is held from there too (``_persist_setup`` returns
 as a tipping face). A rough ellipse on a level plane then rocks for ever (rolling is
 conservative). Impacts accumulating at a point of a disk (on a disk) remain
 ``ERR_CHATTER``.
+
+Two held contacts (``PM_PIVOT`` with ``pm[i, M_PLANE2] >= 0``, ``pivot2d`` "Two contacts")
+------------------------------------------------------------------------------------------
+When impacts accumulate at a point on one plane (as above) while another point of the body
+touches a second plane slower than the accumulation speed (a ladder's top on the wall, a
+box's second corner in a groove, a spinning disk in a corner whose floor friction presses it
+into the wall), both normal velocities are removed by the two contacts' normal impulses and
+the body slides on both (``_two_enter``), if both normal forces of that motion are >= 0;
+else it pivots on one as above. One degree of freedom is left (the angle); ``pm[i, M_AUX]``
+is the sign of w. Events (``_two_event``): a normal force reaches 0 (event "release" on
+that plane, the body pivots on the other); the slip of one contact reverses (event
+"slide"); w reaches 0 (both slips vanish): rest when that is a static equilibrium (event
+"rest", ``PM_WEDGED``), else the body slides the consistent way or, when neither way is
+consistent, keeps the one contact that can hold it alone (``_two_drop``; ERR_TWO_PLANES
+when none can); another vertex lands (an impact, with both held vertices in its cluster).
+A polygon resting or sliding on a face whose corner lands on a second plane rests when the
+face and the corner admit a static equilibrium (``wedge2d.three_contact_rest``).
 """
 import functools
 import math
@@ -2144,6 +2162,28 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
             if _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
                           ttr, tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
                 continue
+            if (pivot is not None and bint[i, B_KIND] == SH_DISK
+                    and pm[i, M_MODE] != PM_FLIGHT and pm[i, M_MODE] != PM_WEDGED
+                    and pm[i, M_MODE] != PM_PIVOT):
+                # a disk rolling, sliding (or spinning frictionless) on plane q that this
+                # instant's impact leaves on a second plane p: it spins on both when both
+                # push (a frictionless disk spinning in a groove slid through p)
+                q = pm[i, M_PLANE]
+                held = False
+                for c in range(nc):
+                    if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
+                            or c_i[c, CI_B] == q):
+                        continue
+                    vN, vT = _contact_velocity(st, c_i, c_f, c)
+                    if vN * vN >= _vz2(tolf, math.hypot(grav[0], grav[1])):
+                        continue
+                    if _two_enter(i, q, 0, c_i[c, CI_B], 0, t, st, bint, bflt, verts, planes,
+                                  grav, law_par, bp_law, pm, tz, zp, ttr, w, ev_t, ev_i, ev_f,
+                                  cnt) == 0:
+                        held = True
+                        break
+                if held:
+                    continue
         if pm[i, M_MODE] != PM_FLIGHT:
             rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                              pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
