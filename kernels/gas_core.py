@@ -1,5 +1,6 @@
-"""Event-driven dynamics of many disks (2D) or spheres (3D) in a box, shared by
-``gas2d`` and ``gas3d`` (which only fix the dimension ``D`` and the law).
+"""Event-driven dynamics of many disks (2D) or spheres (3D) in a box: the generic loop,
+compiled by ``gas_entries`` once per dimension ``D``, law and sleep option (compile-time
+constants of the loop).
 
 Model. ``n`` equal round bodies (radius ``r`` m, mass ``m`` kg, central inertia ``I``
 kg m^2; smooth bodies are given ``1/I = 0``: they never spin) in the box
@@ -52,10 +53,9 @@ seconds earlier is resolved by the same law with ``e = 1, mu = 0`` (no dissipati
 the number of impacts per unit time stays finite. As a last guard, ``STALL_IMPACTS``
 impacts in a row without any advance of time end the run (status ``RUN_STALL``).
 
-Sleep (option ``SLEEP``, a compile-time constant of the loop: the entries ``run_<law>``
-pass False and their loop is the one without sleep, ``run_<law>_sleep`` pass True; it needs
-gravity). Bodies at rest would cost one impact per ``tc`` each (TC hops on the floor);
-a sleeper costs nothing:
+Sleep (option ``SLEEP``, a compile-time constant of the loop: with False the sleep code
+is folded away and the loop is the one without sleep; True needs gravity). Bodies at rest
+would cost one impact per ``tc`` each (TC hops on the floor); a sleeper costs nothing:
 
 * falling asleep: after an impact of body i that leaves it slow (|v| and r |w| below
   ``F_SLEEP_V``) for the ``I_SLEEP_N``-th time in a row, the impact being on the floor
@@ -107,6 +107,8 @@ guard(__name__, __file__)
 
 from .brach import brach_2d_scalar, brach_3d_scalar
 from .chatterjee_ruina import chatterjee_ruina_2d_scalar, chatterjee_ruina_3d_scalar
+from .common import (LAW_BRACH, LAW_CHATTERJEE_RUINA, LAW_KANE_LEVINSON, LAW_ROUTH,
+                     LAW_SMITH, MODE_NO_SOLUTION)
 from .kane_levinson import kane_levinson_2d_scalar, kane_levinson_3d_scalar
 from .routh import routh_2d_scalar, routh_3d_scalar
 from .scheduler import q_fill_dt, q_rebuild, q_remove, q_top, q_update
@@ -216,59 +218,47 @@ _NJC = dict(cache=True, error_model="numpy", _nrt=False)       # cold paths: a c
 
 
 # ---- the laws, with one signature per dimension -------------------------------------------
-# The loop takes the law as a function argument (LAW2, LAW3 below): an entry passes the
-# law's adapter, a module-level compiled function, so that only that law is compiled and
-# the entry is cached on disk (the adapter is a global of the entry, not an argument of a
-# top-level call). W = diag(wnn, wtt[, wtt]) for round bodies.
-
-@njit(**_NJ)
-def kl_2d(vn, vt, wnn, wtt, e, mu, et, rest):
-    return kane_levinson_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
-
-
-@njit(**_NJ)
-def kl_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
-    return kane_levinson_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
-
-
-@njit(**_NJ)
-def cr_2d(vn, vt, wnn, wtt, e, mu, et, rest):
-    return chatterjee_ruina_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
-
-
-@njit(**_NJ)
-def cr_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
-    return chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, et)
-
-
-@njit(**_NJ)
-def brach_2d(vn, vt, wnn, wtt, e, mu, et, rest):
-    return brach_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
-
-
-@njit(**_NJ)
-def brach_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
-    return brach_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, et)
-
+# ``LAW`` is a ``LAW_*`` id of ``common``, a compile-time constant of the loop (closed over
+# by its entry, ``gas_entries``): Numba prunes the other laws before typing, so only the
+# chosen law is compiled. W = diag(wnn, wtt[, wtt]) for round bodies.
 
 @njit(cache=True, error_model="numpy")
-def routh_2d(vn, vt, wnn, wtt, e, mu, et, rest):
+def _routh_2d(vn, vt, wnn, wtt, e, mu, rest):
+    """Routh 2D as a call (its scalar core is inline-only: kept out of the loop's code)."""
     return routh_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, rest)
 
 
 @njit(**_NJ)
-def routh_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
-    return routh_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, rest, tol)
+def law_2d(LAW, vn, vt, wnn, wtt, e, mu, et, rest):
+    """Law ``LAW`` on a 2D contact of round bodies: ``(mode, P_N, P_T)`` (N s)."""
+    if LAW == LAW_KANE_LEVINSON:
+        return kane_levinson_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
+    if LAW == LAW_CHATTERJEE_RUINA:
+        return chatterjee_ruina_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
+    if LAW == LAW_BRACH:
+        return brach_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu, et)
+    if LAW == LAW_ROUTH:
+        return _routh_2d(vn, vt, wnn, wtt, e, mu, rest)
+    if LAW == LAW_SMITH:
+        return smith_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
+    return MODE_NO_SOLUTION, 0.0, 0.0
 
 
 @njit(**_NJ)
-def smith_2d(vn, vt, wnn, wtt, e, mu, et, rest):
-    return smith_2d_scalar(vn, vt, wnn, 0.0, wtt, e, mu)
-
-
-@njit(**_NJ)
-def smith_3d(vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
-    return smith_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
+def law_3d(LAW, vn, v1, v2, wnn, wtt, e, mu, et, rest, tol):
+    """Law ``LAW`` on a 3D contact of round bodies: ``(mode, P_N, P_T1, P_T2)`` (N s)."""
+    if LAW == LAW_KANE_LEVINSON:
+        return kane_levinson_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
+    if LAW == LAW_CHATTERJEE_RUINA:
+        return chatterjee_ruina_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu,
+                                          et)
+    if LAW == LAW_BRACH:
+        return brach_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, et)
+    if LAW == LAW_ROUTH:
+        return routh_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu, rest, tol)
+    if LAW == LAW_SMITH:
+        return smith_3d_scalar(vn, v1, v2, wnn, 0.0, 0.0, wtt, 0.0, wtt, e, mu)
+    return MODE_NO_SOLUTION, 0.0, 0.0, 0.0
 
 
 # ---- flight ---------------------------------------------------------------------------
@@ -456,12 +446,15 @@ def _fq(s, dx, dy, dz, ux, uy, uz, g, f0):
     return f, (dx + ex) * ux + (dy + ey) * uy + (dz + ez) * (uz - g * s)
 
 
-@njit(**_NJ)
-def _toi_root(lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
-    """The point where f crosses from > 0 (at lo) to <= 0 (at hi), f taking one sign on
-    each side of it: Illinois regula falsi, every TOI_BISECT-th step a bisection, until
-    the bracket is narrower than TOI_RTOL of the absolute time (``ta`` = |t| at s = 0);
-    returns the end where f <= 0."""
+@njit(**_NJC)
+def _toi_bracket(use_h, illinois, lo, hi, ylo, yhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
+    """Shrink ``[lo, hi]`` (s) around the sign change of y = f (``use_h`` False) or y = h
+    (True), ``y(lo) > 0 >= y(hi)`` with ``ylo``, ``yhi`` their values: regula falsi
+    (Illinois if ``illinois``: the end value kept twice in a row is halved), every
+    TOI_BISECT-th step a bisection, until the bracket is narrower than TOI_RTOL of the
+    absolute time (``ta`` = |t| at s = 0). Returns ``(lo, hi)``. A call, not inlined at the
+    four call sites in ``sleeper_toi``: compiled once per flag pair, ``sleeper_toi`` then
+    compiles in 0.8 s instead of 2 s."""
     side = 0
     for it in range(TOI_MAXIT):
         if hi - lo <= TOI_RTOL * (ta + hi):
@@ -469,48 +462,41 @@ def _toi_root(lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
         if it % TOI_BISECT == TOI_BISECT - 1:
             c = 0.5 * (lo + hi)
         else:
-            c = (lo * fhi - hi * flo) / (fhi - flo)
+            c = (lo * yhi - hi * ylo) / (yhi - ylo)
         if not (lo < c < hi):
             c = 0.5 * (lo + hi)
             if not (lo < c < hi):
                 break
         fc, hc = _fq(c, dx, dy, dz, ux, uy, uz, g, f0)
-        if fc > 0.0:
+        yc = hc if use_h else fc
+        if yc > 0.0:
             lo = c
-            flo = fc
-            if side == 1:
-                fhi *= 0.5
+            ylo = yc
+            if illinois and side == 1:
+                yhi *= 0.5
             side = 1
         else:
             hi = c
-            fhi = fc
-            if side == -1:
-                flo *= 0.5
+            yhi = yc
+            if illinois and side == -1:
+                ylo *= 0.5
             side = -1
+    return lo, hi
+
+
+@njit(**_NJ)
+def _toi_root(lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
+    """The point where f crosses from > 0 (at lo) to <= 0 (at hi), f taking one sign on
+    each side of it (Illinois, ``_toi_bracket``); returns the end where f <= 0."""
+    lo, hi = _toi_bracket(False, True, lo, hi, flo, fhi, ta, dx, dy, dz, ux, uy, uz, g, f0)
     return hi
 
 
 @njit(**_NJ)
 def _toi_crit(lo, hi, hlo, hhi, ta, dx, dy, dz, ux, uy, uz, g, f0):
-    """Root of h (one sign change, h monotone) in [lo, hi]: a critical point of f."""
-    for it in range(TOI_MAXIT):
-        if hi - lo <= TOI_RTOL * (ta + hi):
-            break
-        if it % TOI_BISECT == TOI_BISECT - 1:
-            c = 0.5 * (lo + hi)
-        else:
-            c = (lo * hhi - hi * hlo) / (hhi - hlo)
-        if not (lo < c < hi):
-            c = 0.5 * (lo + hi)
-            if not (lo < c < hi):
-                break
-        fc, hc = _fq(c, dx, dy, dz, ux, uy, uz, g, f0)
-        if (hc > 0.0) == (hhi > 0.0):
-            hi = c
-            hhi = hc
-        else:
-            lo = c
-            hlo = hc
+    """Root of h in [lo, hi], h monotone from > 0 (at lo) to < 0 (at hi): the maximum of f
+    (plain regula falsi, ``_toi_bracket``); returns the bracket's middle."""
+    lo, hi = _toi_bracket(True, False, lo, hi, hlo, hhi, ta, dx, dy, dz, ux, uy, uz, g, f0)
     return 0.5 * (lo + hi)
 
 
@@ -760,8 +746,8 @@ def predict(D, SLEEP, i, t, x, v, bt, bi, chead, fpar, ipar):
 # ---- impacts ---------------------------------------------------------------------------
 
 @njit(**_NJ)
-def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar, e, mu):
-    """Resolve one impact by the law. ``n`` unit normal (B into A), ``vn`` the normal
+def impact(D, LAW, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar, e, mu):
+    """Resolve one impact by law ``LAW``. ``n`` unit normal (B into A), ``vn`` the normal
     relative velocity, ``dv`` the centres' relative velocity, ``ws`` the sum of the two
     angular velocities (A and B; a wall has none), ``kf`` 2 (pair) or 1 (wall).
 
@@ -782,7 +768,7 @@ def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar
         t12 = 0.0
         v1 = c0 * t10 + c1 * t11
         v2 = 0.0
-        mode, PN, P1 = LAW2(vn, v1, wnn, wtt, e, mu, fpar[F_ET], fpar[F_REST])
+        mode, PN, P1 = law_2d(LAW, vn, v1, wnn, wtt, e, mu, fpar[F_ET], fpar[F_REST])
         P2 = 0.0
         t20 = 0.0
         t21 = 0.0
@@ -808,8 +794,8 @@ def impact(D, LAW2, LAW3, n0, n1, n2, vn, dv0, dv1, dv2, ws0, ws1, ws2, kf, fpar
         t22 = n0 * t11 - n1 * t10
         v1 = c0 * t10 + c1 * t11 + c2 * t12
         v2 = c0 * t20 + c1 * t21 + c2 * t22
-        mode, PN, P1, P2 = LAW3(vn, v1, v2, wnn, wtt, e, mu, fpar[F_ET],
-                                  fpar[F_REST], fpar[F_TOL])
+        mode, PN, P1, P2 = law_3d(LAW, vn, v1, v2, wnn, wtt, e, mu, fpar[F_ET],
+                                    fpar[F_REST], fpar[F_TOL])
     # world impulse; divided by |n|^2 (1 up to round-off) so that a mirror reflection
     # keeps |v| to round-off without a bias from the rounding of n (measured drift
     # 1.2e-12 of the energy in 2e5 elastic impacts without it)
@@ -1067,7 +1053,7 @@ def wake_cluster(D, j, t, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs,
 # ---- the event loop ----------------------------------------------------------------------
 
 @njit(**_NJI)
-def gas_loop(D, LAW2, LAW3, SLEEP, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
+def gas_loop(D, LAW, SLEEP, x, v, w, bt, bi, chead, qkey, qlink, qheap, qhead, qs, qdt,
              fpar, ipar, stats, fstats, rec_i, rec_f, rec_mask, snap_t, snap_v, snap_w):
     """Run until t_end, max impacts, a full buffer, or a failure; the status is in
     ``stats[ST_STATUS]`` and returned. Resumable (see the module docstring).
@@ -1196,8 +1182,8 @@ def gas_loop(D, LAW2, LAW3, SLEEP, x, v, w, bt, bi, chead, qkey, qlink, qheap, q
             held = False           # j sleeps and stays asleep: it is held fixed
             for attempt in range(2 if SLEEP else 1):
                 (mode, PN, P1, P2, v1, v2, Px, Py, Pz, dw0, dw1, dw2, wnn,
-                 wtt) = impact(D, LAW2, LAW3, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, kf,
-                               fpar, e, mu)
+                 wtt) = impact(D, LAW, n0, n1, n2, vn, e0, e1, e2, ws0, ws1, ws2, kf, fpar,
+                               e, mu)
                 if mode < 0 or not jsl or held:
                     break
                 # j sleeps: resolved with its true mass (v = w = 0), would it leave slower

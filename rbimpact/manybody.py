@@ -364,10 +364,10 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         keep = _flag("run_gas: keep", keep)
 
     from .kernels import gas_core as gc
-    kern = _kernels(dim)
-    # the sleep option is compiled in or out: without it the loop is the plain one
-    run = getattr(kern, "run_" + state.law + ("_sleep" if sleep else ""))
-    prepare = kern.prepare_sleep if sleep else kern.prepare
+    from .kernels.gas_entries import entries_for
+    # compiled for this dimension, law and sleep option only (without sleep the loop is
+    # the plain one)
+    prepare, run, finish = entries_for(dim, law.law_id, sleep)
     r = float(state.radius)
     L = np.asarray(state.box, float)
     nc = np.ones(3, np.int64)
@@ -507,7 +507,7 @@ def run_gas(state, t_end=None, max_impacts=None, record="none", snapshot_dt=None
         t_fin = t_end
     else:
         t_fin = max(float(fstats[gc.FS_T]), t0)
-    kern.finish(t_fin, x, v, bt, bi, state.gravity)
+    finish(t_fin, x, v, bt, bi, state.gravity)
     events = None
     if recording:
         hand_events(int(stats[gc.ST_NREC]))
@@ -609,14 +609,6 @@ def contact_W(state, wall=False):
 
 
 # ---- helpers ------------------------------------------------------------------------------
-
-def _kernels(dim):
-    if dim == 2:
-        from .kernels import gas2d as k
-    else:
-        from .kernels import gas3d as k
-    return k
-
 
 def _dim(dim):
     if isinstance(dim, bool) or dim not in DIMS:

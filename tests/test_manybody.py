@@ -313,3 +313,41 @@ def test_bench_bed_rows_on_a_small_bed():
         assert r["bed"] and r["t"] == 15.0 and r["impacts"] > 0 and r["cpu_s"] >= 0
     assert rows[1]["asleep"] == rows[1]["sleeps"] == 0 and rows[0]["sleeps"] > 0
     assert rows[0]["impacts"] < rows[1]["impacts"]
+
+
+_CACHE_SCRIPT = """
+from rbimpact.manybody import random_gas, run_gas
+run_gas(random_gas(20, dim=2, law="smith", seed=0), max_impacts=100)
+"""
+
+
+def test_gas_entry_compiles_one_law_and_loads_from_disk_cache():
+    """Two new processes run a 2D Smith gas (Numba's cache as configured): the first
+    compiles, if the cache is cold, no other law and no 3D code; the second compiles
+    nothing and loads the run entry (a closure of ``gas_entries``) from the disk cache."""
+    import os
+    import subprocess
+    import sys
+    if os.environ.get("NUMBA_DISABLE_JIT") == "1":
+        pytest.skip("JIT disabled: nothing is cached")
+    env = dict(os.environ, NUMBA_DEBUG_CACHE="1")
+    runs = [subprocess.run([sys.executable, "-c", _CACHE_SCRIPT], env=env, check=True,
+                           capture_output=True, text=True).stdout.splitlines()
+            for _ in range(2)]
+
+    def files(lines, what):       # cache file names (module.function-line...) of the lines
+        return [ln.rstrip("'").rsplit("/", 1)[1] for ln in lines if what in ln]
+    others = ("kane_levinson.", "brach.", "routh.", "chatterjee_ruina.")
+    assert not [f for f in files(runs[0], "data saved") if "3d" in f or f.startswith(others)]
+    assert files(runs[1], "data saved") == []
+    assert [f for f in files(runs[1], "data loaded") if f.startswith("gas_entries._run_for")]
+
+
+def test_gas_entries_bad_input():
+    from rbimpact.kernels.gas_entries import entries_for
+    with pytest.raises(ValueError, match="D must be 2 or 3"):
+        entries_for(4, 0, False)
+    with pytest.raises(ValueError, match="law must be one of"):
+        entries_for(2, 7, False)
+    assert entries_for(2, 2, False) is not entries_for(3, 2, False)
+    assert entries_for(2, 2, 0)[1] is entries_for(2, 2, False)[1]
