@@ -2005,9 +2005,10 @@ def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, p
     """Rest on several points (mode table): after the impacts of an instant, body i whose
     kinetic energy is below the accumulation threshold ``m zeno_speed^2 / 2`` and that
     touches two different planes (two contacts of this instant, or one and the
-    plane it rolls, slides or rests on: a disk's point, a polygon's face) on which it can
-    rest in static equilibrium with Coulomb friction (``wedge2d.two_contact_rest``,
-    ``three_contact_rest``) comes to rest there: its remaining
+    plane it rolls, slides or rests on: a disk's point, a polygon's face; or three contacts
+    of this instant on two or three planes) on which it can rest in static equilibrium with
+    Coulomb friction (``wedge2d.two_contact_rest``, ``three_contact_rest``) comes to rest
+    there: its remaining
     motion (below the threshold) is removed, event "rest" (mode ``PM_WEDGED``). Returns
     True when the body was wedged."""
     m = bflt[i, B_MASS]
@@ -2066,6 +2067,33 @@ def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, p
                                 -rad * planes[q, 0], -rad * planes[q, 1], planes[q, 0],
                                 planes[q, 1], mu_q):
                 first = c
+                break
+    if first < 0:
+        # three of this instant's contacts on at least two planes (a capsule's end cap in
+        # the bottom of a groove and its other cap on one wall)
+        for c in range(nc):
+            if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0:
+                continue
+            for d in range(c + 1, nc):
+                if c_i[d, CI_TYPE] != 0 or c_i[d, CI_A] != i or c_i[d, CI_OFF] != 0:
+                    continue
+                for e in range(d + 1, nc):
+                    if (c_i[e, CI_TYPE] != 0 or c_i[e, CI_A] != i or c_i[e, CI_OFF] != 0
+                            or (c_i[c, CI_B] == c_i[d, CI_B] and c_i[d, CI_B] == c_i[e, CI_B])):
+                        continue
+                    if three_contact_rest(
+                            m, grav[0], grav[1],
+                            ((c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX], c_f[c, CF_NY],
+                              law_par[c_i[c, CI_LAW], P_MU]),
+                             (c_f[d, CF_RAX], c_f[d, CF_RAY], c_f[d, CF_NX], c_f[d, CF_NY],
+                              law_par[c_i[d, CI_LAW], P_MU]),
+                             (c_f[e, CF_RAX], c_f[e, CF_RAY], c_f[e, CF_NX], c_f[e, CF_NY],
+                              law_par[c_i[e, CI_LAW], P_MU]))):
+                        first = c
+                        break
+                if first >= 0:
+                    break
+            if first >= 0:
                 break
     if first < 0:
         return False

@@ -252,3 +252,13 @@ def test_box_with_a_face_on_one_groove_wall_and_a_corner_on_the_other_rests():
     impact was repeated 1000 times (its law left v_N = -3e-27 m/s) and the run failed."""
     row = run_drop(2, 991650669)
     assert row.verdict == "OK", row.note
+
+
+def test_capsule_with_an_end_cap_in_the_bottom_of_a_groove_rests_on_three_contacts():
+    """A capsule lying along one groove wall with its lower end cap touching both walls:
+    held on the cap's two contacts, it turned about the cap until its other cap landed on
+    the wall, every 4e-7 s, until max_events. The three contacts of that instant (the cap on
+    both walls, the other cap on one) hold it in static equilibrium: it rests."""
+    row = run_drop(2, 7653639)
+    assert row.verdict == "OK", row.note
+    assert row.impacts < 100
