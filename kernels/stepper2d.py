@@ -1110,14 +1110,10 @@ def _pv_state(i, st, w):
 
 @njit(cache=True, _nrt=False)
 def _pv_contact(i, st, bint, bflt, verts, planes, pm):
-    """Held contact of body i: (px, py, rx, ry, v_N, v_T) at its current state."""
-    p = pm[i, M_PLANE]
-    nx = planes[p, 0]
-    ny = planes[p, 1]
-    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + pm[i, M_FEAT],
-                                    nx, ny)
-    ux, uy = _point_vel(st, i, rx, ry)
-    return px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
+    """Held contact of body i (its first, ``_two_contact``): (px, py, rx, ry, v_N, v_T) at
+    its current state."""
+    p, px, py, rx, ry, vN, vT = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
+    return px, py, rx, ry, vN, vT
 
 
 @njit(cache=True, _nrt=False)
@@ -1172,6 +1168,20 @@ def _pv_choose(i, st, w, pm):
 
 
 @njit(cache=True, _nrt=False)
+def _pv_follow_slip(i, st, w, pm, vT):
+    """Status of body i's held contact (parameters in w) from its slip vT (m/s): sliding
+    along it when vT != 0, else stick or slide as ``_pv_choose`` decides (pm[i, M_AUX]
+    set). Returns 0, 1 (lam < 0: the contact cannot hold the body) or ERR_PAINLEVE."""
+    if vT == 0.0:
+        pm[i, M_AUX] = 0
+        return _pv_choose(i, st, w, pm)
+    pm[i, M_AUX] = 1 if vT > 0.0 else -1
+    w[CP_SIG] = float(pm[i, M_AUX])
+    code, lam, f, aT = _pv_state(i, st, w)
+    return ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
+
+
+@njit(cache=True, _nrt=False)
 def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
                  zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Body i (in flight at t) keeps vertex k (body-relative) on plane p: remove its tiny
@@ -1206,13 +1216,7 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     else:
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, False)
         px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
-        pm[i, M_AUX] = 1 if vT >= 0.0 else -1
-        if vT == 0.0:
-            rc = _pv_choose(i, st, w, pm)
-        else:
-            w[CP_SIG] = float(pm[i, M_AUX])
-            code, lam, f, aT = _pv_state(i, st, w)
-            rc = ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
+        rc = _pv_follow_slip(i, st, w, pm, vT)
     if rc != 0:
         pm[i, M_MODE] = PM_FLIGHT
         if rc == ERR_PAINLEVE:
@@ -1521,14 +1525,9 @@ def _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_p
             pm[i, M_FEAT] = pm[i, M_FEAT2]
         pm[i, M_PLANE2] = -1
         p = pm[i, M_PLANE]
-        px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
-        pm[i, M_AUX] = 0 if vT == 0.0 or w[CP_MU] == 0.0 else (1 if vT > 0.0 else -1)
         _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
-        if pm[i, M_AUX] == 0:
-            rc = _pv_choose(i, st, w, pm)
-        else:
-            code, lam, f, aT = _pv_state(i, st, w)
-            rc = ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
+        px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+        rc = _pv_follow_slip(i, st, w, pm, vT)
         if rc == ERR_PAINLEVE:
             _set_err(err, t, i, -1 - p, px, py, w[CP_MU], vT, 0.0)
             return rc, 0

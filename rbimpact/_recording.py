@@ -124,6 +124,20 @@ class Recorder:
     the result's ``sample``) from logged segment rows.
     """
 
+    @classmethod
+    def for_run(cls, who, k, build_events, sampler, n_bodies, t_end, max_events, record,
+                observer, snapshot_dt):
+        """The recorder of one ``run()`` of a stepper module ``k`` (``stepper2d`` or
+        ``stepper3d``: its ``EVENT_KINDS`` and ``TI_MAX_EVENTS``), its recording arguments
+        checked first (``check_record_args``); ``build_events(ev_t, ev_i, ev_f, kinds)``."""
+        kinds = k.EVENT_KINDS
+        return cls(who, *check_record_args(who, record, observer, snapshot_dt, n_bodies,
+                                           t_end),
+                   n_bodies=n_bodies, max_events=max_events, kinds=kinds,
+                   ti_max_events=k.TI_MAX_EVENTS,
+                   build_events=lambda t, i, f: build_events(t, i, f, kinds),
+                   sampler=sampler)
+
     def __init__(self, who, record, observer, snapshot_dt, *, n_bodies, max_events, kinds,
                  ti_max_events, build_events, sampler):
         self.who = who

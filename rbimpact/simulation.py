@@ -134,7 +134,7 @@ import numpy as np
 from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances,
                      compiled_loop, pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
-from ._recording import Recorder, check_record_args
+from ._recording import Recorder
 from .result import Result, _build_events
 from .scene import Plane, Scene2D
 
@@ -392,12 +392,9 @@ class Simulation:
         """
         from .kernels import stepper2d as k
         t_end, max_events = check_run_args(t_end, max_events)
-        rec = Recorder("Simulation", *check_record_args(
-            "Simulation", record, observer, snapshot_dt, len(self.scene.bodies), t_end),
-            n_bodies=len(self.scene.bodies), max_events=max_events, kinds=k.EVENT_KINDS,
-            ti_max_events=k.TI_MAX_EVENTS,
-            build_events=lambda t, i, f: _build_events(t, i, f, k.EVENT_KINDS),
-            sampler=self._sampler)
+        rec = Recorder.for_run("Simulation", k, _build_events, self._sampler,
+                               len(self.scene.bodies), t_end, max_events, record, observer,
+                               snapshot_dt)
         # one set of run arrays per Simulation, taken for the duration of the run (a
         # concurrent run of the same Simulation from another thread allocates its own)
         arena = self.__dict__.pop("_arena", None) or self._make_arena(k)

@@ -52,7 +52,7 @@ import numpy as np
 from ._setup import (check_law, check_run_args, check_scene, check_tolerances, compiled_loop,
                      pack_laws, run_status)
 from .errors import NoSolutionError, SimulationError
-from ._recording import Recorder, check_record_args
+from ._recording import Recorder
 from .result3d import Result3D, build_events_3d
 from .scene3d import Plane3D, Scene3D
 
@@ -253,12 +253,9 @@ class Simulation3D:
         from .kernels.flight3d import N_WS
         from .kernels.pivot3d import N_CP, N_FW, N_PW
         t_end, max_events = check_run_args(t_end, max_events)
-        rec = Recorder("Simulation3D", *check_record_args(
-            "Simulation3D", record, observer, snapshot_dt, len(self.scene.bodies), t_end),
-            n_bodies=len(self.scene.bodies), max_events=max_events, kinds=k.EVENT_KINDS,
-            ti_max_events=k.TI_MAX_EVENTS,
-            build_events=lambda t, i, f: build_events_3d(t, i, f, k.EVENT_KINDS),
-            sampler=self._sampler)
+        rec = Recorder.for_run("Simulation3D", k, build_events_3d, self._sampler,
+                               len(self.scene.bodies), t_end, max_events, record, observer,
+                               snapshot_dt)
         tol = self.tolerances
         nb = len(self.scene.bodies)
         npl = len(self.scene.planes)
