@@ -558,10 +558,15 @@ def _diverging_ray(w1, w2, c00, c01, c11, mu):
     is SPD and ``g(lambda) = |(lambda I + mu C)^-1 w|`` decreases strictly from
     ``g(0) = |C^-1 w| / mu`` to 0, so the ray exists iff sticking is unstable
     (``|C^-1 w| > mu``) and is then unique (cf. Bhatt & Koechling 1995). Root of
-    ``1/g - 1`` on [0, |w|] by safeguarded Newton. Returns (found, u1, u2, lambda)."""
+    ``1/g - 1`` on [0, |w|] by safeguarded Newton from ``|w|``. The caller has found
+    sticking unstable, so ``psi(0) = mu / |C^-1 w| - 1 < 0`` is known and ``lambda = 0`` is
+    never evaluated: there ``(mu C)^-1`` underflows for tiny mu (mu = 1e-200 gave 0/0).
+    Returns (found, u1, u2, lambda)."""
     lo = 0.0
     hi = math.sqrt(w1 * w1 + w2 * w2)        # g(|w|) <= |w| / (|w| + mu c_min) < 1
-    lam = 0.0
+    if not (hi > 0.0):
+        return False, 0.0, 0.0, 0.0
+    lam = hi
     y1 = 0.0
     y2 = 0.0
     for _ in range(ROOT_MAX_ITER):
@@ -570,8 +575,11 @@ def _diverging_ray(w1, w2, c00, c01, c11, mu):
         m11 = lam + mu * c11
         y1, y2 = solve2(m00, m01, m11, w1, w2)
         g = math.sqrt(y1 * y1 + y2 * y2)
-        if not (g > 0.0):
-            return False, 0.0, 0.0, 0.0
+        if not (g < np.inf):                     # M underflowed near lambda = 0: g -> inf
+            lo = lam
+            ln = 0.5 * (lo + hi)
+            lam = ln
+            continue
         psi = 1.0 / g - 1.0
         if psi < 0.0:
             lo = lam

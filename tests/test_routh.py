@@ -385,6 +385,31 @@ def test_energetic_and_poisson_never_create_energy(d, Ls, vs, e, mu, rest):
         assert dE == pytest.approx(-(1 - e * e) * v[0] ** 2 / (2 * W[0, 0]), rel=1e-9)
 
 
+@pytest.mark.parametrize("d", [2, 3])
+def test_vanishing_friction_tends_to_frictionless(d):
+    # Regression: with unstable sticking from v_T = 0 (|W_TT^-1 W_TN| > mu) and mu <= 1e-200,
+    # the diverging-ray search evaluated (mu W_TT)^-1 w, which underflowed to 0/0: the law
+    # refused the impact (MODE_NO_SOLUTION) although mu = 0 and mu = 1e-150 resolve it.
+    # As mu -> 0 the impulse must tend to the frictionless one, P_N = -(1 + e) v_N / W_NN.
+    rng = np.random.default_rng(7)
+    cases = [(_spd([1.0, 0, 0, 0, 0, 0, 1.0, 0, 0], d), np.array([-1e-3, 0.0, 0.0])[:d])]
+    for _ in range(60):
+        v = rng.uniform(-2, 2, d)
+        v[0] = -abs(v[0]) - 1e-3
+        if rng.random() < 0.3:
+            v[1:] = 0.0                                 # v_T = 0: the ray search from rest
+        cases.append((_spd(rng.uniform(-2, 2, 9), d), v))
+    for W, v in cases:
+        for rest in KINDS:
+            for e in (0.0, 0.6):
+                P0 = run(v, W, e, 0.0, rest)[1]
+                assert P0[0] == pytest.approx(-(1 + e) * v[0] / W[0, 0], rel=1e-14)
+                for mu in (1e-300, 1e-200, 1e-100, 1e-30):
+                    mode, P, vf, dE = run(v, W, e, mu, rest)
+                    assert mode > 0, (W, v, e, mu, rest)
+                    np.testing.assert_allclose(P, P0, rtol=1e-9, atol=1e-9 * abs(P0[0]))
+
+
 def test_newton_termination_creates_energy_on_slip_reversal():
     # rod, v = (-1, 0.5), e = 1, mu = 0.5: slip stops at p = 2/11, sticking is unstable
     # (1.5 > 0.5 * 2.5), slip reverses with a smaller normal slope (1.75 instead of 3.25);
