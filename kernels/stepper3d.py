@@ -125,9 +125,9 @@ from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, p
                        qnormalize, qrot, qrot_inv)
 from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
-                      FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE, PE_SLIP,
-                      PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, contact_accel, pivot_eval,
-                      pivot_forces, pivot_next_event, pivot_start)
+                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE,
+                      PE_SLIP, PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_S0, PW_Y,
+                      contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 
@@ -204,6 +204,13 @@ SIMUL_ACCEPT_RTOL = 1e-9
 #: it, u . a_T, exceeds SLIP_ACC_TOL |g| (dimensionless): the slip then grows. When no
 #: direction is (the stick force only touched its cone), the contact keeps sticking.
 SLIP_ACC_TOL = 1e-9
+#: ... except at a continuous onset: a contact whose sticking force has just left its cone
+#: (by the event arm pivot3d.FORCE_ARM m |g|) starts to slip opposite to that force with an
+#: acceleration that is still O(FORCE_ARM |g|) and can be below SLIP_ACC_TOL |g| (a corner
+#: pivoting with mu = 10 under a small normal force: u . a_T = 2.4e-9 m/s^2). The
+#: consistent direction within SLIP_ONSET_ANGLE (rad) of the opposite of the friction force
+#: is taken when u . a_T > -SLIP_ACC_TOL |g| (zero to within the acceptance band)
+SLIP_ONSET_ANGLE = 1e-4
 #: integrated contact: angular scan steps over the tangent plane when looking for the
 #: consistent direction in which a contact starts to slip
 N_SLIP_SCAN = 72
@@ -711,8 +718,14 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
                                           B_COUNT], planes, skip, S, t_now, tolf[TF_TOI_RTOL],
                                           tolf[TF_TOI_ATOL], ybuf, vals, vals0, vfl)
     if code != PI_OK:
-        _set_err(err, t_now + s, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i,
-                 SX + 2], code, 0.0, 0.0)
+        # the force system failed inside the phase: say why (pivot_forces' PV_* code) at
+        # the state where it failed
+        for j in range(13):
+            ybuf[j] = pw[i, PW_Y + j]           # the state where the step failed (at PW_S0)
+        why = pivot_forces(ybuf, pv[i], fw)
+        _set_err(err, t_now + pw[i, PW_S0], i, -1 - int(pv[i, CP_PLANE]), ybuf[SX],
+                 ybuf[SX + 1], ybuf[SX + 2], why if why != PV_OK else 3.0, pv[i, CP_MU],
+                 pv[i, CP_K])
         return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
     if kind == PE_NONE:
         ttr[i] = INF
@@ -818,7 +831,7 @@ def _pv_slide(st, i, pv, k, fw):
     """Contact k starts sliding: in the consistent direction u (the slip's acceleration
     a_T is along +u: ``u x a_T = 0``, ``u . a_T > SLIP_ACC_TOL |g|``, with a positive
     normal force), the one closest to the direction opposite to the tangential part of
-    its current (sticking) force. When no direction is consistent, the contact is set
+    its current (sticking) force; failing that, a continuous onset (``SLIP_ONSET_ANGLE``). When no direction is consistent, the contact is set
     back to sticking and False is returned (fw is then stale)."""
     nx, ny, nz = pv[i, CP_N], pv[i, CP_N + 1], pv[i, CP_N + 2]
     fo = FW_F1 + 3 * k
@@ -837,6 +850,8 @@ def _pv_slide(st, i, pv, k, fw):
                                    + pv[i, CP_G + 2] ** 2)
     best = math.inf
     bphi = phi0
+    onset = math.inf                # the continuous onset (SLIP_ONSET_ANGLE) as a fallback
+    ophi = phi0
     dphi = 2.0 * math.pi / N_SLIP_SCAN
     Fa, Da, La = _slip_F(st, i, pv, k, fw, phi0, t1x, t1y, t1z, t2x, t2y, t2z)
     pa = phi0
@@ -857,13 +872,19 @@ def _pv_slide(st, i, pv, k, fw):
                     hi = mid
             r = 0.5 * (lo + hi)
             Fr, Dr, Lr = _slip_F(st, i, pv, k, fw, r, t1x, t1y, t1z, t2x, t2y, t2z)
+            d = abs(math.atan2(math.sin(r - phi0), math.cos(r - phi0)))
             if Dr > gsc and Lr > 0.0:
-                d = abs(math.atan2(math.sin(r - phi0), math.cos(r - phi0)))
                 if d < best:
                     best = d
                     bphi = r
+            elif Dr > -gsc and Lr > 0.0 and d <= SLIP_ONSET_ANGLE and d < onset:
+                onset = d
+                ophi = r
         pa = pb
         Fa = Fb
+    if best == math.inf and onset < math.inf:
+        best = onset
+        bphi = ophi
     if best == math.inf:
         pv[i, CP_S1 + k] = 1.0
         return False
@@ -1022,6 +1043,19 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
                 lmin = fw[FW_LAM + k]
                 kneg = k
         if kneg >= 0:
+            if K == 1 and pv[i, CP_S1] == 1.0:
+                # sticking would pull (lam < 0); lifting off is consistent only if the
+                # contact's free normal acceleration points out of the plane; if it points
+                # in, the contact slides (a consistent direction with lam > 0), or no
+                # state is consistent (Painleve)
+                bn = (fw[FW_B1] * pv[i, CP_N] + fw[FW_B1 + 1] * pv[i, CP_N + 1]
+                      + fw[FW_B1 + 2] * pv[i, CP_N + 2])
+                if bn < 0.0:
+                    if _pv_slide(st, i, pv, 0, fw):
+                        continue
+                    _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1],
+                             st[i, SX + 2], 3.0, pv[i, CP_MU], K)
+                    return ERR_PAINLEVE
             _pv_drop(pv, i, kneg)
             continue
         changed = False

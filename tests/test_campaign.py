@@ -262,3 +262,27 @@ def test_capsule_with_an_end_cap_in_the_bottom_of_a_groove_rests_on_three_contac
     row = run_drop(2, 7653639)
     assert row.verdict == "OK", row.note
     assert row.impacts < 100
+
+
+@pytest.mark.parametrize("seed", [3433509673, 3949245397])
+def test_3d_corner_starts_to_slip_continuously(seed):
+    """A box pivoting on a corner with mu = 10 under a small normal force: its sticking force
+    left the cone by the event arm (5e-9 N) and the slip that starts opposite to it
+    accelerates at 2.4e-9 m/s^2, below the acceptance SLIP_ACC_TOL |g|; no direction was
+    taken as consistent and the run stopped ("no consistent stick/slip/lift-off state").
+    The continuous onset (stepper3d.SLIP_ONSET_ANGLE) is now taken."""
+    row = run_drop(3, seed)
+    assert row.verdict == "OK", row.note       # includes the energy check where it applies
+    assert row.penetration <= row.pen_tol
+
+
+@pytest.mark.parametrize("seed", [393293631, 88305742])
+def test_3d_corner_whose_sticking_force_would_pull_slides(seed):
+    """A box corner entering integrated contact after a plastic impact: sticking needed a
+    pulling normal force, so the contact was dropped although its free normal acceleration
+    pointed into the floor; the run stopped with a message of zeros ("normal speed 0 m/s
+    while the gap accelerates at 0 m/s^2"). The corner now slides in a consistent
+    direction (or, if none exists, the run names the Painleve paradox)."""
+    row = run_drop(3, seed)
+    assert row.verdict == "OK", row.note       # includes the energy check where it applies
+    assert row.penetration <= row.pen_tol
