@@ -3,19 +3,21 @@
 Everything here is ``@njit(cache=True, _nrt=False)``: no reference counting, because the
 kernels only index preallocated arrays and never allocate (nothing is allocated per
 event). ``rbimpact.simulation`` packs a scene into the arrays below and calls the loop
-``loop_for(law)`` compiled for the scene's law (the first call initialises the run) until
-it returns ``RC_DONE`` or ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``: the Python side doubles
-the event/segment buffers and calls again; the loop resumes exactly where it stopped).
+``loop_for(law, *switches)`` compiled for the scene's law and features (the first call
+initialises the run) until it returns ``RC_DONE`` or ``RC_MAX_EVENTS`` (``RC_BUFFER_FULL``:
+the Python side doubles the event/segment buffers and calls again; the loop resumes exactly
+where it stopped).
 Negative return codes are errors (``ERR_*``), with details in ``err``. Codes, modes and
 event kinds are shared with 3D (``codes``); table columns are named (``layout``,
 ``flight2d``, the ``B_*`` below).
 
-Compile only what a scene uses (issue 14): the law is a constant closed over by
-``loop_for`` (the other laws are pruned before typing), and the loop's last four
-arguments are the feature switches ``pivot``, ``wedge``, ``pair``, ``joint``
-(``scene_features``: True, or None when the scene cannot reach that mode), pruned by type:
-a disk bouncing on a floor compiles no pivot, wedge, pair or joint code. Each law and
-switch pattern is its own specialization in Numba's on-disk cache.
+Compile only what a scene uses (issue 14): the law and the feature switches ``pivot``,
+``wedge``, ``pair``, ``joint`` (``scene_features``: True, or None when the scene cannot
+reach that mode) are constants closed over by ``loop_for(law, *switches)``, so Numba
+prunes the other laws and the switched-off modes before inlining and typing (and, in the
+handlers that are not inlined, which take the switch as an argument, by its type): a disk
+bouncing on a floor compiles no pivot, wedge, pair or joint code. Each law and switch
+pattern is its own entry in Numba's on-disk cache.
 
 Scene arrays (constant during a run)
 ------------------------------------
@@ -207,11 +209,12 @@ ROLL_RTOL = 8.0 * 2.220446049250313e-16
 """A disk's contact-point slip vT + w r below ROLL_RTOL (|vT| + |w r|) is the round-off of
 that sum: the disk rolls (a slip that ended by friction otherwise restarts at 1e-17 m/s)."""
 TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lifts it (tips)
-# Feature switches (codes.FEATURES): ``run_loop`` takes ``pivot`` (a polygon, rod or
+# Feature switches (codes.FEATURES): ``loop_for`` takes ``pivot`` (a polygon, rod or
 # ellipse: rest on a face, tipping, held vertex or boundary), ``wedge`` (two or more planes:
 # rest on two contacts), ``pair`` (disk pairs) and ``joint`` (several contacts at one
-# instant), each True or None (``scene_features``): a disk bouncing on a floor compiles
-# no pivot, wedge, pair or joint code.
+# instant), each True or None (``scene_features``), as compile-time constants of the loop:
+# a disk bouncing on a floor compiles no pivot, wedge, pair or joint code.
+SWITCHES_IN_LOOP = True     # ``loop_for(law, *switches)``; run_loop does not take them
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
 #: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
@@ -1834,13 +1837,31 @@ def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, 
     return 0
 
 
+@njit(cache=True, _nrt=False)
+def _vertex_in_instant(kind, row, px, py, bf, plane, t, t0, tw, tolf, toli):
+    """Whether the vertex ``(px, py)`` of a body of several contact points (state ``row`` at
+    ``t0``, ``bflt`` row ``bf``) belongs to the instant ``[t, tw]`` on ``plane``: it touches
+    within it, or closes within ``simul_gap`` (not inlined: compiled only with the pivot
+    switch, which every body of several contact points sets)."""
+    s, code = plane_feature_toi(kind, row, px, py, bf[B_RADIUS], bf[B_EA], bf[B_EB], plane[0],
+                                plane[1], plane[2], t0, tw - t0, tolf[TF_TOI_RTOL],
+                                tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    g, gd = feature_gap(kind, row, px, py, bf[B_RADIUS], bf[B_EA], bf[B_EB], plane[0],
+                        plane[1], plane[2], t - t0)
+    if not (t0 + s <= tw):
+        return g <= tolf[TF_SIMUL_GAP] and gd < 0.0
+    # a root from the segment start that is not a touch now (the tangency a released
+    # vertex starts from) is not in this instant
+    return not g > tolf[TF_GAP_TOL]
+
+
 @njit(cache=True, _nrt=False, inline="always")
-def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli, tz,
-            zp, bp_t, pr_t, c_i, c_f, bmark, err):
+def _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli,
+            tz, zp, bp_t, pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
     simul_gap; and the held vertex of a body in pivot contact), bring their bodies to t and
     build their contact frames; a body in pivot contact is in flight from t. Returns the
-    number of contacts or an error code."""
+    number of contacts or an error code. ``pivot``: that feature switch (True or None)."""
     nb = st.shape[0]
     npl = planes.shape[0]
     npr = pairs.shape[0]
@@ -1866,20 +1887,11 @@ def _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tol
                 if (held and k == pm[i, M_FEAT]) or (held2 and k == pm[i, M_FEAT2]):
                     pass    # a held vertex is in the cluster (at gap 0)
                 elif nv > 1:
-                    s, code = plane_feature_toi(
-                        kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1], bflt[i, B_RADIUS],
-                        bflt[i, B_EA], bflt[i, B_EB], planes[p, 0], planes[p, 1], planes[p, 2],
-                        tref[i], tw - tref[i], tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                        tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
-                    g, gd = feature_gap(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
-                                        bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
-                                        planes[p, 0], planes[p, 1], planes[p, 2], t - tref[i])
-                    if not (tref[i] + s <= tw):
-                        if not (g <= tolf[TF_SIMUL_GAP] and gd < 0.0):
-                            continue
-                    elif g > tolf[TF_GAP_TOL]:
-                        # a root from the segment start that is not a touch now (the
-                        # tangency a released vertex starts from): not in this instant
+                    # several contact points: a polygon, rod or capsule (the pivot switch)
+                    if pivot is None:
+                        return _not_compiled(err, t, i, FEATURE_PIVOT)
+                    if not _vertex_in_instant(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
+                                              bflt[i], planes[p], t, tref[i], tw, tolf, toli):
                         continue
                 if nc >= MAXC:
                     _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
@@ -1995,6 +2007,31 @@ def _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb
                              v2, W2, P2, toli, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
+    return 0
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _resolve_singles(law, nc, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, ev_t,
+                     ev_i, ev_f, cnt, err):
+    """``_resolve`` for a loop compiled without the joint switch (``scene_features``: no
+    polygon, one plane at most, no pairs), where no two contacts of an instant share a body:
+    every contact is its own cluster, resolved once if it approaches (``_sequential`` with
+    K = 1, the same events), without the cluster search. Two contacts of one body are a bug
+    of ``scene_features``: ``ERR_NOT_COMPILED``."""
+    for c in range(nc):
+        for d in range(c):
+            if c_i[d, CI_A] == c_i[c, CI_A]:
+                return _not_compiled(err, t, c_i[c, CI_A], FEATURE_JOINT)
+        if c_i[c, CI_OFF] != 0:
+            continue
+        vN, vT = _contact_velocity(st, c_i, c_f, c)
+        if vN < 0.0:
+            rc, vfN = _single(law, c, t, 1, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
+                              ev_t, ev_i, ev_f, cnt, err)
+            if rc < 0:
+                return rc
+            if perforates(law_par[c_i[c, CI_LAW]], vfN):
+                c_i[c, CI_OFF] = 1
     return 0
 
 
@@ -2162,6 +2199,90 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
     return 0
 
 
+# ---- wedge handlers of _after_impacts (compiled only with the wedge switch: not inlined, so
+# that a loop without it never copies their code; ``pivot``: that switch, True or None)
+
+
+@njit(cache=True, _nrt=False)
+def _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                   tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f, cnt):
+    """After the impacts of an instant, body i rests on two planes (``_try_wedge``), or, a
+    disk rolling, sliding (or spinning frictionless) on plane q that this instant's impact
+    leaves on a second plane p, spins on both when both push (a frictionless disk spinning
+    in a groove slid through p). Returns True when one of them holds the body."""
+    if _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
+                  ttr, tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
+        return True
+    if (pivot is not None and bint[i, B_KIND] == SH_DISK
+            and pm[i, M_MODE] != PM_FLIGHT and pm[i, M_MODE] != PM_WEDGED
+            and pm[i, M_MODE] != PM_PIVOT):
+        q = pm[i, M_PLANE]
+        for c in range(nc):
+            if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
+                    or c_i[c, CI_B] == q):
+                continue
+            vN, vT = _contact_velocity(st, c_i, c_f, c)
+            if vN * vN >= _vz2(tolf, math.hypot(grav[0], grav[1])):
+                continue
+            if _two_enter(i, q, 0, c_i[c, CI_B], 0, t, st, bint, bflt, verts, planes, grav,
+                          law_par, bp_law, pm, tz, zp, ttr, w, ev_t, ev_i, ev_f, cnt) == 0:
+                return True
+    return False
+
+
+@njit(cache=True, _nrt=False)
+def _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                 tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
+    """Disk i whose impacts accumulate on plane p and that touches a second plane q
+    (``_disk_second_plane``): it rests on both, or spins (or slides) on both when it is
+    pressed into both. Returns 1 when it is held so (settled), 0 when its accumulation on
+    p goes on, or an error code."""
+    rc = _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz, ttr,
+                            tolf, ev_t, ev_i, ev_f, cnt, err)
+    if rc < 0:
+        return rc
+    if rc >= 2:
+        q = rc - 2
+        if pivot is not None:
+            rc2 = _two_enter(i, p, 0, q, 0, t, st, bint, bflt, verts, planes, grav, law_par,
+                             bp_law, pm, tz, zp, ttr, w, ev_t, ev_i, ev_f, cnt)
+        else:
+            rc2 = _not_compiled(err, t, i, FEATURE_PIVOT)
+        if rc2 < 0:
+            return rc2
+        if rc2 == 0:
+            return 1
+    if rc == 1:
+        return 1        # wedged between p and a second plane
+    return 0
+
+
+@njit(cache=True, _nrt=False)
+def _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes, grav, law_par,
+              bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f, cnt):
+    """Impacts of body i accumulate at contact ``hold`` (gap acceleration ``amin``): a
+    contact on a second plane, as slow on the scale of the first (its free gap need not
+    accelerate into its plane: a ladder's top is pushed into the wall by the floor), holds
+    it on both when that is consistent (``_two_enter``). Returns True when it is held so."""
+    hold2 = -1
+    amin2 = 0.0
+    for c in range(nc):
+        if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
+                or c_i[c, CI_B] == c_i[hold, CI_B]):
+            continue
+        vN, vT = _contact_velocity(st, c_i, c_f, c)
+        acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
+        if vN * vN < _vz2(tolf, -amin) and (hold2 < 0 or acc < amin2):
+            amin2 = acc
+            hold2 = c
+    if hold2 >= 0 and pivot is not None:
+        return _two_enter(i, c_i[hold, CI_B], c_i[hold, CI_FEAT] - bint[i, B_FIRST],
+                          c_i[hold2, CI_B], c_i[hold2, CI_FEAT] - bint[i, B_FIRST], t, st,
+                          bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr, w,
+                          ev_t, ev_i, ev_f, cnt) == 0
+    return False
+
+
 @njit(cache=True, _nrt=False, inline="always")
 def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                    bp_law, pairs, pm, sched, bp_off, pr_off, tolf, toli, c_i, c_f, bmark, ev,
@@ -2193,31 +2314,10 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
         if bmark[i] == 0:
             continue
         if wedge is not None:
-            if _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
-                          ttr, tolf, c_i, c_f, ev_t, ev_i, ev_f, cnt):
+            if _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
+                              bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f,
+                              cnt):
                 continue
-            if (pivot is not None and bint[i, B_KIND] == SH_DISK
-                    and pm[i, M_MODE] != PM_FLIGHT and pm[i, M_MODE] != PM_WEDGED
-                    and pm[i, M_MODE] != PM_PIVOT):
-                # a disk rolling, sliding (or spinning frictionless) on plane q that this
-                # instant's impact leaves on a second plane p: it spins on both when both
-                # push (a frictionless disk spinning in a groove slid through p)
-                q = pm[i, M_PLANE]
-                held = False
-                for c in range(nc):
-                    if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
-                            or c_i[c, CI_B] == q):
-                        continue
-                    vN, vT = _contact_velocity(st, c_i, c_f, c)
-                    if vN * vN >= _vz2(tolf, math.hypot(grav[0], grav[1])):
-                        continue
-                    if _two_enter(i, q, 0, c_i[c, CI_B], 0, t, st, bint, bflt, verts, planes,
-                                  grav, law_par, bp_law, pm, tz, zp, ttr, w, ev_t, ev_i, ev_f,
-                                  cnt) == 0:
-                        held = True
-                        break
-                if held:
-                    continue
         if pm[i, M_MODE] != PM_FLIGHT:
             rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                              pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
@@ -2260,27 +2360,13 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                         return ERR_FAR_ACCUMULATION
                 continue
             if wedge is not None and bint[i, B_KIND] == SH_DISK:
-                rc = _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm,
-                                        tz, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                rc = _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav,
+                                  law_par, bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f,
+                                  cnt, err)
                 if rc < 0:
                     return rc
-                if rc >= 2:
-                    # it does not rest on p and q: it spins (or slides) on both when it is
-                    # pressed into both, else its accumulation on p goes on (below)
-                    q = rc - 2
-                    if pivot is not None:
-                        rc2 = _two_enter(i, p, 0, q, 0, t, st, bint, bflt, verts, planes,
-                                         grav, law_par, bp_law, pm, tz, zp, ttr, w, ev_t, ev_i,
-                                         ev_f, cnt)
-                    else:
-                        rc2 = _not_compiled(err, t, i, FEATURE_PIVOT)
-                    if rc2 < 0:
-                        return rc2
-                    if rc2 == 0:
-                        settled = True
-                        break
                 if rc == 1:
-                    settled = True      # wedged between p and a second plane
+                    settled = True
                     break
             after = nx * st[i, VX] + ny * st[i, VY]
             before = c_f[c, CF_VCMN]
@@ -2300,9 +2386,7 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
             # boundary, on a plane is held there (integrated pivot contact); the most
             # strongly pushed one if several; at points on two planes: held on both
             hold = -1
-            hold2 = -1
             amin = 0.0
-            amin2 = 0.0
             for c in range(nc):
                 if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
                     continue
@@ -2321,23 +2405,11 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
             # ... and a contact on a second plane, as slow on the scale of the first (its
             # free gap need not accelerate into its plane: a ladder's top is pushed into the
             # wall by the floor): held on both when that is consistent (_two_enter)
-            if hold >= 0 and wedge is not None:
-                for c in range(nc):
-                    if (c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i or c_i[c, CI_OFF] != 0
-                            or c_i[c, CI_B] == c_i[hold, CI_B]):
-                        continue
-                    vN, vT = _contact_velocity(st, c_i, c_f, c)
-                    acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
-                    if vN * vN < _vz2(tolf, -amin) and (hold2 < 0 or acc < amin2):
-                        amin2 = acc
-                        hold2 = c
-            if hold2 >= 0 and wedge is not None and pivot is not None:
-                rc = _two_enter(i, c_i[hold, CI_B], c_i[hold, CI_FEAT] - bint[i, B_FIRST],
-                                c_i[hold2, CI_B], c_i[hold2, CI_FEAT] - bint[i, B_FIRST], t, st,
-                                bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
-                                ttr, w, ev_t, ev_i, ev_f, cnt)
-                if rc == 0:
-                    continue    # its first pass (at t) records its motion
+            if (hold >= 0 and wedge is not None
+                    and _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes,
+                                  grav, law_par, bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w,
+                                  ev_t, ev_i, ev_f, cnt)):
+                continue    # its first pass (at t) records its motion
             if hold >= 0 and bint[i, B_KIND] == SH_DISK:
                 c = hold
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
@@ -2392,23 +2464,30 @@ def scene_features(bint, planes, grav, n_pairs):
     return tuple(True if on else None for on in (pivot, wedge, pair, joint))
 
 
-@functools.lru_cache(maxsize=None)
-def loop_for(law):
+def loop_for(law, pivot=True, wedge=True, pair=True, joint=True):
     """The event loop compiled for one law (a ``LAW_*`` of ``common``, or ``LAW_ANY`` for a
-    scene with several laws: dispatched per contact). The law is a plain int closed over:
-    Numba prunes the other laws before typing and caches each law's loop on disk under its
-    own key (issue 14)."""
-    law = int(law)
+    scene with several laws: dispatched per contact) and one pattern of the feature switches
+    ``pivot``, ``wedge``, ``pair``, ``joint`` (truthy when the scene can reach that mode,
+    ``scene_features``). Law and switches are compile-time constants of the loop (issue 14):
+    plain values closed over, so Numba prunes the other laws and the switched-off modes
+    before inlining and typing, and caches each variant on disk under its own key (the cache
+    key of a closure holds its cell values)."""
+    return _loop_for(int(law), *(True if on else None for on in (pivot, wedge, pair, joint)))
+
+
+@functools.lru_cache(maxsize=None)
+def _loop_for(law, pivot, wedge, pair, joint):
+    """``loop_for`` with its switches normalised to True or None (each handler takes its
+    switch as an argument: None prunes it by type in the functions that are not inlined)."""
 
     @njit(cache=True, _nrt=False)
     def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf,
                  toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
                  ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
-                 bmark, v2, W2, P2, tmp, err, pivot, wedge, pair, joint):
+                 bmark, v2, W2, P2, tmp, err):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
-        contract. The first call (cnt[3] == 0) initialises the run at glob[0]. ``pivot``,
-        ``wedge``, ``pair``, ``joint``: the scene's feature switches (``scene_features``).
-        """
+        contract. The first call (cnt[3] == 0) initialises the run at glob[0]. Compile-time
+        constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint`` (``loop_for``)."""
         nb = st.shape[0]
         npl = planes.shape[0]
         npr = pairs.shape[0]
@@ -2534,12 +2613,16 @@ def loop_for(law):
                 pend = True
                 continue
 
-            nc = _gather(t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf,
-                         toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
+            nc = _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm,
+                         tolf, toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
             if nc < 0:
                 return nc
-            rc = _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb,
-                          tb, comp, v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+            if joint is not None:
+                rc = _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb,
+                              vb, tb, comp, v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+            else:
+                rc = _resolve_singles(law, nc, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2,
+                                      P2, ev_t, ev_i, ev_f, cnt, err)
             if rc < 0:
                 return rc
             rc = _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes,

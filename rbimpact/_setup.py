@@ -198,13 +198,18 @@ def compiled_loop(sim, k):
     module ``k``: the event loop compiled for the scene's one law (``k.loop_for``; every
     law when its contacts have different laws) and the scene's feature switches
     (``k.scene_features``: the modes the loop compiles), found once per simulation
-    (issue 14)."""
+    (issue 14). A stepper whose loop takes the switches as compile-time constants
+    (``k.SWITCHES_IN_LOOP``, 2D) gets them in ``loop_for``, and ``switches`` is empty;
+    otherwise they are the loop's last arguments (3D)."""
     loop = sim.__dict__.get("_loop_switches")
     if loop is None:
         from .kernels.dispatch import LAW_ANY
         laws = {int(x) for x in sim._law_ids}
         law = laws.pop() if len(laws) == 1 else LAW_ANY
-        loop = (k.loop_for(law), k.scene_features(sim._bint, sim._planes, sim._grav,
-                                                  len(sim._pairs)))
+        switches = k.scene_features(sim._bint, sim._planes, sim._grav, len(sim._pairs))
+        if getattr(k, "SWITCHES_IN_LOOP", False):
+            loop = (k.loop_for(law, *switches), ())
+        else:
+            loop = (k.loop_for(law), switches)
         sim._loop_switches = loop
     return loop
