@@ -7,7 +7,9 @@ so the signed distance of the bodies is that of their cores minus ``rA + rB``.
 Disjoint cores (exact to round-off): the distance of two convex polygons is attained
 between a vertex of one and an edge (or a vertex) of the other; every vertex of A is
 projected on every edge of B and vice versa (point-segment distances, O(nA nB)). The
-closest pair ``(cA, cB)`` gives ``n = (cA - cB) / |cA - cB|`` (from B into A, DESIGN §3),
+closest pair ``(cA, cB)`` gives ``n = (cA - cB) / |cA - cB|`` (from B into A, DESIGN §3;
+for a vertex against an edge's interior, the edge's normal and the distance along it, which
+stay exact as the gap goes to 0),
 the gap ``g = |cA - cB| - rA - rB`` and the witness points ``pA = cA - rA n``,
 ``pB = cB + rB n`` (so ``pA - pB = g n``).
 
@@ -89,9 +91,13 @@ def core_sep(VA, iA, nA, xA, yA, cA, sA, VB, iB, nB, xB, yB, cB, sB, ux, uy):
 
 @njit(cache=True, _nrt=False)
 def _closest_cores(VA, iA, nA, xA, yA, cA, sA, VB, iB, nB, xB, yB, cB, sB):
-    """Closest points of the two cores assuming they are disjoint: ``(d2, cAx, cAy, cBx,
-    cBy, fa, ia, fb, ib)``."""
+    """Closest points of the two cores assuming they are disjoint: ``(dist, nx, ny, cAx,
+    cAy, cBx, cBy, fa, ia, fb, ib)``. The pair is chosen on the point-segment distances;
+    a vertex against an edge's interior then takes its normal from the edge (exact
+    direction: the difference of two nearly equal points would tilt it by
+    ``eps |p| / dist``) and its distance along that normal."""
     best = math.inf
+    side = 0            # 0: vertex-vertex, 1: A's vertex on B's edge, 2: B's vertex on A's edge
     rax = ray = rbx = rby = 0.0
     fa = FT_VERTEX
     ia = 0
@@ -106,7 +112,7 @@ def _closest_cores(VA, iA, nA, xA, yA, cA, sA, VB, iB, nB, xB, yB, cB, sB):
             if d2 < best:
                 best = d2
                 rax, ray, rbx, rby = px, py, qx, qy
-                fa, ia, fb, ib = FT_VERTEX, k, FT_VERTEX, 0
+                fa, ia, fb, ib, side = FT_VERTEX, k, FT_VERTEX, 0, 0
             continue
         for e in range(eB):
             ax, ay = vertex_at(VB, iB, nB, e, xB, yB, cB, sB)
@@ -117,11 +123,11 @@ def _closest_cores(VA, iA, nA, xA, yA, cA, sA, VB, iB, nB, xB, yB, cB, sB):
                 rax, ray, rbx, rby = px, py, qx, qy
                 fa, ia = FT_VERTEX, k
                 if t == 0.0:
-                    fb, ib = FT_VERTEX, e
+                    fb, ib, side = FT_VERTEX, e, 0
                 elif t == 1.0:
-                    fb, ib = FT_VERTEX, (e + 1) % nB
+                    fb, ib, side = FT_VERTEX, (e + 1) % nB, 0
                 else:
-                    fb, ib = FT_EDGE, e
+                    fb, ib, side = FT_EDGE, e, 1
     eA = n_edges(nA)
     for l in range(nB):
         px, py = vertex_at(VB, iB, nB, l, xB, yB, cB, sB)
@@ -134,12 +140,40 @@ def _closest_cores(VA, iA, nA, xA, yA, cA, sA, VB, iB, nB, xB, yB, cB, sB):
                 rax, ray, rbx, rby = qx, qy, px, py
                 fb, ib = FT_VERTEX, l
                 if t == 0.0:
-                    fa, ia = FT_VERTEX, e
+                    fa, ia, side = FT_VERTEX, e, 0
                 elif t == 1.0:
-                    fa, ia = FT_VERTEX, (e + 1) % nA
+                    fa, ia, side = FT_VERTEX, (e + 1) % nA, 0
                 else:
-                    fa, ia = FT_EDGE, e
-    return best, rax, ray, rbx, rby, fa, ia, fb, ib
+                    fa, ia, side = FT_EDGE, e, 2
+    if side == 0:
+        dist = math.sqrt(best)
+        if dist > 0.0:
+            return dist, (rax - rbx) / dist, (ray - rby) / dist, rax, ray, rbx, rby, fa, ia, fb, ib
+        return 0.0, 1.0, 0.0, rax, ray, rbx, rby, fa, ia, fb, ib
+    # a vertex against an edge's interior: the edge's unit normal m, oriented to the vertex
+    if side == 1:
+        ax, ay = vertex_at(VB, iB, nB, ib, xB, yB, cB, sB)
+        bx, by = vertex_at(VB, iB, nB, ib + 1, xB, yB, cB, sB)
+        px, py = rax, ray
+    else:
+        ax, ay = vertex_at(VA, iA, nA, ia, xA, yA, cA, sA)
+        bx, by = vertex_at(VA, iA, nA, ia + 1, xA, yA, cA, sA)
+        px, py = rbx, rby
+    ex = bx - ax
+    ey = by - ay
+    L = math.sqrt(ex * ex + ey * ey)
+    mx = ey / L
+    my = -ex / L
+    h = mx * (px - ax) + my * (py - ay)
+    if h < 0.0:
+        mx = -mx
+        my = -my
+        h = -h
+    qx = px - h * mx
+    qy = py - h * my
+    if side == 1:       # m points from B's edge to A's vertex: n = m
+        return h, mx, my, px, py, qx, qy, fa, ia, fb, ib
+    return h, -mx, -my, qx, qy, px, py, fa, ia, fb, ib
 
 
 @njit(cache=True, _nrt=False)
@@ -179,12 +213,9 @@ def rounded_frame(VA, iA, nA, rA, cA, sA, VB, iB, nB, rB, xB, yB, cB, sB):
     ``(c, s)`` cosine and sine of its angle; ``(xB, yB)`` B's centre relative to A's.
     Returns ``(g, nx, ny, pAx, pAy, pBx, pBy, fa, ia, fb, ib)`` (m; ``n`` from B into A;
     witness points relative to A's centre; features ``pair2d_shape.FT_*`` and indices)."""
-    d2, cax, cay, cbx, cby, fa, ia, fb, ib = _closest_cores(VA, iA, nA, 0.0, 0.0, cA, sA,
-                                                            VB, iB, nB, xB, yB, cB, sB)
-    dist = math.sqrt(d2)
+    dist, nx, ny, cax, cay, cbx, cby, fa, ia, fb, ib = _closest_cores(
+        VA, iA, nA, 0.0, 0.0, cA, sA, VB, iB, nB, xB, yB, cB, sB)
     if dist > 0.0:
-        nx = (cax - cbx) / dist
-        ny = (cay - cby) / dist
         sig, _, _ = core_sep(VA, iA, nA, 0.0, 0.0, cA, sA, VB, iB, nB, xB, yB, cB, sB, nx, ny)
         if sig > 0.0:   # disjoint cores: the closest pair is exact
             return (dist - rA - rB, nx, ny, cax - rA * nx, cay - rA * ny, cbx + rB * nx,

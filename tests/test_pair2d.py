@@ -1,0 +1,383 @@
+"""2D body-body pair kinds (kernels/pair2d*.py, issue 16 item 1): gap, normal, witness points
+and features against a brute-force distance (dense sampling of both boundaries, then a
+local refinement with scipy.optimize), time of impact against a scan and bisection of the
+gap along the exact flight, grazing and fast-spinning throws, invariance (translation by
+1 km, rotation of the scene, swapping the bodies), and the input checks.
+
+Conventions (DESIGN §3): ``n`` from B into A, ``pA - pB = g n``, ``g' < 0`` approaching."""
+import math
+import time
+
+import numpy as np
+import pytest
+from numba import njit
+from scipy.optimize import minimize_scalar
+
+from rbimpact import shapes
+from rbimpact.kernels.flight2d import ANGLE, AX, AY, OMEGA, VX, VY, X, Y, fly_into
+from rbimpact.kernels.pair2d import (FE_A_KIND, FE_B_KIND, FR_GAP, FR_NX, FR_NY, FR_PAX,
+                                     FR_PAY, FR_PBX, FR_PBY, FR_RATE, N_FE, N_FR,
+                                     PAIR_TABLE, PK_NONE, pair_frame, pair_kind)
+from rbimpact.kernels.pair2d_shape import (FT_CURVE, FT_EDGE, FT_VERTEX, SH_DISK,
+                                           SH_ELLIPSE, SH_POLY)
+from rbimpact.kernels.pair2d_toi import pair_toi
+from rbimpact.kernels.toi2d import INF, TOI_MISSED, TOI_OK
+from rbimpact.pair2d_input import body_geometry, pose, shape_geometry
+
+EPS = np.finfo(float).eps
+RTOL, ATOL, GAP_TOL, MAXIT = 1e-14, 1e-15, 1e-9, 100000
+GRAVITY = -9.81
+SHAPES = ("disk", "polygon", "capsule", "ellipse")
+PAIRS = [(a, b) for i, a in enumerate(SHAPES) for b in SHAPES[i:]]
+
+
+# ---- random bodies -----------------------------------------------------------------------
+
+def random_body(rng, name):
+    """A random body of roughly unit size as ``(geometry, size)``; ``size`` the largest
+    distance of its boundary from its centre (m)."""
+    if name == "disk":
+        shape = shapes.Disk(rng.uniform(0.2, 1.0))
+    elif name == "polygon":
+        if rng.random() < 0.3:
+            shape = shapes.Box(rng.uniform(0.3, 2.0), rng.uniform(0.3, 2.0))
+        else:
+            n = int(rng.integers(3, 9))
+            ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+            while np.min(np.diff(np.r_[ang, ang[0] + 2 * np.pi])) < 0.2 or \
+                    np.max(np.diff(np.r_[ang, ang[0] + 2 * np.pi])) > 2.8:
+                ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+            rad = rng.uniform(0.4, 1.0) * np.array([1.0, rng.uniform(0.5, 1.0)])
+            shape = shapes.Polygon(np.c_[rad[0] * np.cos(ang), rad[1] * np.sin(ang)])
+    elif name == "capsule":
+        shape = shapes.Rod(rng.uniform(0.5, 2.0), rng.uniform(0.05, 0.5))
+    else:
+        a = rng.uniform(0.3, 1.5)
+        shape = shapes.Ellipse(a, a / rng.uniform(1.05, 10.0))
+        if rng.random() < 0.5:
+            shape = shapes.Ellipse(shape.b, shape.a)
+    geo = shape_geometry(shape)
+    return geo, shape.bounding_radius
+
+
+def kargs(geo, st):
+    kind, rad, ea, eb, V = geo
+    return (kind, rad, ea, eb, V, 0, V.shape[0], st)
+
+
+def frame(geoA, stA, geoB, stB):
+    fr = np.zeros(N_FR)
+    fe = np.zeros(N_FE, np.int64)
+    pair_frame(*kargs(geoA, stA), *kargs(geoB, stB), fr, fe)
+    return fr, fe
+
+
+# ---- independent geometry: boundary parametrisation, inside test, boundary distance ------
+
+def boundary(geo, st, t):
+    """World points of the boundary at parameters ``t`` (array, period 1)."""
+    kind, rad, ea, eb, V = geo
+    t = np.mod(np.asarray(t, float), 1.0)
+    if kind == SH_DISK:
+        p = np.c_[rad * np.cos(2 * np.pi * t), rad * np.sin(2 * np.pi * t)] + V[0]
+    elif kind == SH_ELLIPSE:
+        p = np.c_[ea * np.cos(2 * np.pi * t), eb * np.sin(2 * np.pi * t)]
+    elif V.shape[0] >= 3:                         # polygon, by perimeter
+        E = np.roll(V, -1, axis=0) - V
+        L = np.hypot(E[:, 0], E[:, 1])
+        cum = np.r_[0.0, np.cumsum(L)] / L.sum()
+        i = np.clip(np.searchsorted(cum, t, side="right") - 1, 0, len(V) - 1)
+        u = (t - cum[i]) / (cum[i + 1] - cum[i])
+        p = V[i] + u[:, None] * E[i]
+    else:                                         # capsule along body x, by arc length
+        half = 0.5 * np.hypot(*(V[1] - V[0]))
+        L, r = 2 * half, rad
+        per = 2 * L + 2 * np.pi * r
+        s = t * per
+        p = np.empty((len(s), 2))
+        m1 = s < L
+        p[m1] = np.c_[-half + s[m1], -r + 0 * s[m1]]
+        m2 = (s >= L) & (s < L + np.pi * r)
+        a2 = -np.pi / 2 + (s[m2] - L) / r
+        p[m2] = np.c_[half + r * np.cos(a2), r * np.sin(a2)]
+        m3 = (s >= L + np.pi * r) & (s < 2 * L + np.pi * r)
+        p[m3] = np.c_[half - (s[m3] - L - np.pi * r), r + 0 * s[m3]]
+        m4 = s >= 2 * L + np.pi * r
+        a4 = np.pi / 2 + (s[m4] - 2 * L - np.pi * r) / r
+        p[m4] = np.c_[-half + r * np.cos(a4), r * np.sin(a4)]
+    c, s_ = math.cos(st[ANGLE]), math.sin(st[ANGLE])
+    return np.c_[st[X] + c * p[:, 0] - s_ * p[:, 1], st[Y] + s_ * p[:, 0] + c * p[:, 1]]
+
+
+def to_body(geo, st, p):
+    c, s = math.cos(st[ANGLE]), math.sin(st[ANGLE])
+    d = np.atleast_2d(p) - [st[X], st[Y]]
+    return np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]]
+
+
+def seg_dist(q, a, b):
+    e = b - a
+    u = np.clip(((q - a) @ e) / (e @ e), 0.0, 1.0)
+    return np.hypot(*(q - a - u[:, None] * e).T)
+
+
+def boundary_distance(geo, st, p):
+    """Distance (m) of world points ``p`` from the body's boundary (first order for the
+    ellipse: |F| / |grad F| of its implicit function), and whether they are inside."""
+    kind, rad, ea, eb, V = geo
+    q = to_body(geo, st, p)
+    if kind == SH_ELLIPSE:
+        F = (q[:, 0] / ea) ** 2 + (q[:, 1] / eb) ** 2 - 1.0
+        G = 2 * np.hypot(q[:, 0] / ea ** 2, q[:, 1] / eb ** 2)
+        return np.abs(F) / G, F < 0
+    if V.shape[0] == 1:
+        d = np.hypot(*(q - V[0]).T)
+        return np.abs(d - rad), d < rad
+    if V.shape[0] == 2:
+        d = seg_dist(q, V[0], V[1])
+        return np.abs(d - rad), d < rad
+    d = np.min([seg_dist(q, V[i], V[(i + 1) % len(V)]) for i in range(len(V))], axis=0)
+    E = np.roll(V, -1, axis=0) - V
+    cr = np.min([E[i, 0] * (q[:, 1] - V[i, 1]) - E[i, 1] * (q[:, 0] - V[i, 0])
+                 for i in range(len(V))], axis=0)
+    return d, cr > 0
+
+
+N_SAMPLE = 256      # samples of each boundary
+ZOOM_GRID = 11      # grid of one round of the zoomed search of a point's nearest boundary point
+ZOOM_SHRINK = 3.0   # window shrink per round
+
+
+@njit(cache=True)
+def _bpoint(kind, rad, ea, eb, V, x, y, th, t):
+    """Boundary point at parameter ``t`` (period 1), as ``boundary`` (scalar, compiled)."""
+    t = t - math.floor(t)
+    if kind == SH_DISK:
+        px = V[0, 0] + rad * math.cos(2 * math.pi * t)
+        py = V[0, 1] + rad * math.sin(2 * math.pi * t)
+    elif kind == SH_ELLIPSE:
+        px = ea * math.cos(2 * math.pi * t)
+        py = eb * math.sin(2 * math.pi * t)
+    elif V.shape[0] >= 3:
+        n = V.shape[0]
+        tot = 0.0
+        for i in range(n):
+            tot += math.hypot(V[(i + 1) % n, 0] - V[i, 0], V[(i + 1) % n, 1] - V[i, 1])
+        s = t * tot
+        px = V[0, 0]
+        py = V[0, 1]
+        for i in range(n):
+            ex = V[(i + 1) % n, 0] - V[i, 0]
+            ey = V[(i + 1) % n, 1] - V[i, 1]
+            L = math.hypot(ex, ey)
+            if s <= L or i == n - 1:
+                u = min(s / L, 1.0)
+                px = V[i, 0] + u * ex
+                py = V[i, 1] + u * ey
+                break
+            s -= L
+    else:
+        half = 0.5 * math.hypot(V[1, 0] - V[0, 0], V[1, 1] - V[0, 1])
+        L = 2 * half
+        r = rad
+        s = t * (2 * L + 2 * math.pi * r)
+        if s < L:
+            px, py = -half + s, -r
+        elif s < L + math.pi * r:
+            a = -math.pi / 2 + (s - L) / r
+            px, py = half + r * math.cos(a), r * math.sin(a)
+        elif s < 2 * L + math.pi * r:
+            px, py = half - (s - L - math.pi * r), r
+        else:
+            a = math.pi / 2 + (s - 2 * L - math.pi * r) / r
+            px, py = -half + r * math.cos(a), r * math.sin(a)
+    c = math.cos(th)
+    sn = math.sin(th)
+    return x + c * px - sn * py, y + sn * px + c * py
+
+
+@njit(cache=True)
+def _nearest(kind, rad, ea, eb, V, x, y, th, qx, qy):
+    """Distance of the point ``q`` from the boundary: the best of ``N_SAMPLE`` samples, then
+    a zoomed grid search around it down to 1e-16 in the parameter. Returns ``(d, t)``."""
+    best = math.inf
+    tb = 0.0
+    for k in range(N_SAMPLE):
+        t = (k + 0.5) / N_SAMPLE
+        px, py = _bpoint(kind, rad, ea, eb, V, x, y, th, t)
+        d = math.hypot(px - qx, py - qy)
+        if d < best:
+            best = d
+            tb = t
+    w = 2.0 / N_SAMPLE
+    while w > 1e-16:
+        t0 = tb
+        for k in range(ZOOM_GRID):
+            t = t0 + w * (2.0 * k / (ZOOM_GRID - 1) - 1.0)
+            px, py = _bpoint(kind, rad, ea, eb, V, x, y, th, t)
+            d = math.hypot(px - qx, py - qy)
+            if d < best:
+                best = d
+                tb = t
+        w /= ZOOM_SHRINK
+    return best, tb
+
+
+@njit(cache=True)
+def _closest_pair(kA, rA, eaA, ebA, VA, xA, yA, thA, kB, rB, eaB, ebB, VB, xB, yB, thB):
+    """``min_tA F(tA)``, ``F`` the distance of A's boundary point ``tA`` from B's boundary
+    (``_nearest``): best of ``N_SAMPLE`` samples, then the same zoomed grid search in
+    ``tA``. Returns ``(d, tA, tB)``."""
+    best = math.inf
+    ta = tb = 0.0
+    for k in range(N_SAMPLE):
+        t = (k + 0.5) / N_SAMPLE
+        px, py = _bpoint(kA, rA, eaA, ebA, VA, xA, yA, thA, t)
+        d, u = _nearest(kB, rB, eaB, ebB, VB, xB, yB, thB, px, py)
+        if d < best:
+            best, ta, tb = d, t, u
+    w = 2.0 / N_SAMPLE
+    while w > 1e-16:
+        t0 = ta
+        for k in range(ZOOM_GRID):
+            t = t0 + w * (2.0 * k / (ZOOM_GRID - 1) - 1.0)
+            px, py = _bpoint(kA, rA, eaA, ebA, VA, xA, yA, thA, t)
+            d, u = _nearest(kB, rB, eaB, ebB, VB, xB, yB, thB, px, py)
+            if d < best:
+                best, ta, tb = d, t, u
+        w /= ZOOM_SHRINK
+    return best, ta, tb
+
+
+def brute_force(geoA, stA, geoB, stB):
+    """Distance of the boundaries, independent of the kernels: dense sampling of both
+    boundaries and a zoomed grid search on the two boundary parameters (``_closest_pair``,
+    robust at corners where the distance has a kink), then a final bounded Brent search
+    (scipy) in A's parameter about the result. Returns ``(d, pA, pB)``, or None when the
+    bodies overlap (a sample of one inside the other)."""
+    t = (np.arange(N_SAMPLE) + 0.5) / N_SAMPLE
+    if boundary_distance(geoB, stB, boundary(geoA, stA, t))[1].any() or \
+            boundary_distance(geoA, stA, boundary(geoB, stB, t))[1].any():
+        return None
+    kA, rA, eaA, ebA, VA = geoA
+    kB, rB, eaB, ebB, VB = geoB
+    d, ta, tb = _closest_pair(kA, rA, eaA, ebA, VA, stA[X], stA[Y], stA[ANGLE],
+                              kB, rB, eaB, ebB, VB, stB[X], stB[Y], stB[ANGLE])
+
+    def F(x):
+        px, py = _bpoint(kA, rA, eaA, ebA, VA, stA[X], stA[Y], stA[ANGLE], ta + x)
+        return _nearest(kB, rB, eaB, ebB, VB, stB[X], stB[Y], stB[ANGLE], px, py)
+
+    r = minimize_scalar(lambda x: F(x)[0], bounds=(-1e-13, 1e-13), method="bounded",
+                        options=dict(xatol=1e-18))
+    if r.fun < d:
+        ta = ta + r.x
+        d, tb = F(r.x)
+    pA = np.array(_bpoint(kA, rA, eaA, ebA, VA, stA[X], stA[Y], stA[ANGLE], ta))
+    pB = np.array(_bpoint(kB, rB, eaB, ebB, VB, stB[X], stB[Y], stB[ANGLE], tb))
+    return d, pA, pB
+
+
+def random_pose_pair(rng, geoA, sizeA, geoB, sizeB):
+    stB = pose([rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-np.pi, np.pi)])
+    u = rng.uniform(0, 2 * np.pi)
+    dist = (sizeA + sizeB) * rng.uniform(0.35, 1.2)
+    stA = pose([stB[X] + dist * math.cos(u), stB[Y] + dist * math.sin(u),
+                rng.uniform(-np.pi, np.pi)])
+    return stA, stB
+
+
+# ---- 1. gap, normal, witness points and features against the brute force -----------------
+
+N_POSES = 100           # separated poses per pair of shapes (plus as many near contact)
+
+
+@pytest.mark.parametrize("pair", PAIRS, ids=["-".join(p) for p in PAIRS])
+def test_gap_normal_witness_against_brute_force(pair):
+    rng = np.random.default_rng(hash(pair) % 2 ** 32)
+    worst = dict(gap=0.0, normal=0.0, on_boundary=0.0, witness=0.0)
+    done = 0
+    while done < N_POSES:
+        geoA, sA = random_body(rng, pair[0])
+        geoB, sB = random_body(rng, pair[1])
+        if rng.random() < 0.5:
+            geoA, sA, geoB, sB = geoB, sB, geoA, sA
+        stA, stB = random_pose_pair(rng, geoA, sA, geoB, sB)
+        bf = brute_force(geoA, stA, geoB, stB)
+        if bf is None or bf[0] < 1e-3:
+            continue
+        for near in (False, True):
+            if near:    # move A along the normal to a gap of 1e-9 .. 1e-3 of the size
+                fr, _ = frame(geoA, stA, geoB, stB)
+                target = 10 ** rng.uniform(-9, -3) * max(sA, sB)
+                stA = stA.copy()
+                stA[X] += (target - fr[FR_GAP]) * fr[FR_NX]
+                stA[Y] += (target - fr[FR_GAP]) * fr[FR_NY]
+                bf = brute_force(geoA, stA, geoB, stB)
+                assert bf is not None
+            d, bA, bB = bf
+            size = max(sA, sB)
+            fr, fe = frame(geoA, stA, geoB, stB)
+            g = fr[FR_GAP]
+            n = fr[[FR_NX, FR_NY]]
+            pA = fr[[FR_PAX, FR_PAY]]
+            pB = fr[[FR_PBX, FR_PBY]]
+            worst["gap"] = max(worst["gap"], abs(g - d) / size)
+            # the normal: unit, along pA - pB, and along the brute-force closest pair
+            assert abs(np.hypot(*n) - 1.0) < 1e-14
+            worst["witness"] = max(worst["witness"], np.hypot(*(pA - pB - g * n)) / size)
+            c = bA - bB
+            worst["normal"] = max(worst["normal"], abs(n[0] * c[1] - n[1] * c[0]) / size)
+            assert n @ c > 0.0
+            on = max(boundary_distance(geoA, stA, pA[None])[0][0],
+                     boundary_distance(geoB, stB, pB[None])[0][0]) / size
+            worst["on_boundary"] = max(worst["on_boundary"], on)
+            # features: an ellipse reports its curve, a polygon a vertex or an edge
+            for kind, f in ((geoA[0], fe[FE_A_KIND]), (geoB[0], fe[FE_B_KIND])):
+                if kind == SH_ELLIPSE:
+                    assert f == FT_CURVE
+                elif kind == SH_DISK:
+                    assert f == FT_VERTEX
+                else:
+                    assert f in (FT_VERTEX, FT_EDGE)
+            done += 1
+    print(f"{pair}: {done} poses, worst {worst}")
+    assert worst["gap"] < 1e-9
+    assert worst["witness"] < 1e-12
+    assert worst["on_boundary"] < 1e-12
+    assert worst["normal"] < 1e-6
+
+
+# ---- 2. gap rate -------------------------------------------------------------------------
+
+def test_gap_rate_is_the_derivative_of_the_gap():
+    """``g'`` of the frame against a central difference of the gap along the exact flight."""
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for pair in PAIRS:
+        k = 0
+        while k < 20:
+            geoA, sA = random_body(rng, pair[0])
+            geoB, sB = random_body(rng, pair[1])
+            stA, stB = random_pose_pair(rng, geoA, sA, geoB, sB)
+            stA[VX:OMEGA + 1] = rng.normal(size=3)
+            stB[VX:OMEGA + 1] = rng.normal(size=3)
+            stA[AY] = stB[AY] = GRAVITY
+            fr, _ = frame(geoA, stA, geoB, stB)
+            if fr[FR_GAP] < 1e-2:
+                continue
+            h = 1e-5
+            gp = gap_at(geoA, stA, geoB, stB, h)
+            gm = gap_at(geoA, stA, geoB, stB, -h)
+            fd = (gp - gm) / (2 * h)
+            worst = max(worst, abs(fd - fr[FR_RATE]) / (1 + abs(fr[FR_RATE])))
+            k += 1
+    assert worst < 1e-6
+
+
+def gap_at(geoA, stA, geoB, stB, s):
+    a = np.empty(9)
+    b = np.empty(9)
+    fly_into(stA, s, a)
+    fly_into(stB, s, b)
+    return frame(geoA, a, geoB, b)[0][FR_GAP]
