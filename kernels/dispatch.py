@@ -83,6 +83,24 @@ def resolve_3d(law_id, v, W, params, P_out):
     return mode
 
 
+# Routh's 2D scalar core compiled as a function of its own, for the stepper (issue 14):
+# ``routh.routh_2d`` inlines it (``inline='always'``, for the batch kernels), and Numba
+# copies an inlined body block by block, each time with its whole variable scope: 1.4-1.8 s
+# of the first run of a Routh scene for this 133-block core. Called, it is typed and
+# lowered once. The same function and flags: the same numbers.
+_routh_2d_core = njit(cache=True, error_model="numpy")(routh_2d_scalar.py_func)
+
+
+@njit(cache=True, error_model="numpy")
+def _routh_2d_called(v, W, params, P_out):
+    """``routh.routh_2d`` with its scalar core called (``_routh_2d_core``), not inlined."""
+    mode, P0, P1 = _routh_2d_core(v[0], v[1], W[0, 0], W[0, 1], W[1, 1], params[P_E],
+                                  params[P_MU], params[P_REST])
+    P_out[0] = P0
+    P_out[1] = P1
+    return mode
+
+
 LAW_ANY = -1
 """``law`` of the ``*_as`` forms for a caller with several laws: dispatch per contact on
 ``law_id`` (every law compiled)."""
@@ -93,7 +111,8 @@ def resolve_2d_as(law, law_id, v, W, params, P_out):
     """``resolve_2d`` with the law fixed at compile time: ``law`` is a constant ``LAW_*``
     closed over by the (inlining) caller, so the other laws are pruned before typing and
     never compiled (issue 14), or ``LAW_ANY``: dispatch on ``law_id``. The law's own array
-    kernel is called (compiled once, not inlined into a large caller)."""
+    kernel is called (compiled once, not inlined into a large caller; Routh's with its
+    scalar core called, ``_routh_2d_called``)."""
     if law == LAW_KANE_LEVINSON:
         return kane_levinson_2d(v, W, params, P_out)
     if law == LAW_BRACH:
@@ -101,7 +120,7 @@ def resolve_2d_as(law, law_id, v, W, params, P_out):
     if law == LAW_CHATTERJEE_RUINA:
         return chatterjee_ruina_2d(v, W, params, P_out)
     if law == LAW_ROUTH:
-        return routh_2d(v, W, params, P_out)
+        return _routh_2d_called(v, W, params, P_out)
     if law == LAW_SMITH:
         return smith_2d(v, W, params, P_out)
     return resolve_2d(law_id, v, W, params, P_out)
