@@ -634,3 +634,146 @@ def test_grazing_throws(pair):
     print(f"{pair}: {N_GRAZES} grazes ({found} found at t_c), worst |toi - bisection| of the "
           f"near grazes {worst:.2e} s")
     assert worst <= 1e-12
+
+
+# ---- 4. invariance -----------------------------------------------------------------------
+
+def hitting_throws(pair, count, rng):
+    out = []
+    while len(out) < count:
+        geoA, stA, geoB, stB, S = random_throw(rng, pair, 100.0 if len(out) % 2 else 2.0)
+        s, _ = toi(geoA, stA, geoB, stB, S)
+        if math.isfinite(s):
+            fr, _ = frame(*_flown(geoA, stA, geoB, stB, s))
+            out.append((geoA, stA, geoB, stB, S, s, abs(fr[FR_RATE])))
+    return out
+
+
+def rotated(st, phi):
+    c, s = math.cos(phi), math.sin(phi)
+    out = st.copy()
+    for i, j in ((X, Y), (VX, VY), (AX, AY)):
+        out[i] = c * st[i] - s * st[j]
+        out[j] = s * st[i] + c * st[j]
+    out[ANGLE] += phi
+    return out
+
+
+@pytest.mark.parametrize("pair", PAIRS, ids=["-".join(p) for p in PAIRS])
+def test_invariance_translation_rotation_swap(pair):
+    """Translating both bodies by 1 km, or rotating the scene, moves the time of impact by
+    round-off of the scene's size over the normal speed; swapping A and B leaves it and
+    flips the normal (witness points exchanged)."""
+    rng = np.random.default_rng(5000 + seed(pair))
+    worst = dict(translate=0.0, rotate=0.0, swap=0.0)
+    for geoA, stA, geoB, stB, S, s, vn in hitting_throws(pair, 30, rng):
+        # 1 km away
+        off = 1000.0 * np.array([math.cos(1.0), math.sin(1.0)])
+        a, b = stA.copy(), stB.copy()
+        a[X:Y + 1] += off
+        b[X:Y + 1] += off
+        s1, code = toi(geoA, a, geoB, b, S)
+        assert code == TOI_OK
+        err = abs(s1 - s) * vn / (EPS * 1000.0)        # in units of eps * 1 km / v_n
+        worst["translate"] = max(worst["translate"], err)
+        # the whole scene turned about the origin (gravity with it)
+        phi = rng.uniform(-np.pi, np.pi)
+        s2, _ = toi(geoA, rotated(stA, phi), geoB, rotated(stB, phi), S)
+        L = 10.0
+        worst["rotate"] = max(worst["rotate"], abs(s2 - s) * vn / (EPS * L))
+        # A and B exchanged
+        s3, _ = toi(geoB, stB, geoA, stA, S)
+        worst["swap"] = max(worst["swap"], abs(s3 - s) * vn / (EPS * L))
+        fr, _ = frame(*_flown(geoA, stA, geoB, stB, s))
+        fr2, _ = frame(*_flown(geoB, stB, geoA, stA, s))
+        assert abs(fr2[FR_GAP] - fr[FR_GAP]) < 1e-14
+        assert np.allclose(fr2[[FR_NX, FR_NY]], -fr[[FR_NX, FR_NY]], atol=1e-12)
+        assert np.allclose(fr2[[FR_PAX, FR_PAY]], fr[[FR_PBX, FR_PBY]], atol=1e-12)
+        assert abs(fr2[FR_RATE] - fr[FR_RATE]) < 1e-12 * (1 + vn)
+    print(f"{pair}: worst changes in units of eps L / v_n: {worst}")
+    assert worst["translate"] < 64 and worst["rotate"] < 64 and worst["swap"] < 64
+
+
+# ---- 5. overlap, dispatcher table, input checks -------------------------------------------
+
+@pytest.mark.parametrize("pair", PAIRS, ids=["-".join(p) for p in PAIRS])
+def test_overlap_depth(pair):
+    """Overlapping bodies: ``g < 0``; moving A by ``-g n`` leaves them touching (exactly for
+    disks, capsules and polygons: the minimum translation; for an ellipse a lower estimate
+    of the signed distance, so the move separates them by at most a small fraction)."""
+    rng = np.random.default_rng(9000 + seed(pair))
+    k = 0
+    while k < 40:
+        geoA, sA = random_body(rng, pair[0])
+        geoB, sB = random_body(rng, pair[1])
+        stA, stB = random_pose_pair(rng, geoA, sA, geoB, sB)
+        fr, _ = frame(geoA, stA, geoB, stB)
+        if fr[FR_GAP] <= 0.0:       # start from touching bodies (exact frame)
+            continue
+        depth = rng.uniform(1e-6, 3e-3)     # m: below half the thinnest body (0.06 m)
+        stA[X] -= (fr[FR_GAP] + depth) * fr[FR_NX]
+        stA[Y] -= (fr[FR_GAP] + depth) * fr[FR_NY]
+        fr, _ = frame(geoA, stA, geoB, stB)
+        assert fr[FR_GAP] < 0.0
+        a = stA.copy()
+        a[X] -= fr[FR_GAP] * fr[FR_NX]
+        a[Y] -= fr[FR_GAP] * fr[FR_NY]
+        after = frame(geoA, a, geoB, stB)[0][FR_GAP]
+        if SH_ELLIPSE in (geoA[0], geoB[0]):
+            assert -1e-12 < after < 0.05 * abs(fr[FR_GAP]) + 1e-12
+        else:
+            assert abs(after) < 1e-12
+        k += 1
+
+
+def test_dispatcher_table():
+    """Every pair of shape kinds has one pair kind, and the shape kinds are the stepper's."""
+    assert (SH_DISK, SH_POLY, SH_ELLIPSE) == (shapes._SH_DISK, shapes._SH_POLY,
+                                              shapes._SH_ELLIPSE)
+    keys = [(a, b) for a, b, _, _ in PAIR_TABLE]
+    assert len(keys) == len(set(keys)) == 9
+    for a in (SH_DISK, SH_POLY, SH_ELLIPSE):
+        for b in (SH_DISK, SH_POLY, SH_ELLIPSE):
+            assert pair_kind(a, b)[0] != PK_NONE
+    assert pair_kind(3, 0)[0] == PK_NONE
+    s, _ = pair_toi(7, 0.0, 0.0, 0.0, np.zeros((1, 2)), 0, 1, np.zeros(9),
+                    0, 1.0, 0.0, 0.0, np.zeros((1, 2)), 0, 1, np.zeros(9),
+                    0.0, 1.0, RTOL, ATOL, GAP_TOL, MAXIT)
+    assert math.isnan(s)
+
+
+def test_overlapping_start_is_a_missed_event():
+    geo = body_geometry(SH_POLY, vertices=[(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+    s, code = toi(geo, pose([0.0, 0.9, 0.0]), geo, pose([0.0, 0.0, 0.0]), 1.0)
+    assert (s, code) == (0.0, TOI_MISSED)
+
+
+@pytest.mark.parametrize("bad", [
+    dict(kind=SH_POLY, vertices=[(0, 0), (1, 0), (0.2, 0.2), (0, 1)]),      # reflex corner
+    dict(kind=SH_POLY, vertices=[(0, 0), (1, 0), (1, 1), (0, 1), (1, 0.5)]),  # not convex
+    dict(kind=SH_POLY, vertices=[(0, 0), (0, 0), (1, 1)]),                 # repeated
+    dict(kind=SH_POLY, vertices=[(0, 0)], radius=0.5),                     # a disk
+    dict(kind=SH_POLY, vertices=[(0, 0), (1, 0)], radius=-0.1),            # negative radius
+    dict(kind=SH_DISK, radius=0.0),                                        # zero radius
+    dict(kind=SH_DISK, radius=float("nan")),
+    dict(kind=SH_ELLIPSE, a=1.0, b=0.0),                                   # zero semi-axis
+    dict(kind=SH_POLY, vertices=[(0, 0), (1, float("nan")), (0, 1)]),
+    dict(kind=5, radius=1.0),                                              # unknown kind
+])
+def test_bad_body_raises(bad):
+    with pytest.raises(ValueError):
+        body_geometry(**bad)
+
+
+@pytest.mark.parametrize("bad", [[0.0, float("nan"), 0.0], [0.0, 1.0], [0, 0, float("inf")],
+                                 "abc", [0.0] * 9 + [1.0]])
+def test_bad_pose_raises(bad):
+    with pytest.raises(ValueError):
+        pose(bad)
+
+
+def test_clockwise_polygon_is_stored_counter_clockwise():
+    sq = [(0, 0), (0, 1), (1, 1), (1, 0)]
+    V = body_geometry(SH_POLY, vertices=sq)[4]
+    E = np.roll(V, -1, axis=0) - V
+    assert np.all(E[:, 0] * np.roll(E, -1, axis=0)[:, 1] - E[:, 1] * np.roll(E, -1, axis=0)[:, 0] > 0)
