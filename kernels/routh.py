@@ -21,6 +21,13 @@ the impulse on A, ``W`` (1/kg) the SPD contact-space inverse mass, ``v(p) = v0 +
   Termination: poisson ``p_f = (1+e) p_c``; energetic (Stronge)
   ``int_0^pf v_N dp = (1-e^2) W_c``; newton ``v_N(p_f) = -e v_N(0)``.
 
+Touching contacts (``v_N = 0``): the law gives an impact only while the contact slides
+with a negative normal slope ``a - mu w.u < 0``: v_N would become negative at once, the
+Painleve configuration in which sliding has no consistent contact force. Integrating from
+``v_N = 0`` is then the impact without collision (tangential impact) of Genot & Brogliato
+(Eur. J. Mech. A 18, 1999) and Or & Rubin (2012): compression until the slip stops or
+turns to a positive slope, restitution as for any impact. Otherwise ``MODE_SEPARATING``.
+
 Failure modes (``P_out`` zeroed):
 * ``MODE_NO_SOLUTION``: ``v_N`` can never reach 0 in compression (Painleve-type jam: the
   normal slope stays <= 0 on the rest of the slip path), ``v_N`` returns to 0 during
@@ -274,8 +281,8 @@ def routh_2d_scalar(vN0, vT, a, b, c, e, mu, r):
     slope that can be ~cond(W)^-1 W_NN. A single segment (no slip stop) terminates at
     ``p_f = (1 + e) p_c`` for every restitution kind.
     """
-    if vN0 >= 0.0:
-        return MODE_SEPARATING, 0.0, 0.0
+    if vN0 > 0.0 or (vN0 == 0.0 and (vT == 0.0 or mu == 0.0)):
+        return MODE_SEPARATING, 0.0, 0.0           # (sticking slopes are > 0 for SPD W)
     ok, rest = _check_params(e, mu, r)
     finite = abs(vN0) + abs(vT) + abs(a) + abs(b) + abs(c) < np.inf   # False for NaN too
     if not ok or not finite or not (a > 0.0) or not (c > 0.0):
@@ -293,6 +300,8 @@ def routh_2d_scalar(vN0, vT, a, b, c, e, mu, r):
     ms = mu * s                                   # exact: s = +-1
     kh, kl = _axpy_dd(a, ms, b)                   # normal slope while slipping
     kTh, kTl = _axpy_dd(b, ms, c)                 # tangential slope
+    if vN0 == 0.0 and not kh < 0.0:
+        return MODE_SEPARATING, 0.0, 0.0           # touching, and no impact without collision
     if s * kTh >= 0.0:                            # the slip never stops
         return _single_2d(MODE_SLIP, vN0, kh, -ms, e)
     # ---- the slip stops at h1 = -vT/kT; v_N there in double-double ----
@@ -677,7 +686,12 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     MODE_SLIP_STICK, MODE_SLIP_REVERSE (stops, resumes on the diverging ray),
     MODE_SEPARATING, MODE_NO_SOLUTION or MODE_NOT_CONVERGED.
     """
-    if vN0 >= 0.0:
+    if vN0 > 0.0:
+        return MODE_SEPARATING, 0.0, 0.0, 0.0
+    if vN0 == 0.0 and not (mu > 0.0 and a - mu * (w1 * x01 + w2 * x02) / math.sqrt(
+            x01 * x01 + x02 * x02) < 0.0):
+        # touching: an impact without collision only while sliding with a negative normal
+        # slope (sticking and the diverging ray have positive slopes for SPD W)
         return MODE_SEPARATING, 0.0, 0.0, 0.0
     ok, rest = _check_params(e, mu, r)
     vscale = math.sqrt(vN0 * vN0 + x01 * x01 + x02 * x02)
@@ -730,7 +744,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
                                   x01, x02)
         fn = math.sqrt(f1 * f1 + f2 * f2)
         ps = -vN0 / a
-        if fn * ps > r0:
+        if fn * ps > r0 or ps == 0.0:             # (ps == 0: an impact without collision)
             ps = r0 / fn
         h = H0_FRAC * math.pow(tol, 0.2) * ps
         hstiff = _h_stiff(x1, x2, w1, w2, c00, c01, c11, mu)

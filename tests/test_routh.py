@@ -730,3 +730,27 @@ def test_bench_routh3d_error_follows_tol():
     for r in rows:
         assert r["rel_error"] <= ROUTH3D_ERR_PER_TOL * r["tol"], r
         assert r["impacts_per_s"] * r["time_per_impact_s"] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("rest", KINDS)
+def test_touching_contact_slipping_into_a_painleve_slope_impacts_without_collision(rest):
+    # The rod, touching (v_N = 0) and sliding with v_T = -1 at mu = 2: the normal slope
+    # W_NN - mu s W_TN = 2.5 - 3 < 0, v_N would go negative at once (Painleve). Routh's law
+    # integrated from v_N = 0 is the impact without collision (Genot & Brogliato 1999); it
+    # is the limit of an ordinary impact as v_N -> 0-, dissipates (energetic, Poisson), and
+    # 2D and 3D agree. Sliding the other way (slope 5.5 > 0) or sticking: no impact.
+    v = np.array([0.0, -1.0])
+    mode, P, vf, dE = run(v, ROD, 0.5, 2.0, rest)
+    assert mode == MODE_SLIP_STICK and P[0] > 0.1 and vf[0] >= -1e-15
+    near = run(np.array([-1e-12, -1.0]), ROD, 0.5, 2.0, rest)[1]
+    np.testing.assert_allclose(P, near, rtol=0, atol=1e-11)
+    if rest != REST_NEWTON:
+        assert dE < 0.0
+    W3, v3 = embed(ROD, v)
+    mode3, P3, vf3, dE3 = run(v3, W3, 0.5, 2.0, rest)
+    assert mode3 == mode
+    np.testing.assert_allclose(P3[:2], P, rtol=1e-9, atol=1e-12)
+    for other in (np.array([0.0, 1.0]), np.array([0.0, 0.0])):
+        assert run(other, ROD, 0.5, 2.0, rest)[0] == MODE_SEPARATING
+        W3, v3 = embed(ROD, other)
+        assert run(v3, W3, 0.5, 2.0, rest)[0] == MODE_SEPARATING
