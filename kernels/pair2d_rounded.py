@@ -243,5 +243,6 @@ def rounded_frame(VA, iA, nA, rA, cA, sA, VB, iB, nB, rB, xB, yB, cB, sB):
     qx, qy = vertex_at(VA, iA, nA, k, 0.0, 0.0, cA, sA)
     pax = qx - rA * bnx
     pay = qy - rA * bny
-    fb = FT_EDGE if bw == 1 else FT_VERTEX
-    return g, bnx, bny, pax, pay, pax - g * bnx, pay - g * bny, FT_VERTEX, k, fb, (be if bw == 1 else l)
+    if bw == 1:     # A's supporting vertex against B's edge
+        return g, bnx, bny, pax, pay, pax - g * bnx, pay - g * bny, FT_VERTEX, k, FT_EDGE, be
+    return g, bnx, bny, pax, pay, pax - g * bnx, pay - g * bny, FT_VERTEX, k, FT_VERTEX, l

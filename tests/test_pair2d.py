@@ -21,7 +21,7 @@ from rbimpact.kernels.pair2d import (FE_A_KIND, FE_B_KIND, FR_GAP, FR_NX, FR_NY,
 from rbimpact.kernels.pair2d_shape import (FT_CURVE, FT_EDGE, FT_VERTEX, SH_DISK,
                                            SH_ELLIPSE, SH_POLY)
 from rbimpact.kernels.pair2d_toi import pair_toi
-from rbimpact.kernels.toi2d import INF, TOI_MISSED, TOI_OK
+from rbimpact.kernels.toi2d import TOI_MISSED, TOI_OK
 from rbimpact.pair2d_input import body_geometry, pose, shape_geometry
 
 EPS = np.finfo(float).eps
@@ -776,4 +776,5 @@ def test_clockwise_polygon_is_stored_counter_clockwise():
     sq = [(0, 0), (0, 1), (1, 1), (1, 0)]
     V = body_geometry(SH_POLY, vertices=sq)[4]
     E = np.roll(V, -1, axis=0) - V
-    assert np.all(E[:, 0] * np.roll(E, -1, axis=0)[:, 1] - E[:, 1] * np.roll(E, -1, axis=0)[:, 0] > 0)
+    En = np.roll(E, -1, axis=0)
+    assert np.all(E[:, 0] * En[:, 1] - E[:, 1] * En[:, 0] > 0)
