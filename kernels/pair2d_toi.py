@@ -40,7 +40,7 @@ a step reaches it, else set to 4 steps. The search stops when a step is below
 ``atol + rtol * |t0 + s|`` (s) with ``g' < 0``; a smaller step with ``g' >= 0`` is a
 tangency (grazing without crossing) and is stepped past. Polish: up to ``POLISH_IT``
 Newton steps ``s -= g / g'`` on the gap (the gap of the fixed closest feature pair there),
-keeping the iterate of smallest ``|g|``.
+each shorter than ``POLISH_REACH`` time tolerances, keeping the iterate of smallest ``|g|``.
 
 Return ``(s, code)`` (``toi2d``): ``TOI_OK`` (``s = inf``: none in ``[0, S]``), ``TOI_MISSED``
 (the gap at ``s = 0`` is below ``-gap_tol``: the bodies overlap; ``s = 0``),
@@ -66,6 +66,7 @@ AX_WORLD = 0        # axis fixed in the world
 AX_A = 1            # axis turning with A (A's feature is an edge)
 AX_B = 2            # axis turning with B (B's feature is an edge)
 POLISH_IT = 3       # Newton steps of the final polish
+POLISH_REACH = 64.0  # a polish step longer than this many time tolerances is refused
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -229,9 +230,10 @@ def safe_step(mode, kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB,
 
 
 @njit(cache=True, _nrt=False)
-def _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, stB, s):
-    """Newton on the gap from ``s`` (``POLISH_IT`` steps), keeping the iterate of least
-    ``|g|`` among those with ``g' < 0``."""
+def _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, stB, s, tol):
+    """Newton on the gap from ``s`` (``POLISH_IT`` steps, each at most ``POLISH_REACH * tol``
+    s long, so that it cannot reach another root), keeping the iterate of least ``|g|``
+    among those with ``g' < 0``."""
     best = s
     gbest = INF
     for _ in range(POLISH_IT):
@@ -242,7 +244,7 @@ def _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, stB
         if abs(g) < gbest:
             gbest = abs(g)
             best = s
-        if g == 0.0:
+        if g == 0.0 or abs(g) > POLISH_REACH * tol * -gd:
             break
         s = s - g / gd
     return best
@@ -286,7 +288,7 @@ def pair_toi(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, st
             if h <= tol:
                 if gd < 0.0:
                     r = _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB,
-                                nB, stB, s + h)
+                                nB, stB, s + h, tol)
                     return (r if r <= S else INF), TOI_OK
                 h = tol     # tangency (grazing without crossing): step past it
             H = 4.0 * h
@@ -297,6 +299,6 @@ def pair_toi(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, st
                                       VB, iB, nB, stB, s)
         if g <= 0.0 and gd < 0.0:
             r = _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB,
-                        stB, s)
+                        stB, s, atol + rtol * abs(t0 + s))
             return (r if r <= S else INF), TOI_OK
     return s, TOI_NOT_CONVERGED
