@@ -118,7 +118,8 @@ PW_Y1 = 46          # 46:59
 PW_YT = 59          # 59:72
 PW_K = 72           # 72:163 seven stages
 PW_RC = 163         # 163:228 dense output, 5 x 13
-N_PW = 228
+PW_WHY = 228        # the pivot_forces code (PV_*) of the last force failure
+N_PW = 229
 
 PI_OK = 0
 PI_TOO_MANY_STEPS = 1
@@ -547,6 +548,15 @@ def pivot_reset(pw):
         pw[PW_HNEXT] = pw[PW_HMAX]
 
 
+@njit(cache=True, inline="always")
+def _failed(pw, rc):
+    """Record a pivot_forces code in pw[PW_WHY]; True when it is a failure."""
+    if rc != PV_OK:
+        pw[PW_WHY] = rc
+        return True
+    return False
+
+
 @njit(cache=True)
 def pivot_step(pw, cp, fw):
     """Take one accepted step after the current one (or the first). Returns PI_*."""
@@ -565,44 +575,44 @@ def pivot_step(pw, cp, fw):
     K = PW_K
     Y = PW_Y
     YT = PW_YT
-    if _rhs(pw[Y:Y + NY], cp, fw, pw[K:K + NY]) != PV_OK:
+    if _failed(pw, _rhs(pw[Y:Y + NY], cp, fw, pw[K:K + NY])):
         return PI_FORCES
     while True:
         pw[PW_NSTEP] += 1.0
         if pw[PW_NSTEP] > pw[PW_MAXSTEP]:
             return PI_TOO_MANY_STEPS
         arg2(pw, NY, Y, K, YT, h)
-        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
             continue
         arg3(pw, NY, Y, K, YT, h)
-        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
             continue
         arg4(pw, NY, Y, K, YT, h)
-        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
             continue
         arg5(pw, NY, Y, K, YT, h)
-        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
             continue
         arg6(pw, NY, Y, K, YT, h)
-        if _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
             continue
         solution(pw, NY, Y, K, PW_Y1, h)
-        if _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY]) != PV_OK:
+        if _failed(pw, _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY])):
             h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
             if h < STAGE_HMIN * pw[PW_HMAX]:
                 return PI_FORCES
@@ -749,7 +759,7 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
         if vals0[e] < math.inf:
             vfl[e] = min(0.0, vals0[e]) - arm
             vals0[e] -= vfl[e]
-    if rc != PV_OK:
+    if _failed(pw, rc):
         return 0.0, PE_NONE, 0, PI_FORCES
     while True:
         rc = pivot_step(pw, cp, fw)
@@ -758,7 +768,7 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
         s1 = pw[PW_S0] + pw[PW_H]
         pivot_dense(pw, s1, ybuf)
         rc = _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals, vfl)
-        if rc != PV_OK:
+        if _failed(pw, rc):
             return pw[PW_S0], PE_NONE, 0, PI_FORCES
         # earliest crossing from > 0 to <= 0 in this step
         best = math.inf

@@ -106,6 +106,7 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
+from .joint_polish import polish as joint_polish
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
 from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_AUX, M_FEAT, M_MODE,
@@ -126,7 +127,7 @@ from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, p
 from .pivot3d import (FORCE_ARM, CP_D, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
                       FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE,
-                      PE_SLIP, PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_S0, PW_Y,
+                      PE_SLIP, PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
@@ -197,7 +198,9 @@ ROLL_RTOL = 1e-12
 #: simul_tol + SIMUL_RTOL * max |v_i| (m/s); the relative part absorbs round-off. When the
 #: sweeps cycle (redundant contacts with friction) and simul_max_iter is reached, the
 #: solve is accepted if the last sweep changed no velocity by more than
-#: simul_tol + SIMUL_ACCEPT_RTOL * max |v_i|, else the run fails (ERR_PGS)
+#: simul_tol + SIMUL_ACCEPT_RTOL * V, V the larger of max |v_i| and the speed scale
+#: |v| + |w| L of the bodies in the cluster (a slow landing of a spinning box is judged
+#: against the box's motion, not the landing speed), else the run fails (ERR_PGS)
 SIMUL_RTOL = 1e-12
 SIMUL_ACCEPT_RTOL = 1e-9
 #: integrated contact: a slip direction u is consistent when the slip's acceleration along
@@ -360,13 +363,15 @@ def _vz2(tolf, gabs):
 
 
 @njit(cache=True)
-def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw):
+def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err):
     """Advance body i's state row to time t (a new segment starts there). Returns 0,
     ERR_ROT, ERR_CONTACT_STEPS or ERR_PAINLEVE."""
     s = t - tref[i]
     if s != 0.0 and pm[i, M_MODE] == PM_PIVOT:
         rc = pivot_eval(pw[i], pv[i], fw, s, pose)
         if rc != PI_OK:
+            _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1],
+                     st[i, SX + 2], pw[i, PW_WHY], pv[i, CP_MU], pv[i, CP_K])
             return ERR_CONTACT_STEPS if rc == PI_TOO_MANY_STEPS else ERR_PAINLEVE
         for j in range(13):
             st[i, j] = pose[j]
@@ -375,6 +380,7 @@ def _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw):
                      bflt[i, B_I1 + 2], ws[i], s, tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS],
                      pose)
         if rc != RK_OK:
+            _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
             return ERR_ROT
         for j in range(19):
             st[i, j] = pose[j]
@@ -720,11 +726,10 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
     if code != PI_OK:
         # the force system failed inside the phase: say why (pivot_forces' PV_* code) at
         # the state where it failed
-        for j in range(13):
-            ybuf[j] = pw[i, PW_Y + j]           # the state where the step failed (at PW_S0)
-        why = pivot_forces(ybuf, pv[i], fw)
-        _set_err(err, t_now + pw[i, PW_S0], i, -1 - int(pv[i, CP_PLANE]), ybuf[SX],
-                 ybuf[SX + 1], ybuf[SX + 2], why if why != PV_OK else 3.0, pv[i, CP_MU],
+        # (pivot_forces' PV_* code where it failed: a sliding contact's normal-force
+        # coefficient reaching 0 on the way is the Painleve paradox)
+        _set_err(err, t_now + pw[i, PW_S0], i, -1 - int(pv[i, CP_PLANE]), pw[i, PW_Y + SX],
+                 pw[i, PW_Y + SX + 1], pw[i, PW_Y + SX + 2], pw[i, PW_WHY], pv[i, CP_MU],
                  pv[i, CP_K])
         return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
     if kind == PE_NONE:
@@ -1173,9 +1178,8 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv
                  tolf, toli, pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
     """Handle the scheduled event of body i in integrated contact. Returns (rc, recompute):
     recompute is False when the event is an impact left to the impact step."""
-    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
     if rc < 0:
-        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return rc, False
     kind = pk[i, 0]
     idx = pk[i, 1]
@@ -1696,9 +1700,8 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     no closed form here. It enters integrated contact (``pivot3d``, one contact: the feature
     at its centre, radius r; event "pivot") until the slip stops (then ``_sphere_rolls``),
     the sphere lifts off or another feature hits a plane. Returns 0 or an error code."""
-    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
     if rc < 0:
-        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return rc
     p = pm[i, M_PLANE]
     pm[i, M_AUX] = 0
@@ -1971,9 +1974,8 @@ def _groove_from_impact(i, t, nc, c_i, st, bflt, planes, grav, law_par, bp_law, 
 def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, ws, tolf,
                 toli, ev_t, ev_i, ev_f, cnt, c_f, cw, pose, err, pv, pw, fw):
     """Slip of a persistent contact stops at t: roll, rest or slide on."""
-    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw)
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
     if rc < 0:
-        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
         return rc
     ttr[i] = INF
     p = pm[i, M_PLANE]
@@ -2085,6 +2087,16 @@ def _single(law, c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3
 
 
 @njit(cache=True)
+def _speed_scale(st, bflt, j):
+    """Speed scale of body j (m/s): ``|v| + |w| L``, L its bounding radius."""
+    L = math.sqrt(bflt[j, B_HALF] ** 2 + bflt[j, B_HALF + 1] ** 2
+                  + bflt[j, B_HALF + 2] ** 2) + bflt[j, B_RADIUS]
+    v = math.sqrt(st[j, SV] ** 2 + st[j, SV + 1] ** 2 + st[j, SV + 2] ** 2)
+    w = math.sqrt(st[j, SW] ** 2 + st[j, SW + 1] ** 2 + st[j, SW + 2] ** 2)
+    return v + w * L
+
+
+@njit(cache=True)
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli, ev_t,
            ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
@@ -2185,6 +2197,34 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf,
         if dmax <= tol:
             converged = True
             break
+    if not converged:
+        # finish exactly: semismooth Newton on the Alart-Curnier equations from PGS's
+        # iterate (joint_polish); the velocities follow from the polished impulses
+        v0 = np.empty(n3)
+        mus = np.empty(K)
+        for a in range(K):
+            c = members[a]
+            mus[a] = law_par[c_i[c, CI_LAW], P_MU]
+            for j in range(3):
+                v0[3 * a + j] = c_f[c, CF_VI + j]
+        if joint_polish(Wb, v0, tb, mus, Pb, K, tol):
+            converged = True
+            for a in range(n3):
+                s = v0[a]
+                for b in range(n3):
+                    s += Wb[a, b] * Pb[b]
+                vb[a] = s
+    if not converged:
+        # accept a sweep that cycles at round-off of the bodies' own motion (redundant
+        # contacts with friction converge slowly in PGS): the scale is the largest speed
+        # |v| + |w| L of a body in the cluster, or of a contact
+        for a in range(K):
+            c = members[a]
+            for side in range(2):
+                if side == 1 and c_i[c, CI_TYPE] == 0:
+                    continue
+                vsc = max(vsc, _speed_scale(st, bflt, c_i[c, CI_A] if side == 0 else
+                                            c_i[c, CI_B]))
     if not converged and not dmax <= tolf[TF_SIMUL_TOL] + SIMUL_ACCEPT_RTOL * vsc:
         c = members[0]
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
@@ -2512,10 +2552,8 @@ def loop_for(law):
                     p = zp[i]
                     tz[i] = INF
                     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw,
-                                fw)
+                                fw, err)
                     if rc < 0:
-                        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0,
-                                 0.0, 0.0)
                         return rc
                     rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
                                  ttr, no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
@@ -2593,10 +2631,8 @@ def loop_for(law):
                                    planes[zq, 2], st[i])
                         ws[i, WS_MODE] = -1.0
                     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw,
-                                fw)
+                                fw, err)
                     if rc < 0:
-                        _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0,
-                                 0.0, 0.0)
                         return rc
                     tz[i] = INF
             for i in range(nb):
