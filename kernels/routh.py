@@ -688,10 +688,10 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     """
     if vN0 > 0.0:
         return MODE_SEPARATING, 0.0, 0.0, 0.0
-    if vN0 == 0.0 and not (mu > 0.0 and a - mu * (w1 * x01 + w2 * x02) / math.sqrt(
-            x01 * x01 + x02 * x02) < 0.0):
+    if vN0 == 0.0 and (mu == 0.0 or (x01 == 0.0 and x02 == 0.0) or not (
+            a - mu * (w1 * x01 + w2 * x02) / math.sqrt(x01 * x01 + x02 * x02) < 0.0)):
         # touching: an impact without collision only while sliding with a negative normal
-        # slope (sticking and the diverging ray have positive slopes for SPD W)
+        # slope (as in 2D: sticking and the diverging ray have positive slopes for SPD W)
         return MODE_SEPARATING, 0.0, 0.0, 0.0
     ok, rest = _check_params(e, mu, r)
     vscale = math.sqrt(vN0 * vN0 + x01 * x01 + x02 * x02)
