@@ -36,8 +36,12 @@ accepted when every component of the error estimate is within ``tol`` times its 
 (``L`` for x, 1 for q, ``V`` for v, ``V/L`` for w, with ``L`` the body's size and
 ``V = |v| + |w| L + sqrt(|g| L)``), and at most ``MAX_ANGLE`` (rad) of rotation per step so
 that event functions, which change with the rotation, are sampled finely enough to see
-every sign change. Unlike conservative advancement in flight, this cannot rule out two
-roots of an event function inside one step: a stated limitation.
+every sign change. A gap that dips below zero and comes back within one step (a grazing
+feature: positive at both step ends) is caught by its rate ``n . (v + w x r)``: when the
+rate goes from negative to positive over a step, the gap's minimum is located on the
+dense output (root of the rate) and tested. Unlike conservative advancement in flight,
+this cannot rule out a force or slip event with two roots inside one step, nor a gap
+whose rate changes sign more than once in a step: a stated limitation.
 """
 import math
 
@@ -727,11 +731,53 @@ def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
             if skip[p] != 0 or (p == p0 and (f0 + j == fa or f0 + j == fb)):
                 vals[idx] = math.inf
                 continue
-            rx, ry, rz = qrot(y[3], y[4], y[5], y[6], feats[f0 + j, 0], feats[f0 + j, 1],
-                              feats[f0 + j, 2])
-            vals[idx] = (planes[p, 0] * (y[0] + rx) + planes[p, 1] * (y[1] + ry)
-                         + planes[p, 2] * (y[2] + rz) - planes[p, 3] - rad) - vfl[idx]
+            vals[idx] = _gap(y, feats, f0 + j, planes, p, rad) - vfl[idx]
     return rc
+
+
+@njit(cache=True, inline="always")
+def _gap(y, feats, f, planes, p, rad):
+    """Gap (m) of feature row f (body frame) of the body in state y to plane p."""
+    rx, ry, rz = qrot(y[3], y[4], y[5], y[6], feats[f, 0], feats[f, 1], feats[f, 2])
+    return (planes[p, 0] * (y[0] + rx) + planes[p, 1] * (y[1] + ry)
+            + planes[p, 2] * (y[2] + rz) - planes[p, 3] - rad)
+
+
+@njit(cache=True, inline="always")
+def _gap_rate(y, feats, f, planes, p):
+    """Rate (m/s) of ``_gap``: ``n . (v + w x r)``, r the feature's arm (world)."""
+    rx, ry, rz = qrot(y[3], y[4], y[5], y[6], feats[f, 0], feats[f, 1], feats[f, 2])
+    wx, wy, wz = y[10], y[11], y[12]
+    return (planes[p, 0] * (y[7] + wy * rz - wz * ry) + planes[p, 1] * (y[8] + wz * rx - wx * rz)
+            + planes[p, 2] * (y[9] + wx * ry - wy * rx))
+
+
+@njit(cache=True)
+def _gap_dip(pw, feats, f, planes, p, rad, floor, t0, rtol, atol, ybuf):
+    """A gap positive at both ends of the current step (``s0 = pw[PW_S0]``, ``s1 = s0 +
+    pw[PW_H]``) whose rate goes from negative to positive has a minimum inside: locate it
+    (root of the rate on the dense output, bisection to the event precision) and return
+    ``(s_min, gap_min - floor)``; ``(s1, inf)`` when the rate does not change sign."""
+    s0 = pw[PW_S0]
+    s1 = s0 + pw[PW_H]
+    if not _gap_rate(pw[PW_Y:PW_Y + NY], feats, f, planes, p) < 0.0:
+        return s1, math.inf
+    pivot_dense(pw, s1, ybuf)
+    if _gap_rate(ybuf, feats, f, planes, p) < 0.0:
+        return s1, math.inf
+    lo = s0
+    hi = s1
+    for it in range(EVENT_ITER):
+        if hi - lo <= atol + rtol * abs(t0 + hi):
+            break
+        mid = 0.5 * (lo + hi)
+        pivot_dense(pw, mid, ybuf)
+        if _gap_rate(ybuf, feats, f, planes, p) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    pivot_dense(pw, hi, ybuf)
+    return hi, _gap(ybuf, feats, f, planes, p, rad) - floor
 
 
 @njit(cache=True)
@@ -774,11 +820,16 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
         best = math.inf
         bk = -1
         for e in range(nv):
-            if vals0[e] > 0.0 and vals[e] <= 0.0:
+            sb = s1
+            fb = vals[e]
+            if e >= 6 and vals0[e] > 0.0 and fb > 0.0 and fb < math.inf:
+                # a gap positive at both ends may dip through the plane in between
+                g = e - 6
+                sb, fb = _gap_dip(pw, feats, f0 + g % nf, planes, g // nf, cp[CP_RAD],
+                                  vfl[e], t0, rtol, atol, ybuf)
+            if vals0[e] > 0.0 and fb <= 0.0:
                 sa = pw[PW_S0]
-                sb = s1
                 fa = vals0[e]
-                fb = vals[e]
                 for it in range(EVENT_ITER):
                     if sb - sa <= atol + rtol * abs(t0 + sb):
                         break

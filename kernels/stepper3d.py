@@ -898,10 +898,58 @@ def _pv_slide(st, i, pv, k, fw):
 
 
 @njit(cache=True)
+def _pv_stick_edge(st, i, bflt, pv):
+    """Both integrated contacts of body i stick: the body may only turn about the axis
+    ``a`` through its two contact points. Its velocity becomes the kinetic-energy-metric
+    projection of the current one onto that motion -- the result of the impulses at the
+    two points that zero both contact velocities (the impulsive constraint keeps the
+    angular momentum about the axis): ``w = s a``, ``v = -s a x r_1``,
+    ``s = (m (r_1 x a) . v + a . I_w w) / (m |a x r_1|^2 + a . I_w a)`` (``r_1`` the arm
+    of contact 1). Sticking one contact by a single-point impulse left the other with a
+    slip of up to ``slip_eps``, which the sticking forces then kept (zero acceleration)
+    and worked on."""
+    ax, ay, az = _pv_arm(st, i, pv, 0)
+    bx, by, bz = _pv_arm(st, i, pv, 1)
+    dx = bx - ax
+    dy = by - ay
+    dz = bz - az
+    dl = math.sqrt(dx * dx + dy * dy + dz * dz)
+    dx /= dl
+    dy /= dl
+    dz /= dl
+    # xi = (-(a x r1), a): the unit twist about the axis through contact 1
+    ex = -(dy * az - dz * ay)
+    ey = -(dz * ax - dx * az)
+    ez = -(dx * ay - dy * ax)
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    # a and w in the body frame, where I_w is diag(I1, I2, I3)
+    a0, a1, a2 = qrot_inv(q0, q1, q2, q3, dx, dy, dz)
+    w0, w1, w2 = qrot_inv(q0, q1, q2, q3, st[i, SW], st[i, SW + 1], st[i, SW + 2])
+    I1 = bflt[i, B_I1]
+    I2 = bflt[i, B_I1 + 1]
+    I3 = bflt[i, B_I1 + 2]
+    m = bflt[i, B_MASS]
+    num = (m * (ex * st[i, SV] + ey * st[i, SV + 1] + ez * st[i, SV + 2])
+           + I1 * a0 * w0 + I2 * a1 * w1 + I3 * a2 * w2)
+    den = m * (ex * ex + ey * ey + ez * ez) + I1 * a0 * a0 + I2 * a1 * a1 + I3 * a2 * a2
+    sp = num / den
+    st[i, SV] = sp * ex
+    st[i, SV + 1] = sp * ey
+    st[i, SV + 2] = sp * ez
+    st[i, SW] = sp * dx
+    st[i, SW + 1] = sp * dy
+    st[i, SW + 2] = sp * dz
+
+
+@njit(cache=True)
 def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
     """Remove the slip (and any normal velocity) of integrated contact k by an impulse at
     that contact (W P = -v), then zero the normal velocities of all the integrated
-    contacts again (the impulse couples into the other one)."""
+    contacts again (the impulse couples into the other one). When the other contact
+    sticks too, both contact velocities are zeroed together (``_pv_stick_edge``)."""
+    if pv[i, CP_K] == 2.0 and pv[i, CP_S1 + 1 - k] == 1.0:
+        _pv_stick_edge(st, i, bflt, pv)
+        return
     _pv_frame(c_f, cw, st, i, pv, k)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
     _iinv(st, i, bflt, Ii)
@@ -1127,6 +1175,8 @@ def _pivot_enter(i, p, kf1, kf2, K, t, st, bint, bflt, feats, planes, grav, law_
     _pv_zero_normals(st, i, bflt, pv, Ii)
     # stick or slip
     eps = tolf[TF_SLIP_EPS]
+    for k in range(K):
+        pv[i, CP_S1 + k] = 0.0          # decided in order below (_pv_unslip reads them)
     for k in range(K):
         _pv_frame(c_f, cw, st, i, pv, k)
         vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)

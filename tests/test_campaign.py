@@ -276,6 +276,29 @@ def test_3d_corner_starts_to_slip_continuously(seed):
     assert row.penetration <= row.pen_tol
 
 
+def test_3d_grazing_corner_during_pivot_reaches_the_wall():
+    """A box pivoting on the floor in a corner swings a vertex 5.9e-6 m into a wall and out
+    again within one integrator step: its gap was positive at both step ends, the event was
+    missed and the run said 'done' with the box in the wall (silently wrong). A gap whose
+    rate turns from negative to positive over a step now has its minimum located and
+    tested (pivot3d._gap_dip)."""
+    row = run_drop(3, 1454591205)
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+
+
+def test_3d_edge_that_sticks_keeps_no_slip():
+    """A box pivoting on an edge under Chatterjee & Ruina (e = 0, mu = 0.3): its second
+    contact stuck by an impulse at that contact alone, which left the first one (already
+    sticking) with a slip of 3e-7 m/s. Sticking keeps the contact acceleration zero, so
+    that slip stayed and the sticking forces worked on it: +1.3e-10 J (4.9e-9 of the
+    scene's energy) in 0.036 s, 'done'. Both contact velocities are now zeroed together
+    (stepper3d._pv_stick_edge)."""
+    row = run_drop(3, 3654158967)
+    assert row.verdict == "OK", row.note
+    assert row.energy_gain < 1e-10
+
+
 @pytest.mark.parametrize("seed", [393293631, 88305742])
 def test_3d_corner_whose_sticking_force_would_pull_slides(seed):
     """A box corner entering integrated contact after a plastic impact: sticking needed a
