@@ -30,6 +30,8 @@ ERR_CONTACT_STEPS = -16  # the integrator of a held contact exceeded its step li
 ERR_TWO_PLANES = -17     # 2D: accumulating on one plane while held by another (moving)
 ERR_NOT_COMPILED = -18   # a handler the loop was compiled without (a bug of the switches)
 ERR_FAR_ACCUMULATION = -19  # bounces accumulate only after max_accumulation_impacts
+ERR_PERSISTENT_PAIR = -20   # 2D: two bodies stay in contact (persistent body-body contact,
+                            # issue 16 item 2, not built)
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0

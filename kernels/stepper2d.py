@@ -146,7 +146,8 @@ from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M
                      M_PLANE, M_PLANE2, N_PM)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
-                   ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI, ERR_TOO_MANY,
+                   ERR_PERSISTENT_PAIR, ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI,
+                   ERR_TOO_MANY,
                    ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE,
                    EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
@@ -166,6 +167,9 @@ from .pivot2d import (CP_D, CP_D2, CP_DIR, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
                     disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
 from .wedge2d import three_contact_rest, two_contact_rest
+from .pair2d import frame_rel, point_rate
+from .pair2d_shape import body_reach, vertex_at
+from .pair2d_toi import pair_toi
 
 INF = math.inf
 
@@ -217,6 +221,32 @@ TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lift
 SWITCHES_IN_LOOP = True     # ``loop_for(law, *switches)``; run_loop does not take them
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
+
+# Body pairs (issue 16). ``pr_off[q]``: PR_ON a pair searched for impacts; PR_OFF disabled
+# for good (a perforating impact); PR_HIT had an impact at the instant just resolved (its
+# next search checks whether the bodies stay in contact, ``_pair_persists``).
+PR_ON = 0
+PR_OFF = 1
+PR_HIT = 2
+# Reasons of ERR_PERSISTENT_PAIR (err[5]): persistent body-body contact is not built
+# (issue 16 item 2), so the run stops, naming the pair, when
+PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
+                     # a rise of rest_length; disks: v_N^2 < 2 |g''| rest_length)
+PP_TOGETHER = 2.0    # after a plastic impact the bodies ride together (no separation found)
+PP_HELD = 3.0        # a body of the pair is held on a plane by an integrated contact
+#: a pair's post-impact normal speed at most PAIR_VN_RTOL times the bodies' speed scale
+#: (|v_A - v_B| + |w_A| |r_A| + |w_B| |r_B|, m/s) is the round-off of a plastic impact
+#: (about 1e-16 of it): zero, never read for its sign (``_pair_persists``)
+PAIR_VN_RTOL = 1e-12
+#: face on face: two edges of rounded polygons (box, polygon, rod, capsule) touch along a
+#: segment when the far vertex of each face lies within ``simul_gap + PAIR_FACE_RTOL * L``
+#: of the extreme support along the contact normal (``L`` the distance of the body's
+#: farthest core vertex from its centre, m): the corner-joins-the-cluster rule of a
+#: landing on a plane (``simul_gap``), plus the round-off of rotated vertex positions
+#: (about 1e-16 L; an angle of 1e-12 rad between the edges). The contact is then the two
+#: ends of the overlap of the two edges (a cluster of two, resolved by the policy as a
+#: flat landing on a plane); an overlap shorter than ``PAIR_FACE_RTOL * L`` is one point.
+PAIR_FACE_RTOL = 1e-12
 #: accumulation onto a rest is accepted only if the snap lifts the centre of mass by at
 #: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
 #: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
@@ -612,14 +642,31 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 
 @njit(cache=True, _nrt=False)
-def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t, pr_off,
-                    tolf, toli, tmp, err):
-    if pr_off[q] != 0:
+def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
+                    pr_t, pr_off, tolf, toli, tmp, err):
+    """Next impact time of body pair q (states at t_now). Two disks: closed form
+    (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
+    True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``, and
+    right after an impact of the pair (``pr_off[q] == PR_HIT``) the persistence check of
+    ``_pair_persists``. A body held on a plane by an integrated contact (``PM_PIVOT``) has
+    no closed-form motion to search: ``ERR_PERSISTENT_PAIR`` (reason ``PP_HELD``)."""
+    if pr_off[q] == PR_OFF:
         pr_t[q] = INF
         return 0
+    hit = pr_off[q] == PR_HIT
+    pr_off[q] = PR_ON
     a = pairs[q, 0]
     b = pairs[q, 1]
-    # a disk in a pending accumulation jump moves with its held motion
+    disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
+    if not disks:
+        if pgen is None:
+            return _not_compiled(err, t_now, a, FEATURE_PAIR)
+        for j in range(2):
+            i = a if j == 0 else b
+            if pm[i, M_MODE] == PM_PIVOT:
+                _set_err(err, t_now, a, b, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
+                return ERR_PERSISTENT_PAIR
+    # a body in a pending accumulation jump moves with its held motion
     for j in range(2):
         i = a if j == 0 else b
         if tz[i] < INF:
@@ -627,12 +674,25 @@ def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
             fly_into(tmp[j], t_now - tref[i], tmp[j])
         else:
             fly_into(st[i], t_now - tref[i], tmp[j])
-    R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
-    s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
-                            tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY],
-                            tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
-                            tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                            tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    S = tolf[TF_T_END] - t_now
+    if disks:
+        R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+        s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
+                                tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY],
+                                tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
+                                S, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                                toli[TI_TOI_MAXIT])
+    else:
+        s, code = pair_toi(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB],
+                           verts, bint[a, B_FIRST], bint[a, B_COUNT], tmp[0],
+                           bint[b, B_KIND], bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB],
+                           verts, bint[b, B_FIRST], bint[b, B_COUNT], tmp[1], t_now, S,
+                           tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                           toli[TI_TOI_MAXIT])
+        if hit:
+            rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err)
+            if rc < 0:
+                return rc
     if code == TOI_MISSED:
         _set_err(err, t_now, a, b, tmp[0, X], tmp[0, Y], 0.0, 0.0, 0.0)
         return ERR_MISSED
@@ -643,10 +703,49 @@ def _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp, pr_t,
     return 0
 
 
+@njit(cache=True, _nrt=False)
+def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
+    """Whether bodies a and b, which had an impact at t_now (states ``tmp[0]``, ``tmp[1]``
+    there) stay in contact: persistent body-body contact, not built (issue 16 item 2), so
+    ``ERR_PERSISTENT_PAIR`` (0: they part). With ``v`` the gap rate after the impact (the
+    post-impact normal speed, ``pair2d.frame_rel``) and ``s`` the pair's next time of
+    impact, the free-flight gap rises to about ``v s / 4`` before it closes again (exact for
+    a parabola ``g = v s' - |g''| s'^2 / 2``, whose root is ``s = 2 v / |g''|``): below
+    ``rest_length`` the impacts accumulate at that contact (``PP_CHATTER``; the rule of a
+    single point on a plane, ``v^2 < 2 |g''| rest_length``, without needing ``g''``). A
+    search that does not converge from the touching state while ``v`` is no more than
+    ``PAIR_VN_RTOL`` of the bodies' speed scale (the bodies ride together: zero gravity,
+    plastic impact) is that too (``PP_TOGETHER``)."""
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
+        bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
+        bint[a, B_FIRST], bint[a, B_COUNT], tmp[0, ANGLE], bint[b, B_KIND],
+        bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST],
+        bint[b, B_COUNT], tmp[1, X] - tmp[0, X], tmp[1, Y] - tmp[0, Y], tmp[1, ANGLE])
+    dx = tmp[1, X] - tmp[0, X]
+    dy = tmp[1, Y] - tmp[0, Y]
+    v = point_rate(nx, ny, pax, pay, pbx - dx, pby - dy, tmp[0, VX], tmp[0, VY],
+                   tmp[0, OMEGA], tmp[1, VX], tmp[1, VY], tmp[1, OMEGA])
+    px = tmp[0, X] + 0.5 * (pax + pbx)
+    py = tmp[0, Y] + 0.5 * (pay + pby)
+    if code == TOI_NOT_CONVERGED:
+        vs = (math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
+              + abs(tmp[0, OMEGA]) * math.hypot(pax, pay)
+              + abs(tmp[1, OMEGA]) * math.hypot(pbx - dx, pby - dy))
+        if v <= PAIR_VN_RTOL * vs:
+            _set_err(err, t_now, a, b, px, py, PP_TOGETHER, v, g)
+            return ERR_PERSISTENT_PAIR
+        return 0
+    if code == TOI_OK and s < INF and max(v, 0.0) * s < 4.0 * tolf[TF_REST_LENGTH]:
+        _set_err(err, t_now, a, b, px, py, PP_CHATTER, v, s)
+        return ERR_PERSISTENT_PAIR
+    return 0
+
+
 @njit(cache=True, _nrt=False, inline="always")
-def _recompute_marked(pivot, pair, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
+def _recompute_marked(pivot, pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
                       zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
-    """Recompute the candidates of every marked body (state at t_now) and of its pairs."""
+    """Recompute the candidates of every marked body (state at t_now) and of its pairs
+    (``pair``, ``pgen``: the pair switches, see ``loop_for``)."""
     for i in range(st.shape[0]):
         if bmark[i] == 0:
             continue
@@ -657,8 +756,8 @@ def _recompute_marked(pivot, pair, t_now, st, tref, bint, bflt, verts, planes, p
     for q in range(pairs.shape[0]):
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
             if pair is not None:
-                rc = _recompute_pair(q, t_now, st, tref, bint, bflt, planes, pairs, tz, zp,
-                                     pr_t, pr_off, tolf, toli, tmp, err)
+                rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
+                                     pairs, pm, tz, zp, pr_t, pr_off, tolf, toli, tmp, err)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
@@ -1856,12 +1955,13 @@ def _vertex_in_instant(kind, row, px, py, bf, plane, t, t0, tw, tolf, toli):
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli,
+def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli,
             tz, zp, bp_t, pr_t, c_i, c_f, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
     simul_gap; and the held vertex of a body in pivot contact), bring their bodies to t and
     build their contact frames; a body in pivot contact is in flight from t. Returns the
-    number of contacts or an error code. ``pivot``: that feature switch (True or None)."""
+    number of contacts or an error code. ``pivot``, ``pgen``: those feature switches (True
+    or None; ``pgen`` the pairs of other shapes than two disks, ``loop_for``)."""
     nb = st.shape[0]
     npl = planes.shape[0]
     npr = pairs.shape[0]
@@ -1922,7 +2022,11 @@ def _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, 
         c_i[nc, CI_TYPE] = 1
         c_i[nc, CI_A] = pairs[q, 0]
         c_i[nc, CI_B] = pairs[q, 1]
-        c_i[nc, CI_FEAT] = -1
+        # two disks: -1; any other pair: -2 - q (its frame is _pair_rows')
+        if bint[pairs[q, 0], B_KIND] == SH_DISK and bint[pairs[q, 1], B_KIND] == SH_DISK:
+            c_i[nc, CI_FEAT] = -1
+        else:
+            c_i[nc, CI_FEAT] = -2 - q
         c_i[nc, CI_LAW] = pairs[q, 2]
         c_i[nc, CI_OFF] = 0
         nc += 1
@@ -1945,8 +2049,17 @@ def _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, 
                 st[i, AX] = grav[0]
                 st[i, AY] = grav[1]
     # contact frames
-    for c in range(nc):
+    nc0 = nc
+    for c in range(nc0):
         a = c_i[c, CI_A]
+        if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+            # a pair of other shapes than two disks: one contact, or two (face on face)
+            if pgen is None:
+                return _not_compiled(err, t, a, FEATURE_PAIR)
+            nc = _pair_rows(c, nc, t, st, bint, bflt, verts, tolf, c_i, c_f, err)
+            if nc < 0:
+                return nc
+            continue
         if c_i[c, CI_TYPE] == 0:
             p = c_i[c, CI_B]
             nx = planes[p, 0]
@@ -1979,6 +2092,121 @@ def _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, 
         c_f[c, CF_PT] = 0.0
         c_f[c, CF_VCMN] = nx * st[a, VX] + ny * st[a, VY]
     return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _face_support(V, v0, nv, c, s, ox, oy, nx, ny, sg, tol):
+    """The core vertices of a body (rotation ``(c, s)``, centre at ``(ox, oy)``) on its
+    extreme support along ``sg n`` (``sg = -1``: lowest along n, A's side; ``+1``: highest,
+    B's side) within ``tol`` (m). Returns ``(d, count, tau_lo, tau_hi)``: the extreme
+    ``n . p`` and the range of the tangential coordinates ``t . p`` (``t = (n_y, -n_x)``)
+    of those vertices."""
+    best = -INF
+    for k in range(nv):
+        px, py = vertex_at(V, v0, nv, k, ox, oy, c, s)
+        d = sg * (nx * px + ny * py)
+        if d > best:
+            best = d
+    cnt = 0
+    lo = INF
+    hi = -INF
+    for k in range(nv):
+        px, py = vertex_at(V, v0, nv, k, ox, oy, c, s)
+        d = sg * (nx * px + ny * py)
+        if d >= best - tol:
+            cnt += 1
+            tau = ny * px - nx * py
+            lo = min(lo, tau)
+            hi = max(hi, tau)
+    return sg * best, cnt, lo, hi
+
+
+@njit(cache=True, _nrt=False)
+def _pair_rows(c, nc, t, st, bint, bflt, verts, tolf, c_i, c_f, err):
+    """Contact frame of the pair contact c (bodies at t; not two disks): the gap's normal
+    from B into A and witness points of ``pair2d.frame_rel``, the arms from each centre
+    to its own witness point (so that ``W`` and ``v`` are those of the pair frame). Face
+    on face (``PAIR_FACE_RTOL``): the two ends of the overlap of the two faces, row c and a
+    new row nc (same bodies and law). Returns the new number of contacts (or an error)."""
+    a = c_i[c, CI_A]
+    b = c_i[c, CI_B]
+    kA = bint[a, B_KIND]
+    kB = bint[b, B_KIND]
+    iA = bint[a, B_FIRST]
+    nA = bint[a, B_COUNT]
+    iB = bint[b, B_FIRST]
+    nB = bint[b, B_COUNT]
+    rA = bflt[a, B_RADIUS]
+    rB = bflt[b, B_RADIUS]
+    dx = st[b, X] - st[a, X]
+    dy = st[b, Y] - st[a, Y]
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
+        kA, rA, bflt[a, B_EA], bflt[a, B_EB], verts, iA, nA, st[a, ANGLE], kB, rB,
+        bflt[b, B_EA], bflt[b, B_EB], verts, iB, nB, dx, dy, st[b, ANGLE])
+    if not (math.isfinite(g) and math.isfinite(nx) and math.isfinite(ny)):
+        _set_err(err, t, a, b, st[a, X], st[a, Y], 0.0, 0.0, 0.0)
+        return ERR_NONFINITE
+    two = False
+    tlo = 0.0
+    thi = 0.0
+    dA = 0.0
+    dB = 0.0
+    if kA == SH_POLY and kB == SH_POLY and nA >= 2 and nB >= 2:
+        LA, _ = body_reach(kA, rA, 0.0, 0.0, verts, iA, nA)
+        LB, _ = body_reach(kB, rB, 0.0, 0.0, verts, iB, nB)
+        cA = math.cos(st[a, ANGLE])
+        sA = math.sin(st[a, ANGLE])
+        cB = math.cos(st[b, ANGLE])
+        sB = math.sin(st[b, ANGLE])
+        dA, kcA, loA, hiA = _face_support(verts, iA, nA, cA, sA, 0.0, 0.0, nx, ny, -1.0,
+                                          tolf[TF_SIMUL_GAP] + PAIR_FACE_RTOL * LA)
+        dB, kcB, loB, hiB = _face_support(verts, iB, nB, cB, sB, dx, dy, nx, ny, 1.0,
+                                          tolf[TF_SIMUL_GAP] + PAIR_FACE_RTOL * LB)
+        if kcA >= 2 and kcB >= 2:
+            tlo = max(loA, loB)
+            thi = min(hiA, hiB)
+            two = thi - tlo > PAIR_FACE_RTOL * max(LA, LB)
+    vcm = nx * st[a, VX] + ny * st[a, VY]
+    if not two:
+        _pair_row(c, st[a, X], st[a, Y], dx, dy, nx, ny, pax, pay, pbx - dx, pby - dy, vcm,
+                  c_f)
+        return nc
+    if nc >= MAXC:
+        _set_err(err, t, a, b, st[a, X], st[a, Y], MAXC, 0.0, 0.0)
+        return ERR_TOO_MANY
+    for j in range(N_CI):
+        c_i[nc, j] = c_i[c, j]
+    tx = ny
+    ty = -nx
+    for e in range(2):
+        tau = tlo if e == 0 else thi
+        row = c if e == 0 else nc
+        # points of the faces' lines at tangential coordinate tau (relative to A's centre)
+        qax = (dA - rA) * nx + tau * tx
+        qay = (dA - rA) * ny + tau * ty
+        qbx = (dB + rB) * nx + tau * tx
+        qby = (dB + rB) * ny + tau * ty
+        _pair_row(row, st[a, X], st[a, Y], dx, dy, nx, ny, qax, qay, qbx - dx, qby - dy,
+                  vcm, c_f)
+    return nc + 1
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _pair_row(c, xa, ya, dx, dy, nx, ny, rax, ray, rbx, rby, vcm, c_f):
+    """Write the frame of pair contact c: normal, arms of A and B (m, from each centre; B's
+    centre at ``(dx, dy)`` from A's ``(xa, ya)``), the logged point (the middle of the two
+    witness points, world), no impulse yet."""
+    c_f[c, CF_NX] = nx
+    c_f[c, CF_NY] = ny
+    c_f[c, CF_RAX] = rax
+    c_f[c, CF_RAY] = ray
+    c_f[c, CF_RBX] = rbx
+    c_f[c, CF_RBY] = rby
+    c_f[c, CF_PX] = xa + 0.5 * (rax + rbx + dx)
+    c_f[c, CF_PY] = ya + 0.5 * (ray + rby + dy)
+    c_f[c, CF_PN] = 0.0
+    c_f[c, CF_PT] = 0.0
+    c_f[c, CF_VCMN] = vcm
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -2308,7 +2536,14 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
             for q in range(npr):
                 if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
                         or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
-                    pr_off[q] = 1
+                    pr_off[q] = PR_OFF
+    # the pairs of other shapes than two disks in an impact now: their next search checks
+    # whether they stay in contact (_pair_persists)
+    for c in range(nc):
+        if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+            q = -2 - c_i[c, CI_FEAT]
+            if pr_off[q] == PR_ON:
+                pr_off[q] = PR_HIT
     # persistent contacts, accumulation (Zeno) points, chatter
     for i in range(nb):
         if bmark[i] == 0:
@@ -2392,6 +2627,8 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                     continue
                 if c_i[c, CI_OFF] != 0:
                     continue
+                if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+                    continue    # not two disks: checked by its next search (_pair_persists)
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
                 if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
@@ -2448,20 +2685,28 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
     return 0
 
 
+PAIR_DISKS = "disks"   # the pair switch of a scene whose body pairs are all two disks
+PAIR_ALL = "all"       # ... of a scene with a pair of other shapes (pair2d, pair2d_toi)
+
+
 def scene_features(bint, planes, grav, n_pairs):
     """The feature switches ``(pivot, wedge, pair, joint)`` of a scene (True, or None when
-    the scene cannot reach that mode), from its shape kinds (``bint[:, 0]``), its planes
-    (float64[np, 3]) and its number of disk pairs. ``grav`` (m/s^2; the signature of
-    ``stepper3d.scene_features``): no 2D mode depends on it."""
+    the scene cannot reach that mode; ``pair`` says which pair kinds: None, ``PAIR_DISKS``
+    when every body is a disk, else ``PAIR_ALL``), from its shape kinds (``bint[:, 0]``),
+    its planes (float64[np, 3]) and its number of body pairs. ``grav`` (m/s^2; the
+    signature of ``stepper3d.scene_features``): no 2D mode depends on it."""
     kinds = {int(k) for k in bint[:, 0]}
     n_planes = len(planes)
     wedge = n_planes >= 2
     # a disk pivots only on two planes (it spins on both: _two_enter)
     pivot = SH_POLY in kinds or SH_ELLIPSE in kinds or (SH_DISK in kinds and wedge)
-    pair = n_pairs > 0
+    pair = None
+    if n_pairs > 0:
+        pair = PAIR_DISKS if kinds == {SH_DISK} else PAIR_ALL
     # several vertices of a polygon, several planes or a pair can touch at one instant
-    joint = SH_POLY in kinds or wedge or pair
-    return tuple(True if on else None for on in (pivot, wedge, pair, joint))
+    joint = SH_POLY in kinds or wedge or pair is not None
+    return (True if pivot else None, True if wedge else None, pair,
+            True if joint else None)
 
 
 def loop_for(law, pivot=True, wedge=True, pair=True, joint=True):
@@ -2471,14 +2716,22 @@ def loop_for(law, pivot=True, wedge=True, pair=True, joint=True):
     ``scene_features``). Law and switches are compile-time constants of the loop (issue 14):
     plain values closed over, so Numba prunes the other laws and the switched-off modes
     before inlining and typing, and caches each variant on disk under its own key (the cache
-    key of a closure holds its cell values)."""
-    return _loop_for(int(law), *(True if on else None for on in (pivot, wedge, pair, joint)))
+    key of a closure holds its cell values). ``pair``: None, ``PAIR_DISKS`` (only the disk
+    pair code is compiled), or ``PAIR_ALL`` (also ``pair2d_toi`` and the pair frames of
+    every shape; any other truthy value means ``PAIR_ALL``)."""
+    pair = None if not pair else (PAIR_DISKS if pair == PAIR_DISKS else PAIR_ALL)
+    return _loop_for(int(law), *(True if on else None for on in (pivot, wedge)), pair,
+                     True if joint else None)
 
 
 @functools.lru_cache(maxsize=None)
 def _loop_for(law, pivot, wedge, pair, joint):
-    """``loop_for`` with its switches normalised to True or None (each handler takes its
-    switch as an argument: None prunes it by type in the functions that are not inlined)."""
+    """``loop_for`` with its switches normalised to True or None (``pair``: None,
+    ``PAIR_DISKS`` or ``PAIR_ALL``, split here into ``pair`` and ``pgen``, the pairs of
+    other shapes than two disks; each handler takes its switch as an argument: None prunes
+    it by type in the functions that are not inlined)."""
+    pgen = True if pair == PAIR_ALL else None
+    pair = True if pair is not None else None
 
     @njit(cache=True, _nrt=False)
     def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf,
@@ -2506,7 +2759,7 @@ def _loop_for(law, pivot, wedge, pair, joint):
         while True:
             if pend:
                 pend = False
-                rc = _recompute_marked(pivot, pair, glob[0], st, tref, bint, bflt, verts,
+                rc = _recompute_marked(pivot, pair, pgen, glob[0], st, tref, bint, bflt, verts,
                                        planes, pairs, pm, tz, zp, bp_t, bp_off, pr_t, pr_off,
                                        tolf, toli, bmark, tmp, err)
                 if rc < 0:
@@ -2613,7 +2866,7 @@ def _loop_for(law, pivot, wedge, pair, joint):
                 pend = True
                 continue
 
-            nc = _gather(pivot, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm,
+            nc = _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm,
                          tolf, toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
             if nc < 0:
                 return nc

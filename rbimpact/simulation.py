@@ -18,10 +18,20 @@ What the stepper does
   failure (mode < 0) raises ``NoSolutionError`` naming body, time and point. An impact that
   leaves the contact approaching (``v_fN < 0``: Brach's perforation, e < 0) disables that
   body-plane (or disk-disk) pair for the rest of the run: the body has gone through.
-* **Body-body contacts**: disk against disk (an ``Ellipse`` with ``a == b`` is a disk).
-  Any other pair of bodies is rejected when the ``Simulation`` is built, unless
-  ``ignore_unsupported_pairs=True``, in which case those bodies pass through each other.
-  A one-body scene has no pair at all (no pair search runs).
+* **Body-body contacts** (issue 16): every pair of shapes (disk, box/polygon, rod/capsule,
+  ellipse). Two disks: closed-form time of impact (``toi2d.disk_disk_toi``); any other
+  pair: ``pair2d_toi.pair_toi`` (conservative advancement that never passes a root,
+  polished to round-off) and the contact frame of ``pair2d.frame_rel`` at the impact
+  instant (normal from B into A, the arms from each centre to its own witness point, so
+  ``W`` and ``v`` are those of the pair frame). Two faces touching along a segment (edges
+  parallel within ``stepper2d.PAIR_FACE_RTOL``) make a cluster of two contacts, the ends
+  of their overlap, resolved by the policy like a flat landing on a plane. Persistent
+  contact between bodies is not built: when a pair stays in contact after an impact (its
+  impacts would accumulate, or the bodies ride together after a plastic impact), or a
+  body held on a plane by an integrated contact has a partner body, the run stops with
+  ``SimulationError`` (status "persistent_pair"). A one-body scene has no pair at all (no
+  pair search runs); ``ignore_unsupported_pairs`` is kept for compatibility (every 2D
+  pair is supported).
 * **Simultaneous contacts**: all contacts whose impact times lie within ``simul_time`` (s)
   of the earliest one, and the other corners of a body in such an impact whose gap is
   already below ``simul_gap`` (m) and closing, are gathered and grouped into clusters
@@ -217,8 +227,8 @@ class Simulation:
     ``Plane`` alone (every body against it). Most specific key wins.
 
     Keywords: ``policy`` ("simultaneous" or "sequential", see the module docstring),
-    ``ignore_unsupported_pairs`` (bool: let non-disk bodies pass through each other instead
-    of rejecting the scene), and the tolerances of ``TOLERANCES`` (name: default, unit):
+    ``ignore_unsupported_pairs`` (bool, no effect in 2D: every pair of shapes collides),
+    and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
     simul_tol 1e-14 (relative);
@@ -267,8 +277,9 @@ class Simulation:
         self._verts = np.ascontiguousarray(np.concatenate(verts), dtype=float)
         self._planes = np.array([(p.normal[0], p.normal[1], p.offset) for p in planes],
                                 dtype=float).reshape(npl, 3)
-        table = pack_laws("Simulation", scene, self.law, pair_laws, Plane, bint[:, 0] == 0,
-                          dim="2D", round_name="disks",
+        # every pair of bodies can collide (issue 16: pair2d, pair2d_toi for each shape pair)
+        table = pack_laws("Simulation", scene, self.law, pair_laws, Plane,
+                          np.ones(nb, dtype=bool), dim="2D", round_name="bodies",
                           ignore_unsupported_pairs=self.ignore_unsupported_pairs)
         self._pairs = table.pairs
         self._bp_law = table.bp_law
@@ -297,12 +308,28 @@ class Simulation:
                         f"plane {plane.index} (point {plane.point}, normal {plane.normal}): "
                         f"its lowest point is {-g:.6g} m below the plane's surface")
         for i, j, _ in self._pairs:
-            bi, bj = self.scene.bodies[i], self.scene.bodies[j]
-            dist = math.hypot(bi.position[0] - bj.position[0], bi.position[1] - bj.position[1])
-            g = dist - self._bflt[i, 2] - self._bflt[j, 2]
+            g = self._pair_gap(int(i), int(j))
             if g < -gap_tol:
-                raise ValueError(f"Simulation: disks {i} and {j} overlap at the start by "
-                                 f"{-g:.6g} m")
+                bi, bj = self.scene.bodies[i], self.scene.bodies[j]
+                raise ValueError(f"Simulation: bodies {i} ({_shape_name(bi)}) and {j} "
+                                 f"({_shape_name(bj)}) overlap at the start by {-g:.6g} m "
+                                 f"(more than gap_tol = {gap_tol:g} m)")
+
+    def _pair_gap(self, i, j):
+        """Signed gap (m) of bodies i and j at their initial state: the distance of their
+        boundaries, minus the penetration depth when they overlap (``kernels.pair2d``)."""
+        bi, bj = self.scene.bodies[i], self.scene.bodies[j]
+        if self._bint[i, 0] == 0 and self._bint[j, 0] == 0:       # two disks
+            dist = math.hypot(bi.position[0] - bj.position[0], bi.position[1] - bj.position[1])
+            return dist - self._bflt[i, 2] - self._bflt[j, 2]
+        from .kernels.pair2d import frame_rel
+        bint, bflt, V = self._bint, self._bflt, self._verts
+        out = frame_rel(int(bint[i, 0]), bflt[i, 2], bflt[i, 3], bflt[i, 4], V,
+                        int(bint[i, 1]), int(bint[i, 2]), float(bi.angle), int(bint[j, 0]),
+                        bflt[j, 2], bflt[j, 3], bflt[j, 4], V, int(bint[j, 1]),
+                        int(bint[j, 2]), bj.position[0] - bi.position[0],
+                        bj.position[1] - bi.position[1], float(bj.angle))
+        return float(out[0])
 
     # ------------------------------------------------------------ running
 
@@ -496,6 +523,27 @@ class Simulation:
                 f"accelerates into the contact at {err[6]:.3g} m/s^2. The body would roll on "
                 f"that point in persistent contact: integrated at a vertex of a box or a rod "
                 f"and on an ellipse (pivot), not supported for a disk")
+        elif rc == k.ERR_PERSISTENT_PAIR:
+            why = err[5]
+            other = self._where(b)
+            if why == k.PP_HELD:
+                held = self._where(int(err[6]))
+                detail = (f"{held} is held on a plane by an integrated (pivot) contact {at} "
+                          f"while it can meet the other body of the pair, {body} and {other}"
+                          f"; body-body contact with a body in an integrated contact")
+            elif why == k.PP_TOGETHER:
+                detail = (f"{body} and {other} stay together after their impact {at}, {pt} "
+                          f"(normal speed {err[6]:.3g} m/s, the round-off of a plastic "
+                          f"impact; no separation found)")
+            else:
+                detail = (f"impacts accumulate at a single contact point of {body} on "
+                          f"{other} {at}, {pt}: normal speed after the impact {err[6]:.3g} "
+                          f"m/s, next impact of the pair {err[7]:.3g} s later (the bodies "
+                          f"part by less than rest_length = "
+                          f"{self.tolerances['rest_length']:g} m)")
+            exc = SimulationError(f"{detail}: persistent body-body contact (resting, sliding, "
+                                  f"pivoting or rolling on another body) is not supported "
+                                  f"yet (issue 16)")
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
                 f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "

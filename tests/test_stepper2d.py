@@ -382,9 +382,14 @@ def test_bad_scenes_raise_clear_errors():
         Simulation(scene, law)
     scene = Scene2D()
     scene.add_body(Box(1.0, 1.0), 1.0, (0.0, 0.4))
-    scene.add_body(Disk(0.1), 1.0, (3.0, 0.4))
-    with pytest.raises(ValueError, match="only handles body-body contacts between disks"):
+    scene.add_body(Disk(0.1), 1.0, (0.55, 0.4))
+    # every pair of shapes collides (issue 16): overlapping bodies are rejected
+    with pytest.raises(ValueError, match=r"bodies 0 \(Box\) and 1 \(Disk\) overlap"):
         Simulation(scene, law)
+    scene = Scene2D()
+    scene.add_body(Box(1.0, 1.0), 1.0, (0.0, 0.4))
+    scene.add_body(Disk(0.1), 1.0, (3.0, 0.4))
+    Simulation(scene, law)
     Simulation(scene, law, ignore_unsupported_pairs=True)
     with pytest.raises(TypeError, match="unknown keyword"):
         Simulation(scene, law, ignore_unsupported_pairs=True, rest_lenght=1e-9)
