@@ -5,8 +5,7 @@ of one instant (gap, normal, witness points, features, gap rate). Time of impact
 Conventions (DESIGN §3, as ``pair2d``). ``n`` is the unit normal from B into A (the
 direction in which the gap grows); ``g`` the signed gap (m): the distance of the surfaces
 when disjoint, exact to round-off, else minus the penetration depth (exact for every pair
-kind; for two boxes up to the near-parallel edge products skipped by
-``pair3d_box.EDGE_PARALLEL``, never above the true value). Witness points ``pA``, ``pB``
+kind, to round-off of the size). Witness points ``pA``, ``pB``
 (world, m) lie on the surfaces with ``pA - pB = g n``. Features (``pair3d_shape.FT_*``) say
 what realises the gap on each body: a core vertex (box corner, capsule end cap, sphere), a
 core edge (box edge, a capsule's side) or a box face. The gap rate is

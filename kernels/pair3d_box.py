@@ -8,16 +8,15 @@ Separating axes (Gottschalk, Lin & Manocha, OBBTree, SIGGRAPH 1996; Ericson, *Re
 Collision Detection*, sec. 4.4.1): along a unit axis ``u`` the separation is
 ``sigma(u) = |u . c| - sum_i hA_i |u . e_i| - sum_j hB_j |u . f_j|``, a lower bound of the
 signed distance for every ``u``; the 15 axes are the 3 + 3 face normals and the 9 edge
-products ``e_i x f_j``. A product with ``|e_i x f_j| <= EDGE_PARALLEL`` (the sine of the
-angle of the two edges) is skipped: for exactly parallel edges it vanishes, and the faces of
-the Minkowski difference it would give are then among the face normals.
+products ``e_i x f_j``. In A's frame ``e_i x f_j`` is a copy of two components of ``f_j``:
+exact, so the axis is exact however small the angle of the edges; only exactly parallel
+edges (``|e_i x f_j| <= pair3d_shape.AXIS_MIN``) are skipped, their product vanishing and
+the faces of the Minkowski difference it would give being then among the face normals.
 
 * Overlapping (``max sigma <= 0``): ``g = max sigma``, minus the penetration depth, exact
   (the minimum translation of two convex polytopes is along a face normal of their
-  Minkowski difference, all of which are among the 15 axes). The only approximation is the
-  skipped near-parallel products: a skipped axis can exceed the kept maximum by at most
-  about ``EDGE_PARALLEL`` times the boxes' size (its face of the Minkowski difference has
-  that width); ``g`` is never above the true signed distance.
+  Minkowski difference, all of which are among the 15 axes), for the relative pose ``C``,
+  ``c`` as rounded (an error of a few ulps of the size).
 * Disjoint (``max sigma > 0``): the exact distance by closest features (the distance of
   two convex polytopes is realised by a vertex and the other body, or by two edges): the
   8 + 8 corners against the other box (``pair3d_rounded.point_box``) and the 12 x 12 edge
@@ -40,11 +39,11 @@ from .cache_guard import guard
 
 guard(__name__, __file__)
 
+from .pair3d_clip import face_deepest  # noqa: E402
 from .pair3d_rounded import point_box, seg_seg  # noqa: E402
-from .pair3d_shape import (FT_EDGE, FT_FACE, FT_VERTEX, box_edge,  # noqa: E402
+from .pair3d_shape import (AXIS_MIN, FT_EDGE, FT_FACE, FT_VERTEX, box_edge,  # noqa: E402
                            box_edge_index, mat_tvec, mat_vec)
 
-EDGE_PARALLEL = 1e-9    # sine of the angle below which two box edges give no SAT axis (-)
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -99,7 +98,7 @@ def box_sat(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz):
             else:
                 ux, uy, uz = -fy, fx, 0.0
             m = math.sqrt(ux * ux + uy * uy + uz * uz)
-            if not m > EDGE_PARALLEL:
+            if not m > AXIS_MIN:
                 continue
             ux /= m
             uy /= m
@@ -210,6 +209,11 @@ def box_box_frame(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz):
     if kind == 0:
         px, py, pz = _b_vertex(C, hB0, hB1, hB2, cx, cy, cz, kb)
         m = nx if i == 0 else (ny if i == 1 else nz)
+        # the deepest point of B's incident face over A's face (ties of a parallel face)
+        z, qx, qy, qz, found = face_deepest(hA0, hA1, hA2, i, -1.0 if m > 0.0 else 1.0, C,
+                                            cx, cy, cz, hB0, hB1, hB2)
+        if found:
+            px, py, pz = qx, qy, qz
         return (g, nx, ny, nz, px + g * nx, py + g * ny, pz + g * nz, px, py, pz, FT_FACE,
                 2 * i + (1 if -m > 0.0 else 0), FT_VERTEX, kb)
     if kind == 1:
@@ -228,6 +232,16 @@ def box_box_frame(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz):
         sy = (2.0 * ((ka >> 1) & 1) - 1.0) * hA1
         sz = (2.0 * ((ka >> 2) & 1) - 1.0) * hA2
         m = nx * C[j] + ny * C[3 + j] + nz * C[6 + j]      # n in B's frame, component j
+        # the deepest point of A's incident face over B's face, in B's frame
+        CT = (C[0], C[3], C[6], C[1], C[4], C[7], C[2], C[5], C[8])
+        ox, oy, oz = mat_tvec(C, -cx, -cy, -cz)
+        z, qx, qy, qz, found = face_deepest(hB0, hB1, hB2, j, 1.0 if m > 0.0 else -1.0, CT,
+                                            ox, oy, oz, hA0, hA1, hA2)
+        if found:
+            wx, wy, wz = mat_vec(C, qx, qy, qz)
+            sx = cx + wx
+            sy = cy + wy
+            sz = cz + wz
         return (g, nx, ny, nz, sx, sy, sz, sx - g * nx, sy - g * ny, sz - g * nz, FT_VERTEX,
                 ka, FT_FACE, 2 * j + (1 if m > 0.0 else 0))
     # edge product: A's edge along e_i lowest along n, B's edge along f_j highest along n

@@ -16,9 +16,10 @@ an arbitrarily small translation).
 
 Segment-segment closest points (Ericson, *Real-Time Collision Detection*, 2005, sec.
 5.1.9), with the line parameters written with the cross product ``m = d1 x d2`` (Lagrange's
-identity): ``s = m . (d2 x r) / |m|^2``, ``t = m . (d1 x r) / |m|^2``, ``r = p1 - p2``; for an
-axis-aligned ``d1`` (A's axis or edge) ``m`` is exact, and the parameters keep a relative
-error ``eps / sin(angle)`` instead of the ``eps / sin^2`` of the normal equations. When both
+identity): ``s = m . (d2 x r) / |m|^2``, ``r = p1 - p2``; for an axis-aligned ``d1`` (A's
+axis or edge) ``m`` is exact, and ``s`` keeps a relative error ``eps / sin(angle)`` instead
+of the ``eps / sin^2`` of the normal equations; ``t = (d2 . (r + s d1)) / |d2|^2`` follows
+``s`` (so that ``pA - pB`` is along ``n`` to round-off of the size). When both
 closest points are interior the normal is ``+-m / |m|`` and the distance ``|m . r| / |m|``
 (exact direction also as the distance goes to 0). ``|m| <= SEG_PARALLEL |d1| |d2|``: parallel
 (Ericson's branch ``s = 0``, exact for parallel segments).
@@ -33,7 +34,8 @@ fixed by the pattern of clamped axes (each below, inside or above its slab). Its
 over ``[0, 1]`` is an end, a slab crossing, or the stationary point of one pattern's
 quadratic: all 2 + 6 + 26 candidates are evaluated with ``F`` itself (a candidate of a
 pattern not active there can only give a larger value). Overlapping (``F = 0``): separating
-axes, the box's three face normals and ``e_i x d`` (``|e_i x d| > SEG_PARALLEL |d|``),
+axes, the box's three face normals and ``e_i x d`` (exact components; skipped only when
+``|e_i x d| <= AXIS_MIN |d|``, parallel),
 both signs: ``g = max sigma - rB`` is minus the exact penetration depth (the Minkowski sum
 of a box and a segment is a polytope with those face normals).
 
@@ -48,7 +50,8 @@ from .cache_guard import guard
 
 guard(__name__, __file__)
 
-from .pair3d_shape import (FT_EDGE, FT_FACE, FT_VERTEX, SH_CAPSULE,  # noqa: E402
+from .pair3d_clip import clip_segment_face  # noqa: E402
+from .pair3d_shape import (AXIS_MIN, FT_EDGE, FT_FACE, FT_VERTEX, SH_CAPSULE,  # noqa: E402
                            box_edge, box_edge_index, box_vertex_index)
 
 SEG_PARALLEL = 1e-14    # sine of the angle below which two segments are parallel (-)
@@ -100,13 +103,9 @@ def seg_seg(p1x, p1y, p1z, d1x, d1y, d1z, p2x, p2y, p2z, d2x, d2y, d2z):
                 uy = d2z * rx - d2x * rz
                 uz = d2x * ry - d2y * rx
                 s = _clamp01((mx * ux + my * uy + mz * uz) / m2)
-                if s > 0.0 and s < 1.0:
-                    vx = d1y * rz - d1z * ry
-                    vy = d1z * rx - d1x * rz
-                    vz = d1x * ry - d1y * rx
-                    t = (mx * vx + my * vy + mz * vz) / m2
-                else:
-                    t = (b * s + f) / e
+                # t follows s (the projection of p1 + s d1 on segment 2): the witness
+                # points then differ along n to round-off of the size, not eps / sin
+                t = (b * s + f) / e
             else:
                 s = 0.0
                 t = (b * s + f) / e
@@ -388,7 +387,7 @@ def box_rounded_frame(hx, hy, hz, kB, rB, hB, cx, cy, cz, bx, by, bz):
         else:
             ux, uy, uz = -dy, dx, 0.0
         m = math.sqrt(ux * ux + uy * uy + uz * uz)
-        if not m > SEG_PARALLEL * L:
+        if not m > AXIS_MIN * L:
             continue
         ux /= m
         uy /= m
@@ -415,6 +414,19 @@ def box_rounded_frame(hx, hy, hz, kB, rB, hB, cx, cy, cz, bx, by, bz):
         else:
             t = 0.5
             fb, ib = FT_EDGE, 0
+        # the deepest point of the part of the core over A's face (a parallel capsule's
+        # ends may hang over the face's sides)
+        t0, t1, ok = clip_segment_face(ax, ay, az, dx, dy, dz, bi, hx, hy, hz)
+        if ok:
+            q0 = p0 + t0 * (p1 - p0)
+            q1 = p0 + t1 * (p1 - p0)
+            if q0 > q1:
+                t = t0
+            elif q1 > q0:
+                t = t1
+            else:
+                t = 0.5 * (t0 + t1)
+            fb, ib = _seg_feature(t)
         m_i = nx if bi == 0 else (ny if bi == 1 else nz)
         fa = FT_FACE
         ia = 2 * bi + (1 if -m_i > 0.0 else 0)

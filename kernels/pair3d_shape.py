@@ -40,6 +40,14 @@ N_SHAPE_KINDS = 3
 
 FT_FACE = 3      # a box face (pair2d_shape's FT_CURVE = 2 is the ellipse's boundary)
 
+# An edge-product separating axis ``e x f`` (A's frame, ``e`` a coordinate axis, so its
+# components are copies of ``f``'s: exact) shorter than this is skipped (-). Any axis gives
+# a valid lower bound of the signed distance, and an axis built from exact components is
+# exact however small the angle, so only exactly parallel edges (whose products the face
+# normals replace) need skipping; the value only keeps the squares of the components away
+# from underflow.
+AXIS_MIN = 1e-140
+
 
 @njit(cache=True, _nrt=False, inline="always")
 def n_core(kind):
