@@ -21,6 +21,16 @@ scene_seed)``). What a scene draws (``draw_scene``):
   a random orientation, and a velocity and spin of the scale ``sqrt(|g| L)``,
   ``sqrt(|g| / L)``.
 
+The two-body axis (issue 16; ``rbimpact stability --scenes N --dim 2 --bodies 2``,
+``drop_campaign(..., bodies=2)``): two random 2D shapes thrown at each other in flight
+(``draw_pair_scene``: zero gravity and no plane, or gravity with a floor too far below to
+reach before ``t_end``), drawn from their own seed stream (``pair_scene_seed``), so the
+single-body scenes of a seed are unchanged; checked by ``check_pair_result`` (no overlap
+of the bodies beyond the tolerance below, no energy created, momentum kept in zero
+gravity). Persistent contact between bodies is not built (issue 16 item 2): a scene whose
+bodies end up rolling or riding on each other stops with the named refusal, a FAIL of a
+known open mode.
+
 What is checked (``check_result``), with tolerances scaled to the scene:
 
 * the run ends "done", or with a status that names a real mechanical cause (a Painleve
@@ -50,6 +60,7 @@ import numpy as np
 from .errors import NoSolutionError, SimulationError
 
 __all__ = ["draw_scene", "build_scene", "run_drop", "drop_campaign", "scene_seed",
+           "draw_pair_scene", "build_pair_scene", "pair_scene_seed",
            "DropRow", "CampaignReport"]
 
 # ---- the input space -------------------------------------------------------------------
@@ -130,12 +141,7 @@ def draw_scene(dim, sseed):
                 policy=POLICIES[rng.integers(2)], layout=layout, shape=shape, size=L,
                 aspect=aspect, mass=_loguniform(rng, 1e-2, 1e2), height=h)
     if shape == "polygon":
-        k = int(rng.integers(3, 8))
-        ang = np.sort(rng.uniform(0, 2 * math.pi, k))
-        while np.min(np.diff(np.r_[ang, ang[0] + 2 * math.pi])) < 0.3:
-            ang = np.sort(rng.uniform(0, 2 * math.pi, k))
-        spec["vertices"] = [(0.5 * L * math.cos(a), 0.5 * L * aspect * math.sin(a))
-                            for a in ang]
+        spec["vertices"] = _polygon_vertices(rng, L, aspect)
     vs = math.sqrt(GRAVITY * L)
     ws = math.sqrt(GRAVITY / L)
     if layout == "resting":
@@ -157,6 +163,16 @@ def draw_scene(dim, sseed):
                                    else [1.0, 0.0, 0.0, 0.0])
     spec["tilt"] = float(rng.uniform(0.2, 1.2))      # groove half-opening (rad from level)
     return spec
+
+
+def _polygon_vertices(rng, L, aspect):
+    """A random convex polygon of 3 to 7 corners on an ellipse of axes ``L/2``,
+    ``aspect L/2`` (m), consecutive corners at least 0.3 rad apart (in angle)."""
+    k = int(rng.integers(3, 8))
+    ang = np.sort(rng.uniform(0, 2 * math.pi, k))
+    while np.min(np.diff(np.r_[ang, ang[0] + 2 * math.pi])) < 0.3:
+        ang = np.sort(rng.uniform(0, 2 * math.pi, k))
+    return [(0.5 * L * math.cos(a), 0.5 * L * aspect * math.sin(a)) for a in ang]
 
 
 def _shape(spec):
@@ -305,7 +321,8 @@ class DropRow:
 
     @property
     def reproducer(self):
-        return f"rbimpact stability --replay {self.dim}:{self.seed}"
+        extra = " --bodies 2" if self.layout in PAIR_LAYOUTS else ""
+        return f"rbimpact stability --replay {self.dim}:{self.seed}{extra}"
 
     FIELDS = ("dim", "seed", "shape", "law", "layout", "policy", "e", "mu", "height",
               "verdict", "status", "impacts", "penetration", "pen_tol", "energy_gain",
@@ -435,14 +452,199 @@ def check_result(spec, sim, res, note):
     return problems, worst, pen_tol, gain
 
 
+# ============================================================================================
+# the two-body axis (issue 16 item 5): two random shapes thrown at each other, in flight
+# ============================================================================================
+PAIR_LAYOUTS = ("pair-free", "pair-high")
+"""Layouts of the two-body axis: "pair-free" zero gravity, no plane; "pair-high" gravity,
+and a floor far enough below that nothing lands before ``t_end`` (the bodies fall
+together; their relative motion is the same)."""
+PAIR_STREAM = 2
+"""Extra word of the seed sequence of a two-body scene (``pair_scene_seed``): its seeds are
+a stream apart from the single-body scenes', which draw exactly as before."""
+PAIR_GAP = (1e-9, 1.0)
+"""Initial gap of the bounding circles, relative to the sum of their radii: log-uniform."""
+PAIR_FAST_SPIN = 0.2
+"""Probability that a body spins 30 times faster (spins up to 90 sqrt(|g| / L) rad/s)."""
+MOMENTUM_RTOL = 1e-12
+"""Linear and angular momentum (about the origin) kept in a zero-gravity scene, relative to
+the scene's scales ``sum m |v|`` and ``sum I |w| + m |x| |v|``, at the end of the run."""
+
+
+def pair_scene_seed(dim, seed, index):
+    """The seed (int) of two-body scene ``index`` of the campaign ``(dim, seed)``."""
+    return int(np.random.SeedSequence([int(seed), int(dim), int(index), PAIR_STREAM])
+               .generate_state(1)[0])
+
+
+def draw_pair_scene(dim, sseed):
+    """The parameters of one two-body scene (a plain dict) from its seed ``sseed``: two
+    shapes of ``SHAPES[2]`` (sizes, aspects, masses as the single-body scenes), a law, e,
+    mu, e_t and a policy as ``draw_scene``, a layout of ``PAIR_LAYOUTS``; B placed from A
+    along a random direction with a gap of the bounding circles ``PAIR_GAP`` (relative),
+    thrown at A with an impact parameter up to 0.8 of the bounding radii, a closing speed
+    of 0.2 to 2 ``sqrt(|g| L)``, random angles and spins."""
+    if dim != 2:
+        raise ValueError(f"the two-body campaign axis is 2D only (issue 16); got dim={dim!r}")
+    from .stability import LAW_VARIANTS
+    rng = np.random.default_rng(sseed)
+    label, name, fixed = LAW_VARIANTS[rng.integers(len(LAW_VARIANTS))]
+    params = dict(fixed)
+    params["e"] = float(E_VALUES[rng.integers(len(E_VALUES))])
+    params["mu"] = float(MU_VALUES[rng.integers(len(MU_VALUES))])
+    if name in ("brach", "chatterjee_ruina"):
+        params["e_t"] = float(ET_VALUES[rng.integers(len(ET_VALUES))])
+    layout = PAIR_LAYOUTS[rng.integers(len(PAIR_LAYOUTS))]
+    bodies = []
+    for _ in range(2):
+        shape = SHAPES[2][rng.integers(len(SHAPES[2]))]
+        L = _loguniform(rng, SIZE_MIN, SIZE_MAX)
+        aspect = float(rng.uniform(0.2, 1.0))
+        b = dict(shape=shape, size=L, aspect=aspect, mass=_loguniform(rng, 1e-2, 1e2),
+                 angle=float(rng.uniform(0, 2 * math.pi)))
+        if shape == "polygon":
+            b["vertices"] = _polygon_vertices(rng, L, aspect)
+        w = float(rng.uniform(-3.0, 3.0)) * math.sqrt(GRAVITY / L)
+        if rng.uniform() < PAIR_FAST_SPIN:
+            w *= 30.0
+        b["spin"] = w
+        bodies.append(b)
+    Lm = math.sqrt(bodies[0]["size"] * bodies[1]["size"])
+    spec = dict(dim=2, seed=int(sseed), law=label, law_name=name, params=params,
+                policy=POLICIES[rng.integers(2)], layout=layout,
+                shape="+".join(b["shape"] for b in bodies), size=min(b["size"] for b in bodies),
+                bodies=bodies, height=0.0,
+                direction=float(rng.uniform(0, 2 * math.pi)),
+                gap=_loguniform(rng, *PAIR_GAP), impact=float(rng.uniform(-0.8, 0.8)),
+                speed=float(rng.uniform(0.2, 2.0)) * math.sqrt(GRAVITY * Lm))
+    return spec
+
+
+def build_pair_scene(spec):
+    """``(simulation, t_end, max_events)`` for a drawn two-body scene: A at the origin, B
+    at ``(R_A + R_B) (1 + gap)`` along ``direction`` (bounding radii ``R``), moving toward
+    A's side with ``speed`` and an impact parameter ``impact (R_A + R_B)``; each body's
+    centre of mass velocity is such that the total momentum is zero. ``t_end``: the time to
+    close the distance and pass through twice the bounding radii."""
+    from .laws import Law
+    from .scene import Scene2D
+    from .simulation import Simulation
+    law = Law(spec["law_name"], **spec["params"])
+    shapes = [_shape(dict(b, dim=2)) for b in spec["bodies"]]
+    R = [sh.bounding_radius for sh in shapes]
+    m = [b["mass"] for b in spec["bodies"]]
+    u = np.array([math.cos(spec["direction"]), math.sin(spec["direction"])])
+    perp = np.array([-u[1], u[0]])
+    d = (R[0] + R[1]) * (1.0 + spec["gap"])
+    xB = d * u + spec["impact"] * (R[0] + R[1]) * perp
+    vrel = -spec["speed"] * u           # B relative to A
+    vA = -m[1] / (m[0] + m[1]) * vrel
+    vB = m[0] / (m[0] + m[1]) * vrel
+    free = spec["layout"] == "pair-free"
+    scene = Scene2D(gravity=(0.0, 0.0) if free else (0.0, -GRAVITY))
+    t_end = (d + 2.0 * (R[0] + R[1])) / spec["speed"]
+    if not free:    # a floor far below: nothing lands before t_end (no body's centre
+        # moves faster than sqrt(2 K / m) relative to free fall, K the kinetic energy)
+        K = sum(0.5 * mi * float(v @ v) + 0.5 * sh.moment(mi) * b["spin"] ** 2
+                for sh, mi, b, v in zip(shapes, m, spec["bodies"], (vA, vB)))
+        drop = 0.5 * GRAVITY * t_end ** 2 + 2.0 * math.sqrt(2.0 * K / min(m)) * t_end
+        scene.add_floor(-(drop + 2.0 * (R[0] + R[1]) + d + 1.0))
+    for sh, mass, b, x, v in zip(shapes, m, spec["bodies"], (np.zeros(2), xB), (vA, vB)):
+        scene.add_body(sh, mass, tuple(x), angle=b["angle"], velocity=tuple(v),
+                       angular_velocity=b["spin"])
+    sim = Simulation(scene, law, policy=spec["policy"])
+    return sim, t_end, MAX_EVENTS
+
+
+def pair_gap(sim, s, k, i=0, j=1):
+    """Signed gap (m) of bodies i and j at sample ``k`` of ``s`` (``Result.sample``):
+    ``kernels.pair2d.frame_rel`` (distance when apart, minus the penetration depth)."""
+    from .kernels.pair2d import frame_rel
+    bint, bflt, V = sim._bint, sim._bflt, sim._verts
+    return float(frame_rel(int(bint[i, 0]), bflt[i, 2], bflt[i, 3], bflt[i, 4], V,
+                           int(bint[i, 1]), int(bint[i, 2]), float(s["angle"][k, i]),
+                           int(bint[j, 0]), bflt[j, 2], bflt[j, 3], bflt[j, 4], V,
+                           int(bint[j, 1]), int(bint[j, 2]),
+                           float(s["x"][k, j] - s["x"][k, i]),
+                           float(s["y"][k, j] - s["y"][k, i]), float(s["angle"][k, j]))[0])
+
+
+def check_pair_result(spec, sim, res, note):
+    """The invariants of a two-body scene (as ``check_result``): the bodies never overlap
+    by more than ``PEN_RTOL L + PEN_ATOL`` (``L`` the smaller size; sampled gaps, local
+    minima refined), no energy created by a law that cannot create it (beyond
+    ``ENERGY_RTOL`` of ``K0 + sum m |g| L``), and in zero gravity the linear and angular
+    momentum kept to ``MOMENTUM_RTOL``. Returns ``(problems, penetration, pen_tol,
+    energy_gain)``."""
+    from scipy.optimize import minimize_scalar
+    from .stability import NEVER_GAIN, _energy_from_sample, kinetic_from_sample
+    problems = []
+    if res is None or res.t_end <= res.t_start:
+        return problems, 0.0, 0.0, 0.0
+    L = spec["size"]
+    pen_tol = PEN_RTOL * L + PEN_ATOL
+    t = _sample_times(res, N_SAMPLES)
+    s = res.sample(t)
+    g = np.array([pair_gap(sim, s, k) for k in range(len(t))])
+    worst = float(g.min())
+    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
+    for k in loc[np.argsort(g[loc])][:8]:
+        lo, hi = t[k - 1], t[k + 1]
+        if hi > lo:
+            r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0), bounds=(lo, hi),
+                                method="bounded",
+                                options={"xatol": 1e-15 * max(1.0, abs(hi))})
+            worst = min(worst, float(r.fun))
+    pen = max(0.0, -worst)
+    if pen > pen_tol:
+        problems.append(f"penetration {pen:.3g} m > {pen_tol:.2g} m (body 0 in body 1)")
+    E = _energy_from_sample(res, s, 2)
+    K0 = float(kinetic_from_sample(res, s, 2)[0])
+    gabs = math.hypot(*sim.scene.gravity)
+    sizes = np.array([b["size"] for b in spec["bodies"]])
+    E_scale = K0 + float(np.sum(res.masses * gabs * (np.max(np.abs(s["y"]), axis=0) + sizes)))
+    gain = float(np.max(E - np.minimum.accumulate(E))) / E_scale
+    ev = res.events
+    imp = ev[ev["kind"] == "impact"]
+    if len(imp):
+        _, inv = np.unique(imp["t"], return_inverse=True)
+        gain = max(gain, float(np.bincount(inv, weights=imp["dE"]).max()) / E_scale)
+    joint = spec["policy"] == "simultaneous" and len(imp) and np.any(imp["cluster"] > 1)
+    safe = spec["law"] in NEVER_GAIN and (not joint or spec["params"]["e"] == 0.0)
+    if safe and gain > ENERGY_RTOL:
+        problems.append(f"energy created: {gain:.3g} of the scene's energy scale "
+                        f"{E_scale:.3g} J (> {ENERGY_RTOL:g})")
+    if spec["layout"] == "pair-free":
+        m, I = res.masses, res.moments
+        out = []
+        for k in (0, len(t) - 1):
+            x, y, vx, vy, w = (s[c][k] for c in ("x", "y", "vx", "vy", "omega"))
+            out.append((np.sum(m * vx), np.sum(m * vy),
+                        np.sum(I * w + m * (x * vy - y * vx))))
+        x, y, vx, vy, w = (s[c][0] for c in ("x", "y", "vx", "vy", "omega"))
+        ps = float(np.sum(m * np.hypot(vx, vy)))
+        Ls = float(np.sum(I * np.abs(w) + m * np.hypot(x, y) * np.hypot(vx, vy)))
+        dp = max(abs(out[1][0] - out[0][0]), abs(out[1][1] - out[0][1]))
+        dL = abs(out[1][2] - out[0][2])
+        if dp > MOMENTUM_RTOL * ps or dL > MOMENTUM_RTOL * Ls:
+            problems.append(f"momentum not kept: linear {dp:.3g} of {ps:.3g} kg m/s, "
+                            f"angular {dL:.3g} of {Ls:.3g} kg m^2/s")
+    if len(imp) == 0:
+        note.append("no impact (the bodies missed each other)")
+    return problems, pen, pen_tol, gain
+
+
 MECHANICAL = ("Painleve",)
 """Words of a SimulationError message that name a real mechanical cause (a refusal)."""
 
 
-def run_drop(dim, sseed, spec=None):
-    """Build, run and check one scene; returns a ``DropRow``."""
+def run_drop(dim, sseed, spec=None, bodies=1):
+    """Build, run and check one scene (``bodies`` 1: a drop scene, ``draw_scene``; 2: a
+    two-body scene, ``draw_pair_scene``); returns a ``DropRow``."""
     import warnings
-    spec = draw_scene(dim, sseed) if spec is None else spec
+    two = bodies == 2
+    if spec is None:
+        spec = draw_pair_scene(dim, sseed) if two else draw_scene(dim, sseed)
     p = spec["params"]
     row = dict(dim=dim, seed=int(sseed), shape=spec["shape"], law=spec["law"],
                layout=spec["layout"], policy=spec["policy"], e=p["e"], mu=p["mu"],
@@ -450,7 +652,7 @@ def run_drop(dim, sseed, spec=None):
     t0 = time.perf_counter()
     note = []
     try:
-        sim, t_end, max_events = build_scene(spec)
+        sim, t_end, max_events = (build_pair_scene if two else build_scene)(spec)
     except Exception as exc:        # a scene the campaign draws must be accepted
         return DropRow(**row, verdict="FAIL", status="not built", impacts=0,
                        penetration=0.0, pen_tol=0.0, energy_gain=0.0,
@@ -478,7 +680,8 @@ def run_drop(dim, sseed, spec=None):
         note.append(f"{type(exc).__name__}: {exc}"[:300])
     wall = time.perf_counter() - t0
     try:
-        problems, pen, pen_tol, gain = check_result(spec, sim, res, note)
+        problems, pen, pen_tol, gain = (check_pair_result if two else check_result)(
+            spec, sim, res, note)
     except Exception as exc:
         problems, pen, pen_tol, gain = [f"check failed: {type(exc).__name__}: {exc}"], 0, 0, 0
     if problems:
@@ -546,10 +749,13 @@ class CampaignReport:
                 w.writerow(r.fields())
 
 
-def drop_campaign(n_scenes, dim="both", seed=0, progress=None):
+def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1):
     """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
     seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
-    each ``DropRow``."""
+    each ``DropRow``. ``bodies``: 1 (the drop scenes) or 2 (the two-body axis,
+    ``draw_pair_scene``: 2D only, its own seed stream ``pair_scene_seed``)."""
+    if bodies not in (1, 2) or isinstance(bodies, bool):
+        raise ValueError(f"drop_campaign: bodies must be 1 or 2, got {bodies!r}")
     if isinstance(n_scenes, bool) or not isinstance(n_scenes, (int, np.integer)) \
             or n_scenes < 1:
         raise ValueError(f"drop_campaign: n_scenes must be a positive integer, got "
@@ -557,11 +763,16 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None):
     dims = {2: (2,), 3: (3,), "2": (2,), "3": (3,), "both": (2, 3)}.get(dim)
     if dims is None:
         raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")
+    if bodies == 2:
+        if 3 in dims and dim != "both":
+            raise ValueError("drop_campaign: the two-body axis (bodies=2) is 2D only")
+        dims = (2,)
     t0 = time.perf_counter()
     rows = []
+    seeder = pair_scene_seed if bodies == 2 else scene_seed
     for d in dims:
         for k in range(int(n_scenes)):
-            rows.append(run_drop(d, scene_seed(d, seed, k)))
+            rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies))
             if progress:
                 progress(rows[-1])
     return CampaignReport(rows, time.perf_counter() - t0)
@@ -580,10 +791,10 @@ def _progress_bar(total):
     return (lambda row: bar.update(1)), bar
 
 
-def replay_text(dim, sseed):
+def replay_text(dim, sseed, bodies=1):
     """One scene, run again and explained: what was drawn, how it ended, the checks."""
-    spec = draw_scene(dim, sseed)
-    row = run_drop(dim, sseed, spec)
+    spec = draw_pair_scene(dim, sseed) if bodies == 2 else draw_scene(dim, sseed)
+    row = run_drop(dim, sseed, spec, bodies=bodies)
     lines = [f"scene {dim}:{sseed}"]
     for k, v in spec.items():
         lines.append(f"  {k:<12} {v}")
@@ -607,13 +818,14 @@ def main(args):
         except ValueError:
             raise ValueError(f"--replay takes DIM:SEED with DIM 2 or 3 and a seed >= 0 (as "
                              f"printed by a failure), got {args.replay!r}") from None
-        text, row = replay_text(d, sd)
+        text, row = replay_text(d, sd, getattr(args, "bodies", 1))
         print(text)
         return 0 if row.verdict != "FAIL" else 1
-    dims = 2 if args.dim == "both" else 1
+    dims = 2 if args.dim == "both" and getattr(args, "bodies", 1) == 1 else 1
     cb, bar = _progress_bar(args.scenes * dims)
     try:
-        report = drop_campaign(args.scenes, dim=args.dim, seed=args.seed, progress=cb)
+        report = drop_campaign(args.scenes, dim=args.dim, seed=args.seed, progress=cb,
+                               bodies=getattr(args, "bodies", 1))
     finally:
         if bar is not None:
             bar.close()
