@@ -30,8 +30,9 @@ What the stepper does
   impacts would accumulate, or the bodies ride together after a plastic impact), or a
   body held on a plane by an integrated contact has a partner body, the run stops with
   ``SimulationError`` (status "persistent_pair"). A one-body scene has no pair at all (no
-  pair search runs); ``ignore_unsupported_pairs`` is kept for compatibility (every 2D
-  pair is supported).
+  pair search runs). ``ignore_unsupported_pairs=True`` keeps the behaviour from before
+  issue 16: only disks collide with each other, other bodies pass through each other (no
+  pair law may be given for them).
 * **Simultaneous contacts**: all contacts whose impact times lie within ``simul_time`` (s)
   of the earliest one, and the other corners of a body in such an impact whose gap is
   already below ``simul_gap`` (m) and closing, are gathered and grouped into clusters
@@ -227,8 +228,9 @@ class Simulation:
     ``Plane`` alone (every body against it). Most specific key wins.
 
     Keywords: ``policy`` ("simultaneous" or "sequential", see the module docstring),
-    ``ignore_unsupported_pairs`` (bool, no effect in 2D: every pair of shapes collides),
-    and the tolerances of ``TOLERANCES`` (name: default, unit):
+    ``ignore_unsupported_pairs`` (bool: only disks collide with each other, the other
+    bodies pass through each other, as before issue 16; default False: every pair of
+    shapes collides), and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
     simul_tol 1e-14 (relative);
@@ -277,9 +279,11 @@ class Simulation:
         self._verts = np.ascontiguousarray(np.concatenate(verts), dtype=float)
         self._planes = np.array([(p.normal[0], p.normal[1], p.offset) for p in planes],
                                 dtype=float).reshape(npl, 3)
-        # every pair of bodies can collide (issue 16: pair2d, pair2d_toi for each shape pair)
-        table = pack_laws("Simulation", scene, self.law, pair_laws, Plane,
-                          np.ones(nb, dtype=bool), dim="2D", round_name="bodies",
+        # every pair of bodies can collide (issue 16: pair2d, pair2d_toi for each shape
+        # pair); ignore_unsupported_pairs=True keeps the disk pairs only, as before issue 16
+        collide = (bint[:, 0] == 0) if self.ignore_unsupported_pairs else np.ones(nb, bool)
+        table = pack_laws("Simulation", scene, self.law, pair_laws, Plane, collide, dim="2D",
+                          round_name="disks",
                           ignore_unsupported_pairs=self.ignore_unsupported_pairs)
         self._pairs = table.pairs
         self._bp_law = table.bp_law
@@ -541,9 +545,9 @@ class Simulation:
                           f"m/s, next impact of the pair {err[7]:.3g} s later (the bodies "
                           f"part by less than rest_length = "
                           f"{self.tolerances['rest_length']:g} m)")
-            exc = SimulationError(f"{detail}: persistent body-body contact (resting, sliding, "
-                                  f"pivoting or rolling on another body) is not supported "
-                                  f"yet (issue 16)")
+            exc = SimulationError(f"persistent body-body contact (resting, sliding, pivoting "
+                                  f"or rolling on another body) is not supported yet (issue "
+                                  f"16): {detail}")
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
                 f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "

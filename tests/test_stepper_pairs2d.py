@@ -316,3 +316,41 @@ def test_pair_law_is_used():
                      pair_laws={(1, 0): law}).run(0.6)
     ev = res.events[0]
     assert ev["v_f"][0] == pytest.approx(-ev["v_i"][0], rel=1e-12)
+
+
+def test_two_body_campaign_sample():
+    """The campaign's two-body axis (issue 16 item 5), a fixed-seed sample: no scene breaks
+    an invariant (overlap, energy, momentum); the only failures are the named refusal of
+    persistent body-body contact (not built); most scenes end 'done' with an impact."""
+    from rbimpact.campaign import drop_campaign
+    n = 120
+    report = drop_campaign(n, dim=2, seed=2026, bodies=2)
+    assert len(report.rows) == n
+    for r in report.rows:
+        if r.verdict != "OK":
+            assert r.status == "SimulationError", (r.reproducer, r.note)
+            assert r.note.startswith("persistent body-body contact"), (r.reproducer, r.note)
+    ok = [r for r in report.rows if r.verdict == "OK"]
+    assert len(ok) >= 0.6 * n
+    assert sum(r.impacts > 0 for r in ok) >= 0.8 * len(ok)
+
+
+def test_pivoting_body_with_a_partner_is_refused_by_name_unless_pairs_ignored():
+    """A rod whose plastic landing makes it pivot on the floor (an integrated contact) in a
+    scene with a second body: body-body contact with a body in an integrated contact is not
+    built, so the run stops with the named refusal (PP_HELD) rather than searching a motion
+    that has no closed form; with ignore_unsupported_pairs=True the rod and the box pass
+    through each other (as before issue 16) and the run ends 'done'."""
+    def scene():
+        sc = Scene2D(gravity=(0.0, -9.81))
+        sc.add_floor()
+        sc.add_body(Rod(1.0), 1.0, (0.0, 0.5), angle=0.5)
+        sc.add_body(Box(0.2, 0.2), 1.0, (3.0, 0.1))
+        return sc
+    law = Law("kane_levinson", e=0.0, mu=1.0)
+    with pytest.raises(SimulationError, match=r"integrated \(pivot\) contact") as info:
+        Simulation(scene(), law).run(1.0)
+    assert info.value.result.status == "persistent_pair"
+    res = Simulation(scene(), law, ignore_unsupported_pairs=True).run(1.0)
+    assert res.status == "done" and "pivot" in list(res.events["kind"])
+    assert len(Simulation(scene(), law, ignore_unsupported_pairs=True)._pairs) == 0
