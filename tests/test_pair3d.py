@@ -699,3 +699,40 @@ def test_toi_bound_dominates_second_derivative():
             ratios.append(worst / M)
     print("largest |g_kl''| / M:", max(ratios), "median", np.median(ratios))
     assert max(ratios) > 0.05       # the bound is not vacuous
+
+
+# ---- the Python checks ---------------------------------------------------------------------
+
+def test_input_checks():
+    from rbimpact.pair3d_input import body_geometry, rotation, shape_geometry, state
+    assert shape_geometry(shapes3d.Sphere(0.5)) == (SH_SPHERE, 0.5, 0.0, 0.0, 0.0)
+    assert shape_geometry(shapes3d.Box3D((1, 2, 3))) == (SH_BOX, 0.0, 0.5, 1.0, 1.5)
+    assert shape_geometry(shapes3d.Capsule(2.0, 0.3)) == (SH_CAPSULE, 0.3, 0.0, 0.0, 1.0)
+    bad = [((5,), "shape kind"), ((True,), "shape kind"),
+           ((SH_SPHERE, 0.0), "radius"), ((SH_SPHERE, -1.0), "radius"),
+           ((SH_SPHERE, math.nan), "radius"), ((SH_SPHERE, 1.0, (0, 0, 1)), "half"),
+           ((SH_BOX, 0.0, (1, 0, 1)), "half"), ((SH_BOX, 0.1, (1, 1, 1)), "radius"),
+           ((SH_BOX, 0.0, (1, 1)), "half"), ((SH_BOX, 0.0, (1, math.inf, 1)), "finite"),
+           ((SH_CAPSULE, 0.2, (0, 0, 0)), "half"), ((SH_CAPSULE, 0.2, (1, 0, 1)), "axis"),
+           ((SH_CAPSULE, 0.0, (0, 0, 1)), "radius"), ((SH_BOX, 0.0, "abc"), "half")]
+    for args, word in bad:
+        with pytest.raises(ValueError, match=word):
+            body_geometry(*args)
+    st = state([1, 2, 3, 1, 0, 0, 0])
+    assert st.shape == (19,) and st[3] == 1.0 and not st[7:].any()
+    for v, word in [([0, 0, 0, 2, 0, 0, 0], "length 1"), ([0, 0, 0, 0, 0, 0, 0], "length 1"),
+                    ([0, 0, 0, 1, 0, 0], "7 numbers"), ([0, 0, math.nan, 1, 0, 0, 0], "finite"),
+                    ("x", "7 numbers")]:
+        with pytest.raises(ValueError, match=word):
+            state(v)
+    assert rotation(shapes3d.Sphere(1.0))[0] == ROT_SPHERICAL
+    assert rotation(shapes3d.Capsule(1.0, 0.2))[:2] == (ROT_AXISYM, 2)
+    assert rotation(shapes3d.Box3D((1, 2, 3)))[0] == ROT_GENERAL
+    with pytest.raises(ValueError, match="mass"):
+        rotation(shapes3d.Sphere(1.0), -1.0)
+    # the checked encodings drive the kernels
+    bA = body_geometry(SH_BOX, 0.0, (0.5, 0.5, 0.5))
+    bB = body_geometry(SH_CAPSULE, 0.25, (0, 0, 0.5))
+    fr, fe = frame(bA, state([0, 0, 0, 1, 0, 0, 0]), bB, state([2, 0, 0, 1, 0, 0, 0]))
+    assert fr[FR_GAP] == pytest.approx(1.25, abs=1e-15)
+    assert list(fe) == [FT_FACE, 1, FT_VERTEX, 0]     # lowest-dimensional: an end cap
