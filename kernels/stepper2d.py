@@ -659,8 +659,6 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     b = pairs[q, 1]
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
-        if pgen is None:
-            return _not_compiled(err, t_now, a, FEATURE_PAIR)
         for j in range(2):
             i = a if j == 0 else b
             if pm[i, M_MODE] == PM_PIVOT:
@@ -682,6 +680,8 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                                 tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
                                 S, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
                                 toli[TI_TOI_MAXIT])
+    elif pgen is None:      # pruned by type: a loop for disk pairs compiles no pair_toi
+        return _not_compiled(err, t_now, a, FEATURE_PAIR)
     else:
         s, code = pair_toi(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB],
                            verts, bint[a, B_FIRST], bint[a, B_COUNT], tmp[0],

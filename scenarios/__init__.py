@@ -327,6 +327,6 @@ def nonnegative(scenario, **values):
 # Registration: importing the modules defines builders only (no scene is built).
 from . import (billiards, bouncing_ball, bouncing_ellipse, falling_rod,  # noqa: E402,F401
                perforation, rocking_block, spinning_ball, superball)
-from . import rod_strikes_ball  # noqa: E402,F401  (2D body-body impacts, issue 16)
+from . import polygon_collide, rod_strikes_ball  # noqa: E402,F401  (2D body-body, issue 16)
 from . import die_toss, spinning_ball_3d, superball_3d, tumbling_capsule  # noqa: E402,F401
 from . import granular_gas  # noqa: E402,F401  (many-body: rbimpact.manybody)
