@@ -16,7 +16,8 @@ the faces of the Minkowski difference it would give being then among the face no
 * Overlapping (``max sigma <= 0``): ``g = max sigma``, minus the penetration depth, exact
   (the minimum translation of two convex polytopes is along a face normal of their
   Minkowski difference, all of which are among the 15 axes), for the relative pose ``C``,
-  ``c`` as rounded (an error of a few ulps of the size).
+  ``c`` as rounded (an error of a few ulps of the size). Face axes win ties: an edge
+  product is taken only when it beats them by ``EDGE_BIAS_ULPS`` ulps of the pose's scale.
 * Disjoint (``max sigma > 0``): the exact distance by closest features (the distance of
   two convex polytopes is realised by a vertex and the other body, or by two edges): the
   8 + 8 corners against the other box (``pair3d_rounded.point_box``) and the 12 x 12 edge
@@ -44,6 +45,9 @@ from .pair3d_rounded import point_box, seg_seg  # noqa: E402
 from .pair3d_shape import (AXIS_MIN, FT_EDGE, FT_FACE, FT_VERTEX, box_edge,  # noqa: E402
                            box_edge_index, mat_tvec, mat_vec)
 
+EPS = 2.220446049250313e-16   # float64 machine epsilon
+EDGE_BIAS_ULPS = 16.0          # an edge-product axis must beat the best face axis by this
+#                                many ulps of the pose's scale (|c| + half edges) (-)
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -85,6 +89,11 @@ def box_sat(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz):
         if sg > best:
             sgn = -1.0 if uc >= 0.0 else 1.0
             best, bx, by, bz, bk, bi, bj = sg, sgn * ux, sgn * uy, sgn * uz, 1, 0, j
+    # an edge product must beat the face axes by more than their round-off: when a face is
+    # parallel to the other body's face or edge the products of its edges are that face's
+    # normal, and its face frame (witness inside the contact) is the meaningful one
+    bias = EDGE_BIAS_ULPS * EPS * (abs(cx) + abs(cy) + abs(cz) + hA0 + hA1 + hA2 + hB0
+                                   + hB1 + hB2)
     for i in range(3):
         for j in range(3):
             fx = C[j]
@@ -104,7 +113,7 @@ def box_sat(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz):
             uy /= m
             uz /= m
             sg, uc = _sep(C, hA0, hA1, hA2, hB0, hB1, hB2, cx, cy, cz, ux, uy, uz)
-            if sg > best:
+            if sg > best + bias:
                 sgn = -1.0 if uc >= 0.0 else 1.0
                 best, bx, by, bz, bk, bi, bj = sg, sgn * ux, sgn * uy, sgn * uz, 2, i, j
     return best, bx, by, bz, bk, bi, bj

@@ -166,13 +166,13 @@ def clip_segment_face(ax, ay, az, dx, dy, dz, i, hR0, hR1, hR2):
     """Parameter range ``[t0, t1]`` of the segment ``a + d t`` (``t`` in [0, 1]) whose
     projection along ``e_i`` lies inside the reference face (the box's face normal to axis
     ``i``; Liang & Barsky, ACM TOG 3:1, 1984). Returns ``(t0, t1, ok)``; ``ok = 0`` if empty.
-    The side lines are widened by ``CLIP_TOL`` of the half extents."""
+    The ends stay within the face (no tolerance), so points on them lie on its surface."""
     t0 = 0.0
     t1 = 1.0
     for l in range(3):
         if l == i:
             continue
-        h = _pick(hR0, hR1, hR2, l) * (1.0 + CLIP_TOL)
+        h = _pick(hR0, hR1, hR2, l)
         p = _pick(ax, ay, az, l)
         d = _pick(dx, dy, dz, l)
         if d == 0.0:
