@@ -238,7 +238,7 @@ def test_gap_against_brute_force(pair):
     worst = 0.0
     for mode in ("far", "near", "overlap"):
         rng = np.random.default_rng(seed("brute", *pair, mode))
-        for it in range(14):
+        for it in range(24):
             a, b = pair if it % 2 == 0 else pair[::-1]
             bA = random_body(rng, a)
             bB = random_body(rng, b)
@@ -492,19 +492,19 @@ def check_toi(fA, fB, S, s, code, n_scan):
 
 @pytest.mark.parametrize("pair", PAIRS, ids=["-".join(p) for p in PAIRS])
 def test_toi_against_bisection(pair):
-    """40 throws per pair (both orders), spins up to 100 (omega size / speed), under
+    """60 throws per pair (both orders), spins up to 100 (omega size / speed), under
     unequal gravity: the kernel's time against a dense scan (600 samples) and bisection of
     the gap along the exact flight, to 1e-12 s; no earlier root missed."""
     rng = np.random.default_rng(seed("toi", *pair))
     hits = 0
-    for it in range(40):
+    for it in range(60):
         a, b = pair if it % 2 == 0 else pair[::-1]
         spin = (0.0, 1.0, 10.0, 100.0)[it % 4]
         fA, fB, S = aimed_throw(rng, a, b, spin)
         s, code = run_toi(fA, fB, S)
         ref = check_toi(fA, fB, S, s, code, 600)
         hits += ref is not None and math.isfinite(ref)
-    assert hits >= 20
+    assert hits >= 30
 
 
 def _closest_approach(fA, fB, S, n=400):
@@ -896,3 +896,51 @@ def test_manifold_tilted_and_single():
         stA, stB = random_pose_pair(rng, bA, bB, "near")
         n, mf, fr, _ = manifold(bA, stA, bB, stB)
         assert n == 1 and np.array_equal(mf[0, MF_PAX:MF_PAX + 3], fr[FR_PAX:FR_PAX + 3])
+
+
+def test_toi_special_cases():
+    """Touching and separating at s = 0 (no impact there), touching and approaching (impact
+    at 0), overlapping (TOI_MISSED), an empty window, a box sliding flat over a box at a
+    constant gap of 1e-12 (no impact, in few steps), fast spin (omega size / speed = 1000)
+    against the scan (and the integrator's step limit reported for a general box), a face falling flat onto a face (quadratic convergence: few steps),
+    an unknown pair of kinds (NaN, TOI_NOT_CONVERGED)."""
+    import rbimpact.kernels.pair3d_toi as pt
+    bA = (SH_BOX, 0.0, 1.0, 1.0, 0.5)
+    bB = (SH_BOX, 0.0, 0.5, 0.5, 0.5)
+    q = np.array([1.0, 0, 0, 0])
+    up = np.array([0.0, 0, 1])
+
+    def toi(stA, stB, S=1.0, maxit=MAXIT, a=bA, b=bB):
+        fA, fB = Flight(a, stA), Flight(b, stB)
+        rA, rB = fA.rot, fB.rot
+        return pt.pair_toi(*a, stA, rA[0], rA[1], *rA[2:], np.zeros(N_WS),
+                           *b, stB, rB[0], rB[1], *rB[2:], np.zeros(N_WS),
+                           0.0, S, RTOL, ATOL, GAP_TOL, maxit, ROT_TOL, ROT_MAX,
+                           np.zeros(19), np.zeros(19))
+    # touching (gap 0), separating / approaching
+    assert toi(row((0, 0, 0), q), row((0, 0, 1.0), q, v=(0, 0, 1))) == (math.inf, TOI_OK)
+    assert toi(row((0, 0, 0), q), row((0, 0, 1.0), q, v=(0, 0, -1))) == (0.0, TOI_OK)
+    assert toi(row((0, 0, 0), q), row((0, 0, 0.9), q)) == (0.0, TOI_MISSED)
+    assert toi(row((0, 0, 0), q), row((0, 0, 2.0), q, v=(0, 0, -1)), S=0.0)[0] == math.inf
+    # sliding flat at a constant gap under the same gravity: no impact, few steps
+    g = (0, 0, -9.81)
+    s, code = toi(row((0, 0, 0), q, a=g), row((0, 0, 1.0 + 1e-12), q, v=(0.3, 0.1, 0), a=g),
+                  maxit=200)
+    assert (s, code) == (math.inf, TOI_OK)
+    # a face falling flat onto a face: exact time, few steps
+    st = row((0, 0, 1.5), q, v=(0, 0, -1.0))
+    s, code = toi(row((0, 0, 0), q), st, maxit=40)
+    assert code == TOI_OK and abs(s - 0.5) < 1e-14
+    # fast spin (capsules: closed-form rotation; a box of three different moments spinning
+    # 1000 turns would exceed the integrator's ROT_MAX steps: TOI_ROT_FAILED, by design)
+    rng = np.random.default_rng(seed("fastspin"))
+    for it in range(6):
+        fA, fB, S = aimed_throw(rng, "capsule", ("capsule", "sphere")[it % 2], 1000.0)
+        s, code = run_toi(fA, fB, S)
+        check_toi(fA, fB, S, s, code, 4000)
+    from rbimpact.kernels.toi3d import TOI_ROT_FAILED
+    fA, fB, S = aimed_throw(rng, "box", "box", 1000.0)
+    assert run_toi(fA, fB, S)[1] == TOI_ROT_FAILED
+    # unknown kinds
+    s, code = toi(row((0, 0, 0), q), row((0, 0, 3.0), q), a=(5, 0.0, 1, 1, 1))
+    assert math.isnan(s) and code == TOI_NOT_CONVERGED
