@@ -44,6 +44,7 @@ every factor bounded over the window ``[s0, s0 + H]``: ``|w_i|``, ``|w_i'|`` by
 rotation), ``|W_i| <= min(|w_i| + |w_n|, |W_i(s0)| + (|w_i'| + |w_n'|) H)``,
 ``|D'| <= |D'(s0)| + |D''| H``, ``|D| <= |D(s0)| + |D'(s0)| H + |D''| H^2 / 2``. In free
 flight with a world axis ``M = |a_A - a_B| + sum K_i |w_i|^2`` (``toi3d``'s bound).
+``closing_speed_bound`` gives Mirtich's linear bound ``|g'| <= V`` (kept for a broad phase).
 
 Windows, termination, tangency and polish as ``pair2d_toi`` (``POLISH_IT`` Newton steps on
 the gap, each within ``POLISH_REACH`` time tolerances). Return ``(s, code)`` (``toi2d``,
@@ -106,6 +107,24 @@ def _eval(kA, rA, hxA, hyA, hzA, stA, kB, rB, hxB, hyB, hzB, stB, s, pA, pB):
                     pA[7], pA[8], pA[9], pA[10], pA[11], pA[12],
                     pB[7], pB[8], pB[9], pB[10], pB[11], pB[12])
     return g, gd, nx, ny, nz, fa, ia, fb, ib
+
+
+@njit(cache=True, _nrt=False)
+def closing_speed_bound(stA, stB, rhoA, rhoB, WA, AA, WB, AB, H):
+    """Mirtich's bound ``V >= |g'|`` over ``[0, H]`` (m/s): ``|v_B - v_A| + |a_B - a_A| H +
+    sum_i (W_i + A_i H) rho_i`` with ``rho_i`` the largest distance of a surface point of
+    body ``i`` from its centre of mass (m, reach plus radius) and ``W_i``, ``A_i`` bounds of
+    its ``|w|`` and ``|w'|`` (``flight3d.rotation_bounds``). ``g(s + h) >= g(s) - V h``: the
+    linear form of the advancement, for a broad phase."""
+    dvx = stB[7] - stA[7]
+    dvy = stB[8] - stA[8]
+    dvz = stB[9] - stA[9]
+    dax = stB[13] - stA[13]
+    day = stB[14] - stA[14]
+    daz = stB[15] - stA[15]
+    return (math.sqrt(dvx * dvx + dvy * dvy + dvz * dvz)
+            + math.sqrt(dax * dax + day * day + daz * daz) * H
+            + (WA + AA * H) * rhoA + (WB + AB * H) * rhoB)
 
 
 @njit(cache=True, _nrt=False)

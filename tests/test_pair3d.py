@@ -277,6 +277,37 @@ def test_disjoint_certificate_many_poses(pair):
         check_frame(bA, stA, bB, stB, fr, 2e-14 * size)
 
 
+def test_features_of_known_poses():
+    """The features realising the gap in poses where they are known: a sphere over a box's
+    +z face, a box corner down on a face, two boxes' edges crossing, a capsule's side
+    across a box edge, a capsule's end against a sphere; and swapped."""
+    q0 = np.array([1.0, 0, 0, 0])
+    qe = axis_quat((1, 0, 0), np.pi / 4)                  # an edge along x up / down
+    qc = quat_mul(axis_quat((1, 1, 0), math.atan(math.sqrt(2))), q0)   # a corner down
+    box = (SH_BOX, 0.0, 0.5, 0.5, 0.5)
+    cases = [
+        ((box, row((0, 0, 0), q0)), ((SH_SPHERE, 0.3, 0, 0, 0), row((0.1, 0.2, 1.0), q0)),
+         (FT_FACE, 5, FT_VERTEX, 0)),
+        ((box, row((0, 0, 0), q0)), (box, row((0.1, 0.1, 1.5), qc)), (FT_FACE, 5, FT_VERTEX,
+                                                                         None)),
+        ((box, row((0, 0, 0), qe)),
+         (box, row((0.1, 0, 1.6), quat_mul(axis_quat((0, 0, 1), 1.0), qe))),
+         (FT_EDGE, None, FT_EDGE, None)),
+        ((box, row((0, 0, 0), qe)),
+         ((SH_CAPSULE, 0.2, 0, 0, 1.0), row((0, 0.1, 1.0), axis_quat((1, 0, 0), np.pi / 2))),
+         (FT_EDGE, None, FT_EDGE, 0)),
+        (((SH_CAPSULE, 0.2, 0, 0, 1.0), row((0, 0, 0), q0)),
+         ((SH_SPHERE, 0.3, 0, 0, 0), row((0.05, 0, 2.0), q0)), (FT_VERTEX, 1, FT_VERTEX, 0)),
+    ]
+    for (bA, stA), (bB, stB), want in cases:
+        for sw in (0, 1):
+            fr, fe = frame(bA, stA, bB, stB) if sw == 0 else frame(bB, stB, bA, stA)
+            got = tuple(fe) if sw == 0 else (fe[2], fe[3], fe[0], fe[1])
+            assert fr[FR_GAP] > 0.0
+            for w, g in zip(want, got):
+                assert w is None or w == g, (want, got, sw)
+
+
 # ---- near-parallel faces and edges, touching and overlapping -------------------------------
 
 THETAS = (0.0, 1e-13, 1e-10, 1e-8, 1e-5, 1e-2)
@@ -494,7 +525,8 @@ def check_toi(fA, fB, S, s, code, n_scan):
 def test_toi_against_bisection(pair):
     """60 throws per pair (both orders), spins up to 100 (omega size / speed), under
     unequal gravity: the kernel's time against a dense scan (600 samples) and bisection of
-    the gap along the exact flight, to 1e-12 s; no earlier root missed."""
+    the gap along the exact flight, to 1e-12 s; no earlier root missed; the same time with
+    the bodies swapped; Mirtich's closing-speed bound above |g'| along the flight."""
     rng = np.random.default_rng(seed("toi", *pair))
     hits = 0
     for it in range(60):
@@ -504,6 +536,21 @@ def test_toi_against_bisection(pair):
         s, code = run_toi(fA, fB, S)
         ref = check_toi(fA, fB, S, s, code, 600)
         hits += ref is not None and math.isfinite(ref)
+        s2, code2 = run_toi(fB, fA, S)                 # swapping the bodies
+        assert code2 == code and (s2 == s or abs(s2 - s) <= 1e-12), (s, s2)
+        # Mirtich's linear bound dominates the gap rate along the flight
+        if it % 4 == 0:
+            from rbimpact.kernels.flight3d import rotation_bounds
+            from rbimpact.kernels.pair3d_toi import closing_speed_bound
+            from rbimpact.kernels.pair3d_shape import body_reach
+            WA, AA = rotation_bounds(fA.st, *fA.rot[2:], fA.rot[0], fA.rot[1], S)
+            WB, AB = rotation_bounds(fB.st, *fB.rot[2:], fB.rot[0], fB.rot[1], S)
+            V = closing_speed_bound(fA.st, fB.st, body_reach(fA.body[0], *fA.body[2:])
+                                    + fA.body[1], body_reach(fB.body[0], *fB.body[2:])
+                                    + fB.body[1], WA * (1 + 1e-6), AA * (1 + 1e-6),
+                                    WB * (1 + 1e-6), AB * (1 + 1e-6), S)
+            rates = [abs(gap_at(fA, fB, x)[1]) for x in np.linspace(0, S, 50)]
+            assert max(rates) <= V
     assert hits >= 30
 
 
@@ -656,7 +703,7 @@ def test_toi_bound_dominates_second_derivative():
         a, b = [("box", "box"), ("box", "capsule"), ("capsule", "capsule")][it % 3]
         fA, fB, S = random_throw(rng, a, b, 10.0)
         H = 0.05 * S
-        (kA, rA, *hA), (kB, rB, *hB) = fA.body, fB.body
+        (kA, _, *hA), (kB, _, *hB) = fA.body, fB.body
         KA = body_reach(kA, *hA)
         KB = body_reach(kB, *hB)
         WA, AA = rotation_bounds(fA.st, *fA.rot[2:], fA.rot[0], fA.rot[1], S)
@@ -901,14 +948,14 @@ def test_manifold_tilted_and_single():
 def test_toi_special_cases():
     """Touching and separating at s = 0 (no impact there), touching and approaching (impact
     at 0), overlapping (TOI_MISSED), an empty window, a box sliding flat over a box at a
-    constant gap of 1e-12 (no impact, in few steps), fast spin (omega size / speed = 1000)
-    against the scan (and the integrator's step limit reported for a general box), a face falling flat onto a face (quadratic convergence: few steps),
-    an unknown pair of kinds (NaN, TOI_NOT_CONVERGED)."""
+    constant gap of 1e-12 (no impact, in few steps), a face falling flat onto a face (exact,
+    few steps), fast spin (omega size / speed = 1000) against the scan (and the
+    integrator's step limit reported for a general box), an unknown pair of kinds (NaN,
+    TOI_NOT_CONVERGED)."""
     import rbimpact.kernels.pair3d_toi as pt
     bA = (SH_BOX, 0.0, 1.0, 1.0, 0.5)
     bB = (SH_BOX, 0.0, 0.5, 0.5, 0.5)
     q = np.array([1.0, 0, 0, 0])
-    up = np.array([0.0, 0, 1])
 
     def toi(stA, stB, S=1.0, maxit=MAXIT, a=bA, b=bB):
         fA, fB = Flight(a, stA), Flight(b, stB)
