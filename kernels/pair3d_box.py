@@ -30,7 +30,10 @@ Features: ``(FT_VERTEX, k)``, ``(FT_EDGE, e)`` or ``(FT_FACE, f)`` per body
 (``pair3d_shape``): the lowest-dimensional features realising the distance (a box resting
 flat on another is reported as a corner on a face; ``pair3d_manifold`` gives the whole
 contact). Overlapping: the face of the axis and the other body's deepest corner, or the
-two edges of an edge-product axis.
+two edges of an edge-product axis. Witness points when overlapping: for a face axis the
+deepest point of the other body's incident face over that face (``pair3d_clip``), so that
+both lie on the surfaces also when the faces are parallel; for an edge product the closest
+points of the two edges.
 """
 import math
 

@@ -45,6 +45,10 @@ rotation), ``|W_i| <= min(|w_i| + |w_n|, |W_i(s0)| + (|w_i'| + |w_n'|) H)``,
 ``|D'| <= |D'(s0)| + |D''| H``, ``|D| <= |D(s0)| + |D'(s0)| H + |D''| H^2 / 2``. In free
 flight with a world axis ``M = |a_A - a_B| + sum K_i |w_i|^2`` (``toi3d``'s bound).
 ``closing_speed_bound`` gives Mirtich's linear bound ``|g'| <= V`` (kept for a broad phase).
+The bound is isotropic in the spin: a body spinning about the contact normal at a gap
+``g`` far below ``K (w S)^2`` (resting or sliding on a face) advances by about
+``sqrt(2 g / M)`` per step and may end ``TOI_NOT_CONVERGED``; such contacts are the contact
+modes' (DESIGN §6a), not the time of impact's.
 
 Windows, termination, tangency and polish as ``pair2d_toi`` (``POLISH_IT`` Newton steps on
 the gap, each within ``POLISH_REACH`` time tolerances). Return ``(s, code)`` (``toi2d``,
