@@ -32,23 +32,26 @@ converge quadratically near a transversal root):
   ``EDGE_AXIS_SIN`` (sine) of parallel ``AX_A`` is used instead;
 * ``AX_WORLD`` otherwise (``w_n = 0``).
 
-Bound. With ``D = x_A - x_B`` and ``r = R p`` a core vertex's offset (``|r| <= K``, the
-body's reach, ``pair3d_shape.body_reach``), ``n' = w_n x n`` and
-``d/ds (n . r) = n . ((w_i - w_n) x r)``:
+Bound. With ``D = x_A - x_B``, ``r = R p`` a core vertex's offset (``|r| <= K``, the body's
+reach, ``pair3d_shape.body_reach``), ``W_i = w_i - w_n``, ``n' = w_n x n`` and
+``d/ds (n . r) = n . (W_i x r)``, so ``d2/ds2 (n . r) = (w_n x n) . (W_i x r) + n . (W_i' x r)
++ (n x W_i) . (w_i x r)``:
 
-    |g_kl''| <= |D''| + 2 |w_n| |D'| + (|w_n|^2 + |w_n'|) |D|
-                + sum_i K_i (|W_i| (|w_n| + |w_i|) + |W_i'|),   W_i = w_i - w_n,
+    |g_kl''| <= |D''| + 2 X_n |D'| + (|w_n| X_n + |w_n'|) |D|
+                + sum_i K_i (X_n |W_i| + |n x W_i| |w_i| + |W_i'|),     X_n = |n x w_n|,
 
-every factor bounded over the window ``[s0, s0 + H]``: ``|w_i|``, ``|w_i'|`` by
+anisotropic in the spin (a body spinning about the normal adds nothing), every factor
+bounded over the window ``[s0, s0 + H]``: ``|w_i|``, ``|w_i'|`` by
 ``flight3d.rotation_bounds`` (times ``1 + toi3d.GENERAL_BOUND_SLACK`` for integrated
-rotation), ``|W_i| <= min(|w_i| + |w_n|, |W_i(s0)| + (|w_i'| + |w_n'|) H)``,
-``|D'| <= |D'(s0)| + |D''| H``, ``|D| <= |D(s0)| + |D'(s0)| H + |D''| H^2 / 2``. In free
-flight with a world axis ``M = |a_A - a_B| + sum K_i |w_i|^2`` (``toi3d``'s bound).
+rotation), ``|W_i| <= min(|w_i| + |w_n|, |W_i(s0)| + (|w_i'| + |w_n'|) H)``, the cross
+products from their value at ``s0`` and a bound of their rate
+(``|d/ds (n x W)| <= X_n |W| + |W'|``), ``|D'| <= |D'(s0)| + |D''| H``,
+``|D| <= |D(s0)| + |D'(s0)| H + |D''| H^2 / 2``. In free flight with a world axis
+``M = |a_A - a_B| + sum K_i |n x w_i| |w_i|`` (at most ``toi3d``'s ``K |w|^2``).
 ``closing_speed_bound`` gives Mirtich's linear bound ``|g'| <= V`` (kept for a broad phase).
-The bound is isotropic in the spin: a body spinning about the contact normal at a gap
-``g`` far below ``K (w S)^2`` (resting or sliding on a face) advances by about
-``sqrt(2 g / M)`` per step and may end ``TOI_NOT_CONVERGED``; such contacts are the contact
-modes' (DESIGN §6a), not the time of impact's.
+A body resting or sliding on a face at a gap ``g`` far below ``M S^2`` (spinning about a
+tilted axis, or with a varying ``w``) advances by about ``sqrt(2 g / M)`` per step and may end
+``TOI_NOT_CONVERGED``; such contacts are the contact modes' (DESIGN §6a).
 
 Windows, termination, tangency and polish as ``pair2d_toi`` (``POLISH_IT`` Newton steps on
 the gap, each within ``POLISH_REACH`` time tolerances). Return ``(s, code)`` (``toi2d``,
@@ -171,11 +174,20 @@ def axis_rate(mode, kA, kB, fa, ia, fb, ib, nx, ny, nz, pA, pB):
     return AX_EDGE, x * ax + y * bx, x * ay + y * by, x * az + y * bz
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _cross_norm(ax, ay, az, bx, by, bz):
+    """``|a x b|``."""
+    x = ay * bz - az * by
+    y = az * bx - ax * bz
+    z = ax * by - ay * bx
+    return math.sqrt(x * x + y * y + z * z)
+
+
 @njit(cache=True, _nrt=False)
-def axis_bound(mode, cx, cy, cz, stA, stB, s, H, pA, pB, KA, WA, AA, KB, WB, AB):
-    """Bound ``M`` (m/s^2) of ``|g_kl''|`` over ``[s, s + H]`` for the axis turning at
-    ``c`` (``mode`` ``AX_*``); ``K`` reaches (m), ``W`` bounds of ``|w|`` (rad/s), ``A`` of
-    ``|w'|`` (rad/s^2); see the module docstring."""
+def axis_bound(mode, cx, cy, cz, nx, ny, nz, stA, stB, s, H, pA, pB, KA, WA, AA, KB, WB, AB):
+    """Bound ``M`` (m/s^2) of ``|g_kl''|`` over ``[s, s + H]`` for the axis ``n`` (at ``s``)
+    turning at ``c`` (``mode`` ``AX_*``); ``K`` reaches (m), ``W`` bounds of ``|w|`` (rad/s),
+    ``A`` of ``|w'|`` (rad/s^2); see the module docstring."""
     dx, dy, dz = _rel(stA, stB, s)
     dD = math.sqrt(dx * dx + dy * dy + dz * dz)
     vx = pB[7] - pA[7]
@@ -193,19 +205,30 @@ def axis_bound(mode, cx, cy, cz, stA, stB, s, H, pA, pB, KA, WA, AA, KB, WB, AB)
     else:
         Wn = math.sqrt(cx * cx + cy * cy + cz * cz)
         An = 0.0
+    # |n x w_n| over the window: d/ds (n x w_n) = (w_n x n) x w_n + n x w_n'
+    Xn = min(Wn, _cross_norm(nx, ny, nz, cx, cy, cz) + (Wn * Wn + An) * H)
     M = dA
-    if Wn > 0.0 or An > 0.0:
+    if Xn > 0.0 or An > 0.0:
         vDm = dV + dA * H
         dDm = dD + dV * H + 0.5 * dA * H * H
-        M += 2.0 * Wn * vDm + (Wn * Wn + An) * dDm
-    if mode != AX_A and KA > 0.0:
-        OA = math.sqrt((pA[10] - cx) ** 2 + (pA[11] - cy) ** 2 + (pA[12] - cz) ** 2)
-        OA = min(WA + Wn, OA + (AA + An) * H)
-        M += KA * (OA * (Wn + WA) + AA + An)
-    if mode != AX_B and KB > 0.0:
-        OB = math.sqrt((pB[10] - cx) ** 2 + (pB[11] - cy) ** 2 + (pB[12] - cz) ** 2)
-        OB = min(WB + Wn, OB + (AB + An) * H)
-        M += KB * (OB * (Wn + WB) + AB + An)
+        M += 2.0 * Xn * vDm + (Wn * Xn + An) * dDm
+    for b in range(2):
+        if (b == 0 and mode == AX_A) or (b == 1 and mode == AX_B):
+            continue
+        K = KA if b == 0 else KB
+        if not K > 0.0:
+            continue
+        p = pA if b == 0 else pB
+        W = WA if b == 0 else WB
+        A = AA if b == 0 else AB
+        ox = p[10] - cx
+        oy = p[11] - cy
+        oz = p[12] - cz
+        O = min(W + Wn, math.sqrt(ox * ox + oy * oy + oz * oz) + (A + An) * H)
+        Od = A + An
+        # |n x (w_i - w_n)| over the window: its rate is at most Xn O + Od
+        XO = min(O, _cross_norm(nx, ny, nz, ox, oy, oz) + (Xn * O + Od) * H)
+        M += K * (Xn * O + XO * W + Od)
     return M
 
 
@@ -370,7 +393,8 @@ def pair_toi(kA, rA, hxA, hyA, hzA, stA, rkA, axA, IA1, IA2, IA3, wsA,
             mode = AX_WORLD
         mode, cx, cy, cz = axis_rate(mode, kA, kB, fa, ia, fb, ib, nx, ny, nz, pA, pB)
         Hw = min(H, S - s)
-        M = axis_bound(mode, cx, cy, cz, stA, stB, s, Hw, pA, pB, KA, WA, AA, KB, WB, AB)
+        M = axis_bound(mode, cx, cy, cz, nx, ny, nz, stA, stB, s, Hw, pA, pB, KA, WA, AA, KB,
+                       WB, AB)
         h = safe_step(mode, cx, cy, cz, kA, rA, hxA, hyA, hzA, stA, kB, rB, hxB, hyB, hzB,
                       stB, s, nx, ny, nz, M, pA, pB)
         tol = atol + rtol * abs(t0 + s)

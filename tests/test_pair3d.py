@@ -400,16 +400,15 @@ ROT_TOL, ROT_MAX = 1e-12, 100000
 
 
 def rotation_of(body):
-    """``(rk, axis, I1, I2, I3)`` for a unit mass (rbimpact.shapes3d's inertia)."""
+    """``(rk, axis, I1, I2, I3)`` for a unit mass (``pair3d_input.rotation``: the rotation
+    kind the 3D simulation gives the shape)."""
+    from rbimpact.pair3d_input import rotation
     k, r, hx, hy, hz = body
     if k == SH_SPHERE:
-        I = shapes3d.Sphere(r).inertia(1.0)
-        return ROT_SPHERICAL, 0, *I
+        return rotation(shapes3d.Sphere(r))
     if k == SH_CAPSULE:
-        I = shapes3d.Capsule(2 * hz, r).inertia(1.0)
-        return ROT_AXISYM, 2, *I
-    I = shapes3d.Box3D((2 * hx, 2 * hy, 2 * hz)).inertia(1.0)
-    return ROT_GENERAL, 0, *I
+        return rotation(shapes3d.Capsule(2 * hz, r))
+    return rotation(shapes3d.Box3D((2 * hx, 2 * hy, 2 * hz)))
 
 
 class Flight:
@@ -714,7 +713,10 @@ def test_toi_bound_dominates_second_derivative():
         for mode in (AX_WORLD, AX_A, AX_B, AX_EDGE):
             pA0, pB0 = fA.at(0.0), fB.at(0.0)
             cc = {AX_WORLD: np.zeros(3), AX_A: pA0[10:13], AX_B: pB0[10:13], AX_EDGE: c}[mode]
-            M = axis_bound(mode, *cc, fA.st, fB.st, 0.0, H, pA0, pB0, KA, WA, AA, KB, WB, AB)
+            if mode == AX_EDGE:         # the solver keeps c normal to n
+                cc = cc - (cc @ n0) * n0
+            M = axis_bound(mode, *cc, *n0, fA.st, fB.st, 0.0, H, pA0, pB0, KA, WA, AA, KB,
+                           WB, AB)
             RA0 = quat_mat(pA0[3:7])
             RB0 = quat_mat(pB0[3:7])
 
@@ -725,7 +727,7 @@ def test_toi_bound_dominates_second_derivative():
                 elif mode == AX_B:
                     n = quat_mat(pb[3:7]) @ RB0.T @ n0
                 elif mode == AX_EDGE:
-                    n = quat_mat(axis_quat(c, np.linalg.norm(c) * s)) @ n0
+                    n = quat_mat(axis_quat(cc, np.linalg.norm(cc) * s)) @ n0
                 else:
                     n = n0
                 RA = quat_mat(pa[3:7])
@@ -974,6 +976,14 @@ def test_toi_special_cases():
     s, code = toi(row((0, 0, 0), q, a=g), row((0, 0, 1.0 + 1e-12), q, v=(0.3, 0.1, 0), a=g),
                   maxit=200)
     assert (s, code) == (math.inf, TOI_OK)
+    # a cube (spherical inertia) spinning about the normal on a face at a gap of 1e-12,
+    # and a capsule lying on it spinning about the normal: no impact, few steps
+    cube = (SH_BOX, 0.0, 0.5, 0.5, 0.5)
+    assert toi(row((0, 0, 0), q), row((0, 0, 1.0 + 1e-12), q, v=(0.3, 0.1, 0), w=(0, 0, 30)),
+               maxit=200, b=cube) == (math.inf, TOI_OK)
+    cap = (SH_CAPSULE, 0.2, 0.0, 0.0, 0.6)
+    assert toi(row((0, 0, 0), q), row((0, 0, 0.7 + 1e-12), axis_quat((0, 1, 0), np.pi / 2),
+                                      w=(0, 0, 30)), maxit=200, b=cap) == (math.inf, TOI_OK)
     # a face falling flat onto a face: exact time, few steps
     st = row((0, 0, 1.5), q, v=(0, 0, -1.0))
     s, code = toi(row((0, 0, 0), q), st, maxit=40)
