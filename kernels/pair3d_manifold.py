@@ -16,6 +16,9 @@ the reference body's frame):
   (one when only a point remains), each carrying the capsule's radius;
 * a sphere: its single point.
 
+Two capsules whose axes are within the slab's angle of parallel (side by side) give the
+two ends of the common axial extent of their cores, with the normal normal to A's axis.
+
 Of the clipped points those whose gap (height above the reference plane) is within
 ``slab`` (m) of the frame's gap ``g`` are kept: all four corners of a face resting flat,
 the two ends of an edge lying on a face, one corner of a tilted box. ``slab`` is the
@@ -27,10 +30,11 @@ stepper may pass its own contact tolerance.
 
 Rows of ``mf`` (float64[MAX_MF, N_MF]): ``pA`` (world, on A's surface), ``pB`` (on B's),
 the point's gap ``g_k`` (m), with ``pA - pB = g_k n`` for the cluster's one normal ``n``: the
-reference face's, written into the frame row in place of the frame's (from which it
-differs by at most the slab's angle). Without a
-reference face (edge-edge, vertex contacts, sphere and capsule pairs) the manifold is the
-frame's witness pair (one row).
+reference face's (or the side-by-side capsules' common normal), written into the frame row
+in place of the frame's (from which it differs by at most the slab's angle; for tilted
+side-by-side capsules ``pA - pB = g_k n`` and ``pB`` on B's surface hold to about
+``slab``). Otherwise (edge-edge and vertex contacts, spheres, crossing capsules) the
+manifold is the frame's witness pair (one row).
 """
 from numba import njit
 
@@ -113,6 +117,8 @@ def pair_manifold(kA, rA, hxA, hyA, hzA, stA, kB, rB, hxB, hyB, hzB, stB, slab, 
     nz = fr[FR_NZ]
     # the reference face: a box face whose outward normal is within the slab's angle of
     # the contact normal (-n for A's, +n for B's); the better aligned if both are
+    if kA == SH_CAPSULE and kB == SH_CAPSULE:
+        return _capsules(rA, hzA, stA, rB, hzB, stB, g, slab, fr, mf)
     fA, cosA = _aligned_face(kA, hxA, hyA, hzA, stA, -nx, -ny, -nz, slab)
     fB, cosB = _aligned_face(kB, hxB, hyB, hzB, stB, nx, ny, nz, slab)
     if fA < 0 and fB < 0:
@@ -240,3 +246,63 @@ def _aligned_face(k, hx, hy, hz, st, ux, uy, uz, slab):
     if 4.0 * sn2 * d2 > slab * slab:
         return -1, 0.0
     return 2 * i + (1 if l > 0.0 else 0), c
+
+
+@njit(cache=True, _nrt=False)
+def _capsules(rA, hA, stA, rB, hB, stB, g, slab, fr, mf):
+    """Two capsules lying side by side (axes within the slab's angle: the sine times the
+    longer core at most ``slab``): the two ends of the common axial extent of their cores,
+    in A's frame, with the normal ``m`` normal to A's axis through the middle of that extent;
+    else the frame's single pair."""
+    R = quat_matrix(stA[3], stA[4], stA[5], stA[6])
+    cx, cy, cz = mat_tvec(R, stB[0] - stA[0], stB[1] - stA[1], stB[2] - stA[2])
+    q0, q1, q2, q3 = rel_quat(stA[3], stA[4], stA[5], stA[6], stB[3], stB[4], stB[5], stB[6])
+    C = quat_matrix(q0, q1, q2, q3)
+    bx = C[2]
+    by = C[5]
+    bz = C[8]
+    if 4.0 * (bx * bx + by * by) * max(hA, hB) ** 2 > slab * slab:
+        return _single(fr, mf)
+    z0 = cz - hB * bz
+    z1 = cz + hB * bz
+    lo = max(-hA, min(z0, z1))
+    hi = min(hA, max(z0, z1))
+    if lo > hi or z0 == z1:
+        return _single(fr, mf)
+    # the lateral offset of B's core from A's axis at the middle of the common extent
+    zm = 0.5 * (lo + hi)
+    tm = (zm - z0) / (z1 - z0)
+    wx = -(cx + (2.0 * tm - 1.0) * hB * bx)
+    wy = -(cy + (2.0 * tm - 1.0) * hB * by)
+    L = (wx * wx + wy * wy) ** 0.5
+    if not L > 0.0:
+        return _single(fr, mf)
+    mx = wx / L
+    my = wy / L
+    n = 1 if hi == lo else 2
+    out = 0
+    for k in range(n):
+        z = lo if k == 0 else hi
+        t = (z - z0) / (z1 - z0)
+        px = cx + (2.0 * t - 1.0) * hB * bx      # B's core point at the same height
+        py = cy + (2.0 * t - 1.0) * hB * by
+        gk = mx * (0.0 - px) + my * (0.0 - py) - rA - rB
+        if gk > g + slab:
+            continue
+        ax, ay, az = mat_vec(R, -rA * mx, -rA * my, z)
+        ux, uy, uz = mat_vec(R, px + rB * mx, py + rB * my, z)
+        mf[out, MF_PAX] = stA[0] + ax
+        mf[out, MF_PAX + 1] = stA[1] + ay
+        mf[out, MF_PAX + 2] = stA[2] + az
+        mf[out, MF_PBX] = stA[0] + ux
+        mf[out, MF_PBX + 1] = stA[1] + uy
+        mf[out, MF_PBX + 2] = stA[2] + uz
+        mf[out, MF_GAP] = gk
+        out += 1
+    if out == 0:
+        return _single(fr, mf)
+    nx, ny, nz = mat_vec(R, mx, my, 0.0)
+    fr[FR_NX] = nx
+    fr[FR_NY] = ny
+    fr[FR_NZ] = nz
+    return out

@@ -842,16 +842,19 @@ def resting_case(rng, other, tilt, gap):
     return bA, row(T, Q), bB, row(T + M @ xB, quat_mul(Q, qB))
 
 
-def check_manifold(bA, stA, bB, stB, n, mf, fr, slab):
+def check_manifold(bA, stA, bB, stB, n, mf, fr, slab, tol=None):
+    """Every point on both surfaces with ``pA - pB = g_k n`` (to ``tol``, default 1e-13 of
+    the size) and its gap within the slab above the frame's."""
     size = size_of(bA) + size_of(bB)
+    tol = 1e-13 * size if tol is None else tol
     nrm = fr[FR_NX:FR_NX + 3]
     assert 1 <= n <= MAX_MF
     for k in range(n):
         pA, pB, g = mf[k, MF_PAX:MF_PAX + 3], mf[k, MF_PBX:MF_PBX + 3], mf[k, MF_GAP]
-        assert abs(sdf(bA, stA[:3], quat_mat(stA[3:7]), pA)[0]) < 1e-13 * size
-        assert abs(sdf(bB, stB[:3], quat_mat(stB[3:7]), pB)[0]) < 1e-13 * size
-        assert np.linalg.norm(pA - pB - g * nrm) < 1e-13 * size
-        assert fr[FR_GAP] - 1e-13 * size <= g <= fr[FR_GAP] + slab + 1e-13 * size
+        assert abs(sdf(bA, stA[:3], quat_mat(stA[3:7]), pA)[0]) < tol
+        assert abs(sdf(bB, stB[:3], quat_mat(stB[3:7]), pB)[0]) < tol
+        assert np.linalg.norm(pA - pB - g * nrm) < tol
+        assert fr[FR_GAP] - tol <= g <= fr[FR_GAP] + slab + tol
 
 
 @pytest.mark.parametrize("other", ["box", "edge", "capsule"])
@@ -1001,3 +1004,43 @@ def test_toi_special_cases():
     # unknown kinds
     s, code = toi(row((0, 0, 0), q), row((0, 0, 3.0), q), a=(5, 0.0, 1, 1, 1))
     assert math.isnan(s) and code == TOI_NOT_CONVERGED
+
+
+def test_manifold_capsules_side_by_side():
+    """Two capsules lying side by side (axes 0 to 1e-12 rad from parallel, gaps 1e-9 of the
+    size apart to 1e-9 overlapping, random axial offsets): two points at the ends of the
+    common axial extent of the cores, on both surfaces, ``pA - pB = g_k n`` (to the slab:
+    the tilt times the length), gaps within the slab of the frame's; crossing capsules give
+    one point."""
+    rng = np.random.default_rng(seed("manifold-capsules"))
+    for it in range(30):
+        rA_, rB_ = rng.uniform(0.05, 0.3, 2)
+        hA, hB = rng.uniform(0.2, 1.0, 2)
+        bA = (SH_CAPSULE, rA_, 0.0, 0.0, hA)
+        bB = (SH_CAPSULE, rB_, 0.0, 0.0, hB)
+        tilt = (0.0, 1e-14, 1e-12)[it % 3]
+        gap = (1e-9, 0.0, -1e-9)[(it // 3) % 3]
+        off = rng.uniform(-0.8, 0.8) * (hA + hB)
+        qB = axis_quat(rng.normal(size=3), tilt)
+        xB = np.r_[rA_ + rB_ + gap, 0.0, off]
+        Q = random_quat(rng)
+        T = rng.uniform(-3, 3, 3)
+        stA = row(T, Q)
+        stB = row(T + quat_mat(Q) @ xB, quat_mul(Q, qB))
+        size = size_of(bA) + size_of(bB)
+        slab = manifold_slab(*bA, *bB)
+        n, mf, fr, fe = manifold(bA, stA, bB, stB)
+        lo, hi = max(-hA, off - hB), min(hA, off + hB)
+        if lo >= hi:
+            assert n == 1
+            continue
+        assert n == 2
+        # tilted side by side: the residuals are of the tilt times the length (<= slab)
+        check_manifold(bA, stA, bB, stB, n, mf, fr, slab, tol=slab + 1e-13 * size)
+        ax = quat_mat(Q)[:, 2]
+        z = np.sort((mf[:, MF_PAX:MF_PAX + 3] - T) @ ax)
+        assert abs(z[0] - lo) < 1e-12 * size and abs(z[1] - hi) < 1e-12 * size
+    bA = (SH_CAPSULE, 0.2, 0.0, 0.0, 1.0)
+    n, mf, fr, fe = manifold(bA, row((0, 0, 0), (1, 0, 0, 0)), bA,
+                             row((0.4, 0, 0), axis_quat((1, 0, 0), 0.5)))
+    assert n == 1
