@@ -657,7 +657,8 @@ def test_gap_rate_against_finite_difference(pair):
 def test_invariance_rigid_motion_and_swap(pair):
     """Moving the whole scene (rotation, then translation by 1 km) moves the frame along
     (gap to 4 ulps of the coordinates' scale, normal and witnesses rotated); swapping A and B
-    keeps the gap, flips the normal, swaps witnesses and features."""
+    keeps the gap, flips the normal, swaps witnesses and features; scaling the scene by
+    1e-6 and 1e6 scales the gap and keeps the normal and features."""
     rng = np.random.default_rng(seed("inv", *pair))
     for it in range(30):
         a, b = pair if it % 2 == 0 else pair[::-1]
@@ -687,6 +688,15 @@ def test_invariance_rigid_motion_and_swap(pair):
             assert np.allclose(fm[FR_PAX:FR_PAX + 3], M @ fr[FR_PAX:FR_PAX + 3] + T,
                                atol=1e-9)
             assert list(em) == list(fe)
+        # scale: the whole scene 1e-6 and 1e6 times as large (every tolerance is relative)
+        for k in (1e-6, 1e6):
+            sA = (bA[0], bA[1] * k, bA[2] * k, bA[3] * k, bA[4] * k)
+            sB = (bB[0], bB[1] * k, bB[2] * k, bB[3] * k, bB[4] * k)
+            fk, ek = frame(sA, row(stA[:3] * k, stA[3:7]), sB, row(stB[:3] * k, stB[3:7]))
+            assert abs(fk[FR_GAP] / k - fr[FR_GAP]) <= 1e-14 * size
+            assert np.allclose(fk[FR_NX:FR_NX + 3], fr[FR_NX:FR_NX + 3], atol=1e-12)
+            if abs(fr[FR_GAP]) > 1e-6 * size:
+                assert list(ek) == list(fe)
 
 
 def test_toi_bound_dominates_second_derivative():
@@ -1044,3 +1054,22 @@ def test_manifold_capsules_side_by_side():
     n, mf, fr, fe = manifold(bA, row((0, 0, 0), (1, 0, 0, 0)), bA,
                              row((0.4, 0, 0), axis_quat((1, 0, 0), 0.5)))
     assert n == 1
+
+
+def test_toi_scale_invariance():
+    """Lengths, speeds and accelerations scaled by 1e-3 and 1e3 (spins kept): the same time
+    of impact to 1e-12 s (the bound and the steps scale; the time tolerances do not)."""
+    rng = np.random.default_rng(seed("toi-scale"))
+    for it in range(12):
+        pair = PAIRS[it % len(PAIRS)]
+        fA, fB, S = aimed_throw(rng, *pair, (0.0, 10.0)[it % 2])
+        s, code = run_toi(fA, fB, S)
+        for k in (1e-3, 1e3):
+            def scaled(f):
+                b = f.body
+                st = f.st.copy()
+                for c in (slice(0, 3), slice(7, 10), slice(13, 16)):
+                    st[c] *= k
+                return Flight((b[0], b[1] * k, b[2] * k, b[3] * k, b[4] * k), st)
+            sk, ck = run_toi(scaled(fA), scaled(fB), S)
+            assert ck == code and (sk == s or abs(sk - s) <= 1e-12), (pair, k, s, sk)
