@@ -1,6 +1,6 @@
 """Face clipping for 3D box contacts: the deepest point of an incident face over a reference
 face (the witness of an overlapping face axis in ``pair3d_box``) and the contact polygon of
-a face or an edge lying on a face (``pair3d_manifold``).
+a face or an edge lying on a face (``pair3d_manifold``): the shared pieces.
 
 Setting (reference box's frame): the reference face is the face ``x_i = s h_i`` of the
 axis-aligned box of half edges ``hR`` centred at the origin (outward normal ``s e_i``,
@@ -15,9 +15,10 @@ is attained at a vertex of that convex polygon: an incident corner inside the re
 face, a reference corner lifted onto the incident face and inside it, or a crossing of an
 incident edge with a side line of the reference face. All are enumerated (no clipping
 buffers); "inside" is tested with the tolerance ``CLIP_TOL`` relative to the faces' half
-extents. Contact polygon (``clip_face``): Sutherland-Hodgman (Sutherland & Hodgman, CACM
-17:32, 1974; Ericson, *Real-Time Collision Detection*, sec. 8.3.4) of the incident face
-against the four side planes of the reference face, at most 8 vertices.
+extents. Segment clipping (``clip_segment_face``, Liang-Barsky) for a capsule over a face.
+The contact polygon of the manifold (Sutherland-Hodgman clipping of the incident face
+against the four side planes of the reference face) is in ``pair3d_manifold``, which holds
+its buffers.
 """
 import math
 

@@ -10,8 +10,9 @@ bodies have one) and the other body's contact feature is clipped to it (``pair3d
 the reference body's frame):
 
 * a box: its *incident* face (the face most opposed to the reference normal) is clipped
-  against the four side planes of the reference face (Sutherland-Hodgman, at most 8
-  points);
+  against the four side planes of the reference face (Sutherland & Hodgman, CACM 17:32,
+  1974; Ericson, *Real-Time Collision Detection*, sec. 8.3.4; at most 8 points, the
+  buffers being the rows of ``mf`` itself);
 * a capsule: its core segment is clipped to the reference face (Liang-Barsky), two points
   (one when only a point remains), each carrying the capsule's radius;
 * a sphere: its single point.
