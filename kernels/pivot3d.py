@@ -1,5 +1,6 @@
 """Persistent point and edge contact in 3D: a body pivoting, rolling or sliding on one or
-two of its features on a plane, integrated with error control.
+two of its features, each held on a plane (the same plane, or one plane each: a groove, a
+corner; every contact has its own normal, offset and mu), integrated with error control.
 
 When impacts accumulate at a corner or an edge of a box, or at a cap of a capsule (the
 impact sequence has a finite accumulation point, after which the contact persists), the
@@ -20,7 +21,8 @@ centre of mass; a feature of radius ``rad`` touches at its centre minus ``rad n`
 * **sticking** (``c_k = 0``): the whole contact acceleration ``a + al x r_k + w x (w x s_k)``
   is zero, ``f_k`` free. Two sticking contacts on one body leave one internal force
   ``s d`` (``d`` along the line through them) undetermined; the motion is not: sticking
-  holds while some ``s`` puts both forces in their friction cones.
+  holds while some ``s`` puts both forces in their friction cones (on two planes ``s d``
+  has a normal part on each, so both normal forces depend on ``s``: ``cone_interval``).
 
 Events (each a function that must stay positive; the phase ends at its first root, located
 on the integrator's dense output): a normal force ``lam_k`` reaching 0 (the contact lifts
@@ -76,7 +78,11 @@ CP_PLANE = 29   # plane index (float)
 CP_F1 = 30      # feature row of contact 1 (float)
 CP_F2 = 31      # feature row of contact 2 (float)
 CP_L = 32       # body size L (m): bounding radius
-N_CP = 33
+CP_N2 = 33      # 33:36 plane normal of contact 2 (its own plane: a groove, a corner)
+CP_D2 = 36      # plane offset of contact 2 (m)
+CP_MU2 = 37     # friction coefficient of contact 2
+CP_PLANE2 = 38  # plane index of contact 2 (float)
+N_CP = 39
 
 # ---- force workspace fw (float64[N_FW]) --------------------------------------------------
 FW_R = 0        # 0:9 rotation matrix (row-major)
@@ -140,6 +146,8 @@ GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimens
 FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM m |g| (a
                       #   tangency) fires below min(0, start) - FORCE_ARM m |g| (-)
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
+CONE_RTOL = 1e-12   # two sticking contacts on two planes: a squeeze interval of zero
+                    #   length is accepted within CONE_RTOL m |g| (round-off of the forces)
 
 # event kinds
 PE_NONE = 0
@@ -243,6 +251,71 @@ def _slipdir(fw, cp, k):
     return wx / w, wy / w, wz / w
 
 
+@njit(cache=True, inline="always")
+def contact_normal(cp, k):
+    """Unit normal of the plane of contact k (each contact has its own plane)."""
+    o = CP_N if k == 0 else CP_N2
+    return cp[o], cp[o + 1], cp[o + 2]
+
+
+@njit(cache=True, inline="always")
+def contact_mu(cp, k):
+    """Friction coefficient of contact k (the law of its body-plane pair)."""
+    return cp[CP_MU] if k == 0 else cp[CP_MU2]
+
+
+@njit(cache=True, inline="always")
+def contact_plane(cp, k):
+    """Plane index of contact k."""
+    return int(cp[CP_PLANE]) if k == 0 else int(cp[CP_PLANE2])
+
+
+@njit(cache=True)
+def cone_interval(N0, dn, TT, Td, dd, mu, fs, rtol):
+    """The interval [lo, hi] of the scalar s for which the contact force with normal
+    component ``N0 + dn s`` and tangential part ``T0 + s dt`` lies in the Coulomb cone
+    ``|T| <= mu N`` (a line meets a convex cone in an interval). ``TT = |T0|^2``,
+    ``Td = T0 . dt``, ``dd = |dt|^2``; ``fs`` (N) the force scale and ``rtol`` the
+    relative round-off allowed on it. Empty when lo > hi (then ``(inf, -inf)``).
+    Squaring gives ``A s^2 + B s + C >= 0`` with ``A = mu^2 dn^2 - dd``,
+    ``B = 2 (mu^2 N0 dn - Td)``, ``C = mu^2 N0^2 - TT``, on the nappe ``N >= 0``."""
+    A = mu * mu * dn * dn - dd
+    B = 2.0 * (mu * mu * N0 * dn - Td)
+    C = mu * mu * N0 * N0 - TT
+    if abs(A) <= 1e-15 * (mu * mu * dn * dn + dd):
+        if abs(B) <= 1e-300:
+            if C >= -(rtol * fs) ** 2 and N0 >= -rtol * fs:
+                return -math.inf, math.inf
+            return math.inf, -math.inf
+        r0 = -C / B
+        return (r0, math.inf) if B > 0.0 else (-math.inf, r0)
+    disc = B * B - 4.0 * A * C
+    if A > 0.0:
+        # the direction (dn, dt) lies inside the cone: feasible on the nappe N >= 0
+        n0 = -N0 / dn
+        if disc <= 0.0:
+            return (n0, math.inf) if dn > 0.0 else (-math.inf, n0)
+        q = -0.5 * (B + math.copysign(math.sqrt(disc), B))
+        r1 = q / A
+        r2 = C / q if q != 0.0 else r1
+        lo = min(r1, r2)
+        hi = max(r1, r2)
+        return (max(hi, n0), math.inf) if dn > 0.0 else (-math.inf, min(lo, n0))
+    if disc < 0.0:
+        return math.inf, -math.inf
+    q = -0.5 * (B + math.copysign(math.sqrt(disc), B))
+    if q == 0.0:
+        lo = hi = 0.0
+    else:
+        r1 = q / A
+        r2 = C / q
+        lo = min(r1, r2)
+        hi = max(r1, r2)
+    if N0 + dn * 0.5 * (lo + hi) < 0.0:
+        return math.inf, -math.inf    # the segment lies on the nappe N < 0
+    return lo, hi
+
+
 # ------------------------------------------------------------------ forces
 
 
@@ -252,11 +325,9 @@ def pivot_forces(y, cp, fw):
     ``fw``. Returns PV_OK, PV_PAINLEVE or PV_SINGULAR."""
     m = cp[CP_M]
     I1, I2, I3 = cp[CP_I], cp[CP_I + 1], cp[CP_I + 2]
-    nx, ny, nz = cp[CP_N], cp[CP_N + 1], cp[CP_N + 2]
     gx, gy, gz = cp[CP_G], cp[CP_G + 1], cp[CP_G + 2]
     K = int(cp[CP_K])
     rad = cp[CP_RAD]
-    mu = cp[CP_MU]
     w, x, yq, z = y[3], y[4], y[5], y[6]
     R = FW_R
     fw[R] = 1.0 - 2.0 * (yq * yq + z * z)
@@ -289,6 +360,7 @@ def pivot_forces(y, cp, fw):
     a0y = fw[Ii + 3] * tx + fw[Ii + 4] * ty + fw[Ii + 5] * tz
     a0z = fw[Ii + 6] * tx + fw[Ii + 7] * ty + fw[Ii + 8] * tz
     for k in range(K):
+        nx, ny, nz = contact_normal(cp, k)
         po = CP_P1 + 3 * k
         px, py, pz = cp[po], cp[po + 1], cp[po + 2]
         sx = fw[R] * px + fw[R + 1] * py + fw[R + 2] * pz
@@ -337,6 +409,8 @@ def pivot_forces(y, cp, fw):
         ec1 = 0.0
         ec2 = 0.0
         if stc == 0:
+            nx, ny, nz = contact_normal(cp, kc)
+            mu = contact_mu(cp, kc)
             u0, u1, u2 = _slipdir(fw, cp, kc)
             ec0 = nx - mu * u0
             ec1 = ny - mu * u1
@@ -344,6 +418,7 @@ def pivot_forces(y, cp, fw):
         for kr in range(K):      # the contact whose acceleration the rows constrain
             str_ = st1 if kr == 0 else st2
             row0 = 0 if kr == 0 else n1
+            mx, my, mz = contact_normal(cp, kr)
             _G(fw, FW_R1 + 3 * kr, FW_R1 + 3 * kc, m)
             # block (3 x 3) G_rc; reduce columns (sliding: times e) and rows (sliding: n.)
             for a in range(3 if str_ == 1 else 1):
@@ -353,9 +428,9 @@ def pivot_forces(y, cp, fw):
                         ga1 = fw[FW_G + 3 * a + 1]
                         ga2 = fw[FW_G + 3 * a + 2]
                     else:
-                        ga0 = nx * fw[FW_G] + ny * fw[FW_G + 3] + nz * fw[FW_G + 6]
-                        ga1 = nx * fw[FW_G + 1] + ny * fw[FW_G + 4] + nz * fw[FW_G + 7]
-                        ga2 = nx * fw[FW_G + 2] + ny * fw[FW_G + 5] + nz * fw[FW_G + 8]
+                        ga0 = mx * fw[FW_G] + my * fw[FW_G + 3] + mz * fw[FW_G + 6]
+                        ga1 = mx * fw[FW_G + 1] + my * fw[FW_G + 4] + mz * fw[FW_G + 7]
+                        ga2 = mx * fw[FW_G + 2] + my * fw[FW_G + 5] + mz * fw[FW_G + 8]
                     if stc == 1:
                         val = ga0 if b == 0 else (ga1 if b == 1 else ga2)
                     else:
@@ -363,6 +438,7 @@ def pivot_forces(y, cp, fw):
                     fw[FW_MAT + 6 * (row0 + a) + col0 + b] = val
         bo = FW_B1 + 3 * kc
         rowc = 0 if kc == 0 else n1
+        nx, ny, nz = contact_normal(cp, kc)
         if stc == 1:
             fw[FW_RHS + rowc] = -fw[bo]
             fw[FW_RHS + rowc + 1] = -fw[bo + 1]
@@ -401,6 +477,8 @@ def pivot_forces(y, cp, fw):
         stc = st1 if kc == 0 else st2
         col0 = 0 if kc == 0 else n1
         fo = FW_F1 + 3 * kc
+        nx, ny, nz = contact_normal(cp, kc)
+        mu = contact_mu(cp, kc)
         if stc == 1:
             f0 = fw[FW_RHS + col0]
             f1 = fw[FW_RHS + col0 + 1]
@@ -421,13 +499,60 @@ def pivot_forces(y, cp, fw):
     # force signs are checked by the lift-off events.
     # stick margins
     fw[FW_SSTAR] = 0.0
-    if two_stick:
+    if two_stick and cp[CP_PLANE2] != cp[CP_PLANE]:
+        # two planes: the internal force s d has a normal part on each plane, so each
+        # contact's normal force depends on s too; each cone gives an interval of s
+        fs = FORCE_ARM * m * math.sqrt(gx * gx + gy * gy + gz * gz)
+        lo = -math.inf
+        hi = math.inf
+        for kc in range(2):
+            fo = FW_F1 + 3 * kc
+            sg = 1.0 if kc == 0 else -1.0
+            nx, ny, nz = contact_normal(cp, kc)
+            lam = fw[FW_LAM + kc]
+            ax = fw[fo] - lam * nx
+            ay = fw[fo + 1] - lam * ny
+            az = fw[fo + 2] - lam * nz
+            dn = sg * (dx * nx + dy * ny + dz * nz)
+            tx_ = sg * dx - dn * nx
+            ty_ = sg * dy - dn * ny
+            tz_ = sg * dz - dn * nz
+            l1, h1 = cone_interval(lam, dn, ax * ax + ay * ay + az * az,
+                                   ax * tx_ + ay * ty_ + az * tz_,
+                                   tx_ * tx_ + ty_ * ty_ + tz_ * tz_, contact_mu(cp, kc),
+                                   fs / FORCE_ARM, CONE_RTOL)
+            lo = max(lo, l1)
+            hi = min(hi, h1)
+        marg = hi - lo
+        fw[FW_MARG] = marg
+        fw[FW_MARG + 1] = marg
+        if marg >= 0.0:
+            if lo > -math.inf and hi < math.inf:
+                s = 0.5 * (lo + hi)
+            elif hi < math.inf:
+                s = hi - fs / FORCE_ARM
+            elif lo > -math.inf:
+                s = lo + fs / FORCE_ARM
+            else:
+                s = 0.0
+            fw[FW_SSTAR] = s
+            for kc in range(2):
+                sg = 1.0 if kc == 0 else -1.0
+                nx, ny, nz = contact_normal(cp, kc)
+                fo = FW_F1 + 3 * kc
+                fw[fo] += sg * s * dx
+                fw[fo + 1] += sg * s * dy
+                fw[fo + 2] += sg * s * dz
+                fw[FW_LAM + kc] += sg * s * (dx * nx + dy * ny + dz * nz)
+    elif two_stick:
         lo = -math.inf
         hi = math.inf
         ok = True
         for kc in range(2):
             fo = FW_F1 + 3 * kc
             sg = 1.0 if kc == 0 else -1.0
+            nx, ny, nz = contact_normal(cp, kc)
+            mu = contact_mu(cp, kc)
             lam = fw[FW_LAM + kc]
             ax = fw[fo] - lam * nx
             ay = fw[fo + 1] - lam * ny
@@ -461,6 +586,8 @@ def pivot_forces(y, cp, fw):
             stc = st1 if kc == 0 else st2
             if stc == 1:
                 fo = FW_F1 + 3 * kc
+                nx, ny, nz = contact_normal(cp, kc)
+                mu = contact_mu(cp, kc)
                 lam = fw[FW_LAM + kc]
                 ax = fw[fo] - lam * nx
                 ay = fw[fo + 1] - lam * ny
@@ -723,12 +850,13 @@ def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
                 vals[4 + k] = _slip_growth(y, cp, fw, k)
     rad = cp[CP_RAD]
     p0 = int(cp[CP_PLANE])
+    p1 = int(cp[CP_PLANE2]) if K == 2 else -1
     fa = int(cp[CP_F1])
     fb = int(cp[CP_F2]) if K == 2 else -1
     for p in range(planes.shape[0]):
         for j in range(nf):
             idx = 6 + p * nf + j
-            if skip[p] != 0 or (p == p0 and (f0 + j == fa or f0 + j == fb)):
+            if skip[p] != 0 or (p == p0 and f0 + j == fa) or (p == p1 and f0 + j == fb):
                 vals[idx] = math.inf
                 continue
             vals[idx] = _gap(y, feats, f0 + j, planes, p, rad) - vfl[idx]

@@ -462,7 +462,11 @@ class Simulation3D:
         elif rc == k.ERR_UNSUPPORTED:
             what = {1.0: "a sphere with non-spherical inertia in persistent contact",
                     2.0: "a capsule on its side sliding across its axis (it would roll)",
-                    3.0: "persistent contact with two planes at once",
+                    3.0: "a box or capsule resting on a face (or a capsule's side) of one "
+                         "plane while touching another (persistent contact with two planes "
+                         "at once)",
+                    5.0: "persistent contact at three or more features on two or more "
+                         "planes at once",
                     4.0: "a sphere slipping along the groove of two planes (rolling on both "
                          "needs more friction, or its contact points slip faster than the "
                          "accumulation speed)"}.get(float(err[6]),

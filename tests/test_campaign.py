@@ -299,6 +299,28 @@ def test_3d_edge_that_sticks_keeps_no_slip():
     assert row.energy_gain < 1e-10
 
 
+def test_3d_ball_leaving_a_pending_accumulation_falls_under_gravity():
+    """A ball in a corner (floor and wall, Routh, mu = 10, sequential): a wall impact
+    cancelled its pending accumulation on the floor, and the ball flew on from the held
+    row, whose acceleration lacks its normal part: without gravity it rose 9e-6 m off the
+    floor over 2 s and gained 5e-3 J, 'done' (silently wrong). The flight row gets
+    gravity back (stepper3d run loop; the 2D twin was fixed in stepper2d._gather)."""
+    row = run_drop(3, 3361730246)
+    assert row.verdict == "OK", row.note
+    assert row.energy_gain <= 1e-12
+
+
+def test_3d_capsule_held_on_both_groove_planes():
+    """A capsule in a groove whose impacts accumulate at one cap on each plane: integrated
+    contact now holds a feature on each of two planes (pivot3d, per-contact planes); it
+    stopped before with "persistent contact with two planes at once is not supported",
+    then with "no consistent stick/slip/lift-off state" (two sticking contacts on two
+    planes squeeze each other through their normal forces: pivot3d.cone_interval)."""
+    row = run_drop(3, 2611256203)
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+
+
 @pytest.mark.parametrize("seed", [393293631, 88305742])
 def test_3d_corner_whose_sticking_force_would_pull_slides(seed):
     """A box corner entering integrated contact after a plastic impact: sticking needed a
