@@ -33,8 +33,10 @@ KNOWN_OPEN = {
     "pivot that has no consistent contact force": r"no consistent|pivot integrator reached",
     "3D tipping from a face": r"would tip over",
     "3D sliding across a slope (curving slip)": r"the slip direction would curve",
-    "3D persistent contact with two planes, capsule rolling across its axis":
-        r"persistent contact with two planes|capsule on its side sliding across",
+    "3D persistent contact with two planes (a face on one while touching the other; three "
+    "or more features on two), capsule rolling across its axis":
+        r"persistent contact with two planes|three or more features on two or more planes"
+        r"|capsule on its side sliding across",
     "3D integrated contact limits": r"integrated contact of body|exceeded rot_max_steps",
 }
 #: failures that are never acceptable: the campaign could not build or check the scene, or
