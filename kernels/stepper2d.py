@@ -2856,6 +2856,10 @@ def _loop_for(law, pivot, wedge, pair, joint):
                     return rc
                 did = True
                 if pm[i, M_MODE] == PM_PIVOT:
+                    if pgen is not None:
+                        # its pairs are searched again: a body of several shapes' pair
+                        # that pivots is refused (_recompute_pair, PP_HELD)
+                        bmark[i] = 1
                     break       # its first integration pass (at t) records its motion
                 bmark[i] = 1
                 if not _finite(st, i):
