@@ -646,9 +646,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                     pr_t, pr_off, tolf, toli, tmp, err):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
-    True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``, and
-    right after an impact of the pair (``pr_off[q] == PR_HIT``) the persistence check of
-    ``_pair_persists``. A body held on a plane by an integrated contact (``PM_PIVOT``) has
+    True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
+    after an impact of the pair (``pr_off[q] == PR_HIT``) the persistence check of
+    ``_pair_persists`` (two disks: its re-contact rule, on the closed form). A body held on a plane by an integrated contact (``PM_PIVOT``) has
     no closed-form motion to search: ``ERR_PERSISTENT_PAIR`` (reason ``PP_HELD``)."""
     if pr_off[q] == PR_OFF:
         pr_t[q] = INF
@@ -680,6 +680,19 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                                 tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
                                 S, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
                                 toli[TI_TOI_MAXIT])
+        if hit and code == TOI_OK and s < INF:
+            # the rule of _pair_persists on the closed form: a re-contact within a rise of
+            # rest_length (s = 0: a round-off approach left by a plastic impact) is the
+            # bodies staying in contact
+            dx = tmp[0, X] - tmp[1, X]
+            dy = tmp[0, Y] - tmp[1, Y]
+            dist = math.sqrt(dx * dx + dy * dy)
+            v = (dx * (tmp[0, VX] - tmp[1, VX]) + dy * (tmp[0, VY] - tmp[1, VY])) / dist
+            if max(v, 0.0) * s < 4.0 * tolf[TF_REST_LENGTH]:
+                rb = bflt[b, B_RADIUS]
+                _set_err(err, t_now, a, b, tmp[1, X] + rb * dx / dist,
+                         tmp[1, Y] + rb * dy / dist, PP_CHATTER, v, s)
+                return ERR_PERSISTENT_PAIR
     elif pgen is None:      # pruned by type: a loop for disk pairs compiles no pair_toi
         return _not_compiled(err, t_now, a, FEATURE_PAIR)
     else:
@@ -2022,11 +2035,8 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
         c_i[nc, CI_TYPE] = 1
         c_i[nc, CI_A] = pairs[q, 0]
         c_i[nc, CI_B] = pairs[q, 1]
-        # two disks: -1; any other pair: -2 - q (its frame is _pair_rows')
-        if bint[pairs[q, 0], B_KIND] == SH_DISK and bint[pairs[q, 1], B_KIND] == SH_DISK:
-            c_i[nc, CI_FEAT] = -1
-        else:
-            c_i[nc, CI_FEAT] = -2 - q
+        c_i[nc, CI_FEAT] = -2 - q       # the pair's row (two disks: frame below; any
+                                        # other pair: _pair_rows)
         c_i[nc, CI_LAW] = pairs[q, 2]
         c_i[nc, CI_OFF] = 0
         nc += 1
@@ -2052,7 +2062,8 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
     nc0 = nc
     for c in range(nc0):
         a = c_i[c, CI_A]
-        if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+        if c_i[c, CI_TYPE] == 1 and not (bint[a, B_KIND] == SH_DISK
+                                         and bint[c_i[c, CI_B], B_KIND] == SH_DISK):
             # a pair of other shapes than two disks: one contact, or two (face on face)
             if pgen is None:
                 return _not_compiled(err, t, a, FEATURE_PAIR)
@@ -2537,10 +2548,10 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                 if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
                         or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
                     pr_off[q] = PR_OFF
-    # the pairs of other shapes than two disks in an impact now: their next search checks
-    # whether they stay in contact (_pair_persists)
+    # the pairs in an impact now: their next search checks whether they stay in contact
+    # (_pair_persists; two disks: _recompute_pair)
     for c in range(nc):
-        if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+        if c_i[c, CI_TYPE] == 1:
             q = -2 - c_i[c, CI_FEAT]
             if pr_off[q] == PR_ON:
                 pr_off[q] = PR_HIT
@@ -2627,7 +2638,8 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                     continue
                 if c_i[c, CI_OFF] != 0:
                     continue
-                if c_i[c, CI_TYPE] == 1 and c_i[c, CI_FEAT] <= -2:
+                if c_i[c, CI_TYPE] == 1 and not (bint[c_i[c, CI_A], B_KIND] == SH_DISK
+                                                 and bint[c_i[c, CI_B], B_KIND] == SH_DISK):
                     continue    # not two disks: checked by its next search (_pair_persists)
                 vN, vT = _contact_velocity(st, c_i, c_f, c)
                 acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)

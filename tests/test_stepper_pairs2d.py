@@ -360,3 +360,15 @@ def test_pivoting_body_with_a_partner_is_refused_by_name_unless_pairs_ignored():
     res = Simulation(scene(), law, ignore_unsupported_pairs=True).run(1.0)
     assert res.status == "done" and "pivot" in list(res.events["kind"])
     assert len(Simulation(scene(), law, ignore_unsupported_pairs=True)._pairs) == 0
+
+
+def test_plastic_disks_riding_together_are_refused_not_stalled():
+    """Two spinning disks meeting plastically with friction that sticks (campaign scene
+    2:3487199531, two-body axis): the impact leaves them touching with a round-off
+    approach; the next search finds a re-contact at once, which used to repeat until the
+    stall limit; now the named refusal of persistent body-body contact."""
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, 3487199531, bodies=2)
+    assert row.status == "SimulationError"
+    assert row.note.startswith("persistent body-body contact"), row.note
+    assert row.penetration <= row.pen_tol
