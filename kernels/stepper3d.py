@@ -193,6 +193,8 @@ AUX_INTEGRATE = 1
 #: m |g| (N, the round-off of the force balance)
 GROOVE_SIN = 1e-9
 GROOVE_RTOL = 1e-12
+#: _groove_enter's answer when the sphere slips on the groove's planes (integrate it)
+GROOVE_SLIPS = 2
 #: a sphere's contact point is at rest (it rolls) when its slip is below ROLL_RTOL times
 #: |v_T| + r |w| (dimensionless: the round-off of the slip, exactly zero in 2D)
 ROLL_RTOL = 1e-12
@@ -1852,9 +1854,9 @@ def _groove_enter(i, p, q, t, st, bflt, planes, grav, law_par, bp_law, pm, ttr, 
     friction only the normal velocities count, the slip stays); events "contact" (mode
     PM_WEDGED, ``dE`` the kinetic energy removed) and "rest" when u and g.e are 0.
     Returns 0, 1 (a normal speed above the accumulation speed: a bounce, the caller lets
-    the body fly) or ``ERR_UNSUPPORTED`` (err code 4: accumulating on both planes while
-    slipping faster, or rolling needing more friction than mu: slipping along a groove
-    is not built)."""
+    the body fly) or ``GROOVE_SLIPS`` (accumulating on both planes while slipping faster,
+    or rolling needing more friction than mu: nothing is changed, the caller integrates
+    the slide on both planes, ``_groove_slide``)."""
     n1x, n1y, n1z = planes[p, 0], planes[p, 1], planes[p, 2]
     n2x, n2y, n2z = planes[q, 0], planes[q, 1], planes[q, 2]
     ex = n1y * n2z - n1z * n2y
@@ -1937,9 +1939,7 @@ def _groove_enter(i, p, q, t, st, bflt, planes, grav, law_par, bp_law, pm, ttr, 
         lo = max(lo1, lo2)
         hi = min(hi1, hi2)
         if not lo <= hi + GROOVE_RTOL * fs:
-            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0,
-                     0.0)
-            return ERR_UNSUPPORTED
+            return GROOVE_SLIPS     # rolling on both needs more friction: it slips
     e_after = 0.5 * m * u * u + 0.5 * inertia * (nwx * nwx + nwy * nwy + nwz * nwz)
     # both contact points slower than the accumulation speed (normal and slip: a slip
     # that slow sticks, as on one plane), else the impacts go on
@@ -1953,11 +1953,13 @@ def _groove_enter(i, p, q, t, st, bflt, planes, grav, law_par, bp_law, pm, ttr, 
         if not pn * pn <= vz2:
             return 1        # a bounce, not yet an accumulation
         if not smooth and not px * px + py * py + pz * pz <= vz2:
-            # accumulating on both planes while slipping: it would slide along the groove
-            # with friction on two contacts, an integrated motion not built
-            _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0,
-                     0.0)
-            return ERR_UNSUPPORTED
+            # accumulating on both planes while slipping: it slides along the groove with
+            # friction on two contacts (integrated: _groove_slide)
+            return GROOVE_SLIPS
+    # held by both from here: the centre at distance r from both planes (an entry from
+    # integrated contact, or from rolling on one plane into the other, is off by up to
+    # contact_tol or gap_tol)
+    _groove_snap(i, p, q, st, bflt, planes)
     _foot(c_f, cw, st, i, planes, p)
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
     st[i, SV] = u * ex
@@ -1993,18 +1995,78 @@ def _groove_enter(i, p, q, t, st, bflt, planes, grav, law_par, bp_law, pm, ttr, 
 
 
 @njit(cache=True)
+def _pressed_plane(i, st, bflt, planes, bp_off, pm, tolf):
+    """A plane other than body i's own (``M_PLANE``) that sphere i touches (gap within
+    ``gap_tol``) with a normal speed below the accumulation speed while its acceleration
+    presses into it: its impacts there would accumulate at once (a time-of-impact search
+    starting at the root sees no crossing). Returns the plane, or -1."""
+    r = bflt[i, B_RADIUS]
+    for q in range(planes.shape[0]):
+        if q == pm[i, M_PLANE] or bp_off[i, q] != 0:
+            continue
+        nx, ny, nz = planes[q, 0], planes[q, 1], planes[q, 2]
+        g = nx * st[i, SX] + ny * st[i, SX + 1] + nz * st[i, SX + 2] - planes[q, 3] - r
+        vn = nx * st[i, SV] + ny * st[i, SV + 1] + nz * st[i, SV + 2]
+        an = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
+        if g <= tolf[TF_GAP_TOL] and an < 0.0 and vn * vn < _vz2(tolf, -an):
+            return q
+    return -1
+
+
+@njit(cache=True)
+def _groove_snap(i, p, q, st, bflt, planes):
+    """Put sphere i's centre at distance r from planes p and q (the integrated contact's
+    drift, within contact_tol): the smallest move, in the span of the two normals."""
+    r = bflt[i, B_RADIUS]
+    g1 = planes[p, 0] * st[i, SX] + planes[p, 1] * st[i, SX + 1] + planes[p, 2] * st[i, SX
+                                                                                     + 2]
+    g2 = planes[q, 0] * st[i, SX] + planes[q, 1] * st[i, SX + 1] + planes[q, 2] * st[i, SX
+                                                                                     + 2]
+    e1 = planes[p, 3] + r - g1
+    e2 = planes[q, 3] + r - g2
+    c = planes[p, 0] * planes[q, 0] + planes[p, 1] * planes[q, 1] + planes[p, 2] * planes[q, 2]
+    den = 1.0 - c * c       # > GROOVE_SIN^2: the planes form a groove
+    a = (e1 - c * e2) / den
+    b = (e2 - c * e1) / den
+    for j in range(3):
+        st[i, SX + j] += a * planes[p, j] + b * planes[q, j]
+
+
+@njit(cache=True)
+def _groove_slide(i, p, q, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
+                  tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
+    """Sphere i held by planes p and q slips on them (``_groove_enter`` returned
+    ``GROOVE_SLIPS``): integrated contact (``pivot3d``) with its centre feature (radius r)
+    held on both planes, each contact sticking or sliding, until a contact lifts off, or
+    both stick (then it rolls along the groove in closed form, ``_groove_enter``), or it
+    hits another plane. Returns 0 or an error code (err code 4 when no contact persists)."""
+    if pivot is None:
+        return _not_compiled(err, t, i, FEATURE_PIVOT)
+    f = bint[i, B_FIRST]
+    rc = _pivot_enter(i, p, f, q, f, 2, t, st, bint, bflt, feats, planes, grav, law_par,
+                      bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
+                      err)
+    if rc == 1:
+        _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0, 0.0)
+        return ERR_UNSUPPORTED
+    return rc
+
+
+@njit(cache=True)
 def _groove_from_impact(i, t, nc, c_i, st, bflt, planes, grav, law_par, bp_law, pm, ttr,
                         tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err):
     """Sphere i stays in persistent contact with its plane after an impact on another
     plane q at t: its impacts on q accumulate while it slides or rolls on the first, so it
-    is held by both when that is consistent (``_groove_enter``; else -- bouncing on q, or
-    slipping -- it goes on as it is and the next impacts decide). Returns 0."""
+    is held by both when that is consistent (``_groove_enter``; a bounce on q leaves it as
+    it is and the next impacts decide). Returns (``_groove_enter``'s answer, q): the
+    caller integrates a slip on both planes (``GROOVE_SLIPS``, ``_groove_slide``)."""
     for c in range(nc):
         if c_i[c, CI_TYPE] == 0 and c_i[c, CI_A] == i and c_i[c, CI_B] != pm[i, M_PLANE]:
-            _groove_enter(i, pm[i, M_PLANE], c_i[c, CI_B], t, st, bflt, planes, grav, law_par,
-                          bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
-            return 0
-    return 0
+            q = c_i[c, CI_B]
+            rc = _groove_enter(i, pm[i, M_PLANE], q, t, st, bflt, planes, grav, law_par,
+                               bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+            return rc, q
+    return 0, -1
 
 
 @njit(cache=True)
@@ -2041,7 +2103,8 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
     """A body in persistent contact received an impulse: keep the contact (zeroing the
     normal velocity and, not for a sphere, the rotation) when that motion carries less
     energy than the accumulation threshold, else release it to free flight. A sphere in a
-    groove (PM_WEDGED) stays in it on the same rule (``_groove_enter``)."""
+    groove (PM_WEDGED) stays in it on the same rule (``_groove_enter``; ``GROOVE_SLIPS``
+    is returned, nothing changed, when it now slips on the groove's planes)."""
     p = pm[i, M_PLANE]
     if pm[i, M_MODE] == PM_WEDGED:
         rc = _groove_enter(i, p, pm[i, M_FEAT], t, st, bflt, planes, grav, law_par, bp_law,
@@ -2431,6 +2494,11 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                     rc = _groove_enter(i, p, c_i[d, CI_B], t, st, bflt, planes, grav, law_par,
                                        bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw,
                                        err)
+                    if rc == GROOVE_SLIPS:
+                        return _groove_slide(i, p, c_i[d, CI_B], t, st, bint, bflt, feats,
+                                             planes, grav, law_par, bp_law, pm, ttr, tz, tolf,
+                                             pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                                             pivot)
                     if rc != 1:
                         return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
@@ -2606,9 +2674,34 @@ def loop_for(law):
                         return rc
                     if (recompute and pm[i, M_MODE] == PM_PIVOT
                             and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S1] == 1.0):
-                        rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law,
-                                           pm, ttr, pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw,
-                                           err)
+                        if pv[i, CP_K] == 1.0:
+                            rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par,
+                                               bp_law, pm, ttr, pv, tolf, ev_t, ev_i, ev_f,
+                                               cnt, c_f, cw, err)
+                            q = _pressed_plane(i, st, bflt, planes, bp_off, pm, tolf)
+                            if rc == 0 and q >= 0:
+                                # rolling on its plane presses it into another it touches
+                                # (the groove's other plane): held by both
+                                rc = _groove_enter(i, pm[i, M_PLANE], q, t, st, bflt, planes,
+                                                   grav, law_par, bp_law, pm, ttr, tolf, ev_t,
+                                                   ev_i, ev_f, cnt, c_f, cw, err)
+                                if rc == GROOVE_SLIPS:
+                                    rc = _groove_slide(i, pm[i, M_PLANE], q, t, st, bint, bflt,
+                                                       feats, planes, grav, law_par, bp_law,
+                                                       pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                                                       ev_f, cnt, c_f, cw, Ii, err, pivot)
+                                elif rc == 1:
+                                    _set_err(err, t, i, -1 - q, st[i, SX], st[i, SX + 1],
+                                             st[i, SX + 2], 3.0, 0.0, 0.0)
+                                    rc = ERR_UNSUPPORTED
+                        elif pv[i, CP_S2] == 1.0:
+                            # both contacts of a sphere in a groove stick: it rolls along
+                            # the groove in closed form (or keeps integrating if not)
+                            rc = _groove_enter(i, int(pv[i, CP_PLANE]), int(pv[i, CP_PLANE2]),
+                                               t, st, bflt, planes, grav, law_par, bp_law, pm,
+                                               ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                            if rc > 0:
+                                rc = 0
                         if rc < 0:
                             return rc
                 elif (ttr[i] <= t and pm[i, M_MODE] == PM_SLIDE
@@ -2821,13 +2914,25 @@ def loop_for(law):
                 if pm[i, M_MODE] != PM_FLIGHT:
                     rc = _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
                                      ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                    if rc == GROOVE_SLIPS:
+                        rc = _groove_slide(i, pm[i, M_PLANE], pm[i, M_FEAT], t, st, bint,
+                                           bflt, feats, planes, grav, law_par, bp_law, pm,
+                                           ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                                           cw, Ii, err, pivot)
                     if rc < 0:
                         return rc
                     if pm[i, M_MODE] != PM_FLIGHT:
                         if bint[i, B_KIND] == SH_SPHERE and pm[i, M_MODE] != PM_WEDGED:
-                            _groove_from_impact(i, t, nc, c_i, st, bflt, planes, grav,
-                                                law_par, bp_law, pm, ttr, tolf, ev_t, ev_i,
-                                                ev_f, cnt, c_f, cw, err)
+                            rc, q = _groove_from_impact(i, t, nc, c_i, st, bflt, planes,
+                                                        grav, law_par, bp_law, pm, ttr, tolf,
+                                                        ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                            if rc == GROOVE_SLIPS:
+                                rc = _groove_slide(i, pm[i, M_PLANE], q, t, st, bint, bflt,
+                                                   feats, planes, grav, law_par, bp_law, pm,
+                                                   ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f,
+                                                   cnt, c_f, cw, Ii, err, pivot)
+                            if rc < 0:
+                                return rc
                         continue
                     # released by an impact on another plane: its impacts there may
                     # accumulate at once (a sphere rolling into the second plane of a

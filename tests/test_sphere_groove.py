@@ -1,6 +1,6 @@
 """A sphere held by two planes (issue 13: "a disk or sphere held by two or more planes"):
-rolling along a V-groove, sliding along it without friction, resting in it, and the loud
-refusal when friction cannot make it roll.
+rolling along a V-groove, sliding along it without friction, resting in it, and slipping
+on both planes when friction cannot make it roll (then sticking into rolling).
 
 References: rolling on both contacts, ``v = u e`` along the groove axis and ``w = (u /
 rho) d`` with ``rho = r cos(gamma / 2)`` (``gamma`` the angle between the normals), so
@@ -17,7 +17,7 @@ import pytest
 
 from rbimpact import Law, Scene3D, Simulation, SimulationError, Sphere
 from rbimpact.kernels import stepper3d as k
-from rbimpact.kernels.codes import ERR_UNSUPPORTED, PM_WEDGED
+from rbimpact.kernels.codes import PM_WEDGED
 from rbimpact.kernels.common import P_MU
 
 G = 9.81
@@ -125,10 +125,39 @@ def test_sphere_slides_back_from_an_end_wall_and_stays_in_the_groove():
     assert v_end[0, 1] < 0.0 and v_end[0] == pytest.approx(v_end[1], abs=1e-15)
 
 
-def test_too_little_friction_to_roll_in_a_tilted_groove_fails_loudly():
-    sim, _, _ = _groove(0.5, 0.2, mu=0.02)
-    with pytest.raises(SimulationError, match="slipping along the groove of two planes"):
-        sim.run(3.0)
+def test_too_little_friction_to_roll_in_a_tilted_groove_slides_at_the_closed_form_rate():
+    """mu = 0.02 is below the friction a rolling sphere needs in this tilted groove: it
+    slips on both planes (integrated contact on two planes, ``stepper3d._groove_slide``;
+    the run used to stop here). By symmetry both contacts slip along the axis e with
+    N = m |g_perp| / (2 cos beta) each, so the centre accelerates at the constant
+    ``g.e - 2 mu N / m`` (closed form) while the slip keeps growing (no stick event)."""
+    beta, tilt, mu, r, drop = 0.5, 0.2, 0.02, 0.05, 1e-9
+    n1 = _rot_x((math.sin(beta), 0.0, math.cos(beta)), tilt)
+    n2 = _rot_x((-math.sin(beta), 0.0, math.cos(beta)), tilt)
+    scene = Scene3D(gravity=(0.0, 0.0, -G))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(n1))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(n2))
+    bis = (n1 + n2) / np.linalg.norm(n1 + n2)
+    scene.add_body(Sphere(r), 1.0, tuple(bis * (r + drop) / (bis @ n1)))
+    sim = Simulation(scene, Law("kane_levinson", e=0.3, mu=mu))
+    res = sim.run(1.0)
+    assert res.status == "done"
+    ev = res.events
+    piv = np.nonzero((ev["kind"] == "pivot") & (ev["mode"] == 2))[0]
+    assert len(piv) >= 1
+    t0 = float(ev["t"][piv[-1]])
+    assert not np.any(ev["t"] > t0)                 # slides on both to the end
+    e = np.cross(n1, n2)
+    e /= np.linalg.norm(e)
+    g = np.array([0.0, 0.0, -G])
+    g_perp = g - (g @ e) * e
+    N = np.linalg.norm(g_perp) / (2.0 * math.cos(beta))           # per unit mass
+    t = np.linspace(t0, 1.0, 9)
+    v = res.sample(t)["velocity"][:, 0]
+    a_ref = g @ e - 2.0 * mu * N * np.sign(v[-1] @ e)
+    assert np.diff(v @ e) / np.diff(t) == pytest.approx(np.full(8, a_ref), rel=1e-8)
+    for n in (n1, n2):
+        assert np.max(np.abs(v @ n)) < 1e-9 * math.sqrt(G * r)
 
 
 # ---- the entry rule itself, against an independent force computation -------------------
@@ -224,5 +253,38 @@ def test_groove_entry_needs_exactly_the_rolling_friction(beta, tilt):
         assert np.linalg.norm(slip) < 1e-15
     a = st[k.SA:k.SA + 3] @ e
     assert a == pytest.approx(-G * e[2] / (1.0 + inertia / (m * rho ** 2)), rel=1e-13)
-    rc, *_ = _enter(n1, n2, r, 0.999 * mu_star)
-    assert rc == ERR_UNSUPPORTED
+    rc, st2, pm2, nev2, *_ = _enter(n1, n2, r, 0.999 * mu_star)
+    assert rc == k.GROOVE_SLIPS and pm2[0] == 0 and nev2 == 0     # left to _groove_slide
+
+
+def test_sphere_thrown_along_a_level_groove_slips_then_rolls_at_the_closed_form_time():
+    """A sphere (no spin) thrown at v0 along a level V-groove slips on both planes: per
+    contact N = m g / (2 cos beta) and friction mu N along -e, so
+    ``v' = -mu g / cos beta`` and the spin about the horizontal normal to the axis grows
+    at ``r mu m g / I``: the common slip ``s = v - r w cos beta`` falls at
+    ``mu g / cos beta + r^2 mu m g cos beta / I`` (closed form, constant). Both contacts
+    stick when s reaches slip_eps, and the sphere rolls on at the closed-form speed."""
+    beta, r, m, mu, v0, drop = 0.5, 0.05, 0.7, 0.3, 2.0, 1e-9
+    scene = Scene3D(gravity=(0.0, 0.0, -G))
+    scene.add_plane((0.0, 0.0, 0.0), (-math.sin(beta), 0.0, math.cos(beta)))
+    scene.add_plane((0.0, 0.0, 0.0), (math.sin(beta), 0.0, math.cos(beta)))
+    scene.add_body(Sphere(r), m, (0.0, 0.0, (r + drop) / math.cos(beta)),
+                   velocity=(0.0, v0, 0.0))
+    sim = Simulation(scene, Law("kane_levinson", e=0.0, mu=mu))
+    res = sim.run(1.0)
+    ev = res.events
+    assert res.status == "done"
+    assert list(ev["kind"]) == ["impact", "impact", "pivot", "stick", "contact"]
+    assert ev["mode"][2] == 2 and ev["mode"][4] == PM_WEDGED
+    tp = float(ev["t"][2])
+    sp = res.sample([tp])
+    vp, wp = sp["velocity"][0, 0], sp["angular_velocity"][0, 0]
+    inertia = 0.4 * m * r * r
+    rate = mu * G / math.cos(beta) + r * r * mu * m * G * math.cos(beta) / inertia
+    s0 = vp[1] + r * math.cos(beta) * wp[0]      # w along -x turns the contacts back
+    eps = sim.tolerances["slip_eps"]
+    t_stick = tp + (s0 - eps) / rate
+    assert float(ev["t"][3]) == pytest.approx(t_stick, rel=1e-10)
+    v_star = vp[1] - mu * G / math.cos(beta) * (t_stick + eps / rate - tp)
+    v_end = res.sample([0.99])["velocity"][0, 0]
+    assert v_end[1] == pytest.approx(v_star, rel=1e-6)     # slip_eps removed at the stick
