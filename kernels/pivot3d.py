@@ -456,6 +456,8 @@ def pivot_forces(y, cp, fw):
         dy = fw[FW_R2 + 1] - fw[FW_R1 + 1]
         dz = fw[FW_R2 + 2] - fw[FW_R1 + 2]
         dl = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if not dl > 0.0:
+            return PV_SINGULAR      # one point held twice (the stepper never asks this)
         dx /= dl
         dy /= dl
         dz /= dl

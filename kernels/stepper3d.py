@@ -82,9 +82,10 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   normal speed below ``sqrt(2 |g''| rest_length)`` (or ``zeno_speed``) while their gap
   accelerates into it, the impacts would accumulate there (a corner or an edge the body
   tumbles over, a cap it rocks on; or one feature on each of two planes, in a groove or
-  a corner; three or more features on two planes: ``ERR_UNSUPPORTED``). Their tiny
-  normal velocities are removed by normal impulses (event "pivot", ``dE`` reported) and
-  the body moves with those features held on their planes, each sticking or sliding under Coulomb friction, integrated with error
+  a corner; three or more features on two planes, or one sharp corner on both:
+  ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by normal impulses
+  (event "pivot", ``dE`` reported) and the body moves with those features held on their
+  planes, each sticking or sliding under Coulomb friction, integrated with error
   control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
@@ -925,6 +926,8 @@ def _pv_stick_edge(st, i, bflt, pv):
     dy = by - ay
     dz = bz - az
     dl = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if not dl > 0.0:
+        return      # one point held twice: _persist_candidates never enters this
     dx /= dl
     dy /= dl
     dz /= dl
@@ -1308,7 +1311,8 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
     second feature row, unsupported?): one plane with any count, or two features on two
-    planes (a groove, a corner); more features on two or more planes are unsupported."""
+    planes (a groove, a corner); more features on two or more planes, or one sharp corner
+    on two planes (a single point held twice), are unsupported."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
@@ -1356,6 +1360,8 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
             cnt += 1
     if cnt < 2:
         bp2 = bp
+    elif cnt == 2 and k2 == k1 and rad == 0.0:
+        multi = True        # one corner on both planes (the groove's edge): one point
     return bp, cnt, k1, bp2, k2, multi
 
 

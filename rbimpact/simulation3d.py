@@ -465,8 +465,8 @@ class Simulation3D:
                     3.0: "a box or capsule resting on a face (or a capsule's side) of one "
                          "plane while touching another (persistent contact with two planes "
                          "at once)",
-                    5.0: "persistent contact at three or more features on two or more "
-                         "planes at once",
+                    5.0: "persistent contact on two or more planes at once at three or "
+                         "more features, or at one corner touching both",
                     4.0: "a sphere slipping along the groove of two planes (rolling on both "
                          "needs more friction, or its contact points slip faster than the "
                          "accumulation speed)"}.get(float(err[6]),
