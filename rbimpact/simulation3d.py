@@ -462,9 +462,9 @@ class Simulation3D:
         elif rc == k.ERR_UNSUPPORTED:
             what = {1.0: "a sphere with non-spherical inertia in persistent contact",
                     2.0: "a capsule on its side sliding across its axis (it would roll)",
-                    3.0: "a box or capsule resting on a face (or a capsule's side) of one "
-                         "plane while touching another (persistent contact with two planes "
-                         "at once)",
+                    3.0: "settling on one plane while touching another (a box or capsule "
+                         "on a face or side, or a sphere still bouncing on the second): "
+                         "persistent contact with two planes at once",
                     5.0: "persistent contact on two or more planes at once at three or "
                          "more features, or at one corner touching both",
                     4.0: "a sphere slipping along the groove of two planes (rolling on both "
