@@ -504,7 +504,7 @@ def pivot_forces(y, cp, fw):
     if two_stick and cp[CP_PLANE2] != cp[CP_PLANE]:
         # two planes: the internal force s d has a normal part on each plane, so each
         # contact's normal force depends on s too; each cone gives an interval of s
-        fs = FORCE_ARM * m * math.sqrt(gx * gx + gy * gy + gz * gz)
+        fs = m * math.sqrt(gx * gx + gy * gy + gz * gz)     # force scale (N)
         lo = -math.inf
         hi = math.inf
         for kc in range(2):
@@ -522,7 +522,7 @@ def pivot_forces(y, cp, fw):
             l1, h1 = cone_interval(lam, dn, ax * ax + ay * ay + az * az,
                                    ax * tx_ + ay * ty_ + az * tz_,
                                    tx_ * tx_ + ty_ * ty_ + tz_ * tz_, contact_mu(cp, kc),
-                                   fs / FORCE_ARM, CONE_RTOL)
+                                   fs, CONE_RTOL)
             lo = max(lo, l1)
             hi = min(hi, h1)
         marg = hi - lo
@@ -532,9 +532,9 @@ def pivot_forces(y, cp, fw):
             if lo > -math.inf and hi < math.inf:
                 s = 0.5 * (lo + hi)
             elif hi < math.inf:
-                s = hi - fs / FORCE_ARM
+                s = hi - fs
             elif lo > -math.inf:
-                s = lo + fs / FORCE_ARM
+                s = lo + fs
             else:
                 s = 0.0
             fw[FW_SSTAR] = s
@@ -887,12 +887,12 @@ def _gap_dip(pw, feats, f, planes, p, rad, floor, t0, rtol, atol, ybuf):
     """A gap positive at both ends of the current step (``s0 = pw[PW_S0]``, ``s1 = s0 +
     pw[PW_H]``) whose rate goes from negative to positive has a minimum inside: locate it
     (root of the rate on the dense output, bisection to the event precision) and return
-    ``(s_min, gap_min - floor)``; ``(s1, inf)`` when the rate does not change sign."""
+    ``(s_min, gap_min - floor)``; ``(s1, inf)`` when the rate does not change sign.
+    ``ybuf`` holds the state at s1 on entry and again on return."""
     s0 = pw[PW_S0]
     s1 = s0 + pw[PW_H]
     if not _gap_rate(pw[PW_Y:PW_Y + NY], feats, f, planes, p) < 0.0:
         return s1, math.inf
-    pivot_dense(pw, s1, ybuf)
     if _gap_rate(ybuf, feats, f, planes, p) < 0.0:
         return s1, math.inf
     lo = s0
@@ -907,7 +907,9 @@ def _gap_dip(pw, feats, f, planes, p, rad, floor, t0, rtol, atol, ybuf):
         else:
             hi = mid
     pivot_dense(pw, hi, ybuf)
-    return hi, _gap(ybuf, feats, f, planes, p, rad) - floor
+    gmin = _gap(ybuf, feats, f, planes, p, rad) - floor
+    pivot_dense(pw, s1, ybuf)
+    return hi, gmin
 
 
 @njit(cache=True)

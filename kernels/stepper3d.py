@@ -2684,8 +2684,9 @@ def loop_for(law):
                             rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par,
                                                bp_law, pm, ttr, pv, tolf, ev_t, ev_i, ev_f,
                                                cnt, c_f, cw, err)
-                            q = _pressed_plane(i, st, bflt, planes, bp_off, pm, tolf)
-                            if rc == 0 and q >= 0:
+                            q = -1 if rc != 0 else _pressed_plane(i, st, bflt, planes,
+                                                                   bp_off, pm, tolf)
+                            if q >= 0:
                                 # rolling on its plane presses it into another it touches
                                 # (the groove's other plane): held by both
                                 rc = _groove_enter(i, pm[i, M_PLANE], q, t, st, bflt, planes,
