@@ -20,7 +20,9 @@ SHAPES = ("sphere", "box", "capsule")
 PAIRS = tuple((a, b) for i, a in enumerate(SHAPES) for b in SHAPES[i:])
 
 
-def _body(rng, name):
+def random_body(rng, name):
+    """``(kind, rad, hx, hy, hz)`` of a random body of roughly unit size (also drawn by
+    tests/test_pair3d.py)."""
     from .kernels.pair3d_shape import SH_BOX, SH_CAPSULE, SH_SPHERE
     if name == "sphere":
         return (SH_SPHERE, rng.uniform(0.2, 1.0), 0.0, 0.0, 0.0)
@@ -30,7 +32,8 @@ def _body(rng, name):
     return (SH_CAPSULE, rng.uniform(0.1, 0.5), 0.0, 0.0, rng.uniform(0.2, 1.0))
 
 
-def _quat(rng):
+def random_quat(rng):
+    """A uniformly random unit quaternion."""
     q = rng.normal(size=4)
     return q / np.linalg.norm(q)
 
@@ -55,9 +58,9 @@ def _tables(rng, pair, n):
     for i in range(n):
         a, b = pair if i % 2 == 0 else pair[::-1]
         for j, name in enumerate((a, b)):
-            geo[i, j] = _body(rng, name)
+            geo[i, j] = random_body(rng, name)
             rot[i, j] = _rotation(tuple(geo[i, j]))
-            st[i, j, 3:7] = _quat(rng)
+            st[i, j, 3:7] = random_quat(rng)
     return geo, rot, st
 
 

@@ -119,16 +119,23 @@ def _loguniform(rng, lo, hi):
     return float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
 
 
-def draw_scene(dim, sseed):
-    """The parameters of one scene (a plain dict) from its seed ``sseed``."""
+def _draw_law(rng):
+    """A law variant and its parameters, drawn from ``rng`` (the first draws of every
+    scene): ``(label, law name, params)``."""
     from .stability import LAW_VARIANTS
-    rng = np.random.default_rng(sseed)
     label, name, fixed = LAW_VARIANTS[rng.integers(len(LAW_VARIANTS))]
     params = dict(fixed)
     params["e"] = float(E_VALUES[rng.integers(len(E_VALUES))])
     params["mu"] = float(MU_VALUES[rng.integers(len(MU_VALUES))])
     if name in ("brach", "chatterjee_ruina"):
         params["e_t"] = float(ET_VALUES[rng.integers(len(ET_VALUES))])
+    return label, name, params
+
+
+def draw_scene(dim, sseed):
+    """The parameters of one scene (a plain dict) from its seed ``sseed``."""
+    rng = np.random.default_rng(sseed)
+    label, name, params = _draw_law(rng)
     layout = LAYOUTS[rng.integers(len(LAYOUTS))]
     shapes = SHAPES[dim]
     shape = shapes[rng.integers(len(shapes))]
@@ -486,14 +493,8 @@ def draw_pair_scene(dim, sseed):
     of 0.2 to 2 ``sqrt(|g| L)``, random angles and spins."""
     if dim != 2:
         raise ValueError(f"the two-body campaign axis is 2D only (issue 16); got dim={dim!r}")
-    from .stability import LAW_VARIANTS
     rng = np.random.default_rng(sseed)
-    label, name, fixed = LAW_VARIANTS[rng.integers(len(LAW_VARIANTS))]
-    params = dict(fixed)
-    params["e"] = float(E_VALUES[rng.integers(len(E_VALUES))])
-    params["mu"] = float(MU_VALUES[rng.integers(len(MU_VALUES))])
-    if name in ("brach", "chatterjee_ruina"):
-        params["e_t"] = float(ET_VALUES[rng.integers(len(ET_VALUES))])
+    label, name, params = _draw_law(rng)
     layout = PAIR_LAYOUTS[rng.integers(len(PAIR_LAYOUTS))]
     bodies = []
     for _ in range(2):

@@ -15,6 +15,7 @@ import pytest
 from scipy.optimize import minimize
 
 from rbimpact import shapes3d
+from rbimpact.bench_pairs import random_body, random_quat
 from rbimpact.kernels.pair3d import (FE_A_INDEX, FE_A_KIND, FE_B_INDEX, FE_B_KIND,
                                      FR_GAP, FR_NX, FR_PAX, FR_PBX, FR_RATE, N_FE, N_FR,
                                      PAIR_TABLE, PK_NONE, pair_frame, pair_kind)
@@ -33,21 +34,6 @@ def seed(*parts):
 
 
 # ---- random bodies and poses ---------------------------------------------------------------
-
-def random_body(rng, name):
-    """``(kind, rad, hx, hy, hz)`` of a random body of roughly unit size."""
-    if name == "sphere":
-        return (SH_SPHERE, rng.uniform(0.2, 1.0), 0.0, 0.0, 0.0)
-    if name == "box":
-        h = rng.uniform(0.15, 1.0, 3)
-        return (SH_BOX, 0.0, h[0], h[1], h[2])
-    return (SH_CAPSULE, rng.uniform(0.1, 0.5), 0.0, 0.0, rng.uniform(0.2, 1.0))
-
-
-def random_quat(rng):
-    q = rng.normal(size=4)
-    return q / np.linalg.norm(q)
-
 
 def quat_mat(q):
     w, x, y, z = q
