@@ -754,3 +754,83 @@ def test_touching_contact_slipping_into_a_painleve_slope_impacts_without_collisi
         assert run(other, ROD, 0.5, 2.0, rest)[0] == MODE_SEPARATING
         W3, v3 = embed(ROD, other)
         assert run(v3, W3, 0.5, 2.0, rest)[0] == MODE_SEPARATING
+
+
+# ------------------------------------------------------------------------------------------
+# 3D Taylor integrator in tau (issue 17): against scipy at rtol 1e-13, near invariant rays
+# ------------------------------------------------------------------------------------------
+TAYLOR_REF_RTOL = 1e-13     # scipy DOP853 reference (relative tolerance of solve_ivp)
+TAYLOR_REF_ERR = 1e-8       # |W (P - P_ref)| / |v| allowed (m/s per m/s): the reference cuts
+                            # |v_T| at 1e-9 |v| (ref_routh), the kernel runs at tol 1e-12
+
+
+def _rays(W, mu):
+    """Invariant rays phi* of the 3D slip (F(phi) = u x (w - mu C u) = 0, u = (cos, sin))
+    with dF/dphi < 0 (they attract the slip angle) and lambda = u.(w - mu C u)."""
+    w, C = W[1:, 0], W[1:, 1:]
+
+    def F(t):
+        u = np.array([np.cos(t), np.sin(t)])
+        f = w - mu * C @ u
+        return u[0] * f[1] - u[1] * f[0]
+    ts = np.linspace(-np.pi, np.pi, 1441)
+    Fs = np.array([F(t) for t in ts])
+    out = []
+    for i in range(len(ts) - 1):
+        if Fs[i] > 0 > Fs[i + 1]:
+            t = brentq(F, ts[i], ts[i + 1], xtol=1e-15)
+            u = np.array([np.cos(t), np.sin(t)])
+            out.append((t, u @ (w - mu * C @ u)))
+    return out
+
+
+def _check_against_reference(v, W, e, mu, rest):
+    status, Pref = ref_routh(v, W, e, mu, rest, rtol=TAYLOR_REF_RTOL)
+    mode, P, vf, dE = run(v, W, e, mu, rest, tol=1e-12)
+    if status != 'ok':
+        assert mode == MODE_NO_SOLUTION, (status, mode, v, W, mu, e, rest)
+        return mode
+    assert mode > 0, (mode, v, W, mu, e, rest)
+    err = np.linalg.norm(W @ (P - Pref)) / np.linalg.norm(v)
+    assert err < TAYLOR_REF_ERR, (err, mode, v.tolist(), W.tolist(), mu, e, rest)
+    return mode
+
+
+def test_3d_taylor_against_scipy_random_contacts():
+    """Random box-like contacts (bench generator) and random SPD W, every restitution kind:
+    the Taylor integrator agrees with an independent scipy DOP853 integration of the same
+    ODE in p at rtol 1e-13."""
+    from rbimpact.bench import random_contacts
+    rng = np.random.default_rng(170)
+    v, W = random_contacts(40, 3, seed=17)
+    modes = set()
+    for i in range(len(v)):
+        modes.add(_check_against_reference(v[i], W[i], 0.5, 0.3, int(rng.integers(3))))
+    for _ in range(40):
+        Wr, vr, mu, e, rest = random_case(rng, 3)
+        modes.add(_check_against_reference(vr, Wr, e, mu, rest))
+    assert {MODE_SLIP, MODE_SLIP_STICK} <= modes
+
+
+@pytest.mark.parametrize('rest', KINDS)
+def test_3d_taylor_near_invariant_rays(rest):
+    """Slips starting 1e-2 .. 1e-7 rad off an attracting invariant ray, converging
+    (lambda < 0: the slip stops along it) and diverging (lambda > 0), on either side:
+    the settling onto the ray at small slip speed, where the former p-integrator was stiff,
+    agrees with scipy at rtol 1e-13."""
+    rng = np.random.default_rng(171)
+    kinds = set()
+    n = 0
+    while n < 6:
+        Wr, vr, mu, e, _ = random_case(rng, 3)
+        mu = max(mu, 0.2)
+        for phi, lam in _rays(Wr, mu):
+            for off in (1e-2, -1e-4, 1e-7):
+                for speed in (1.0, 1e-3):
+                    v = vr.copy()
+                    v[1:] = speed * np.linalg.norm(vr) * np.array([np.cos(phi + off),
+                                                                   np.sin(phi + off)])
+                    _check_against_reference(v, Wr, e, mu, rest)
+            kinds.add(lam > 0)
+            n += 1
+    assert kinds == {True, False}
