@@ -328,5 +328,6 @@ def nonnegative(scenario, **values):
 from . import (billiards, bouncing_ball, bouncing_ellipse, falling_rod,  # noqa: E402,F401
                perforation, rocking_block, spinning_ball, superball)
 from . import polygon_collide, rod_strikes_ball  # noqa: E402,F401  (2D body-body, issue 16)
+from . import box_on_box  # noqa: E402,F401  (2D box-box and box-floor impacts, issue 16)
 from . import die_toss, spinning_ball_3d, superball_3d, tumbling_capsule  # noqa: E402,F401
 from . import granular_gas  # noqa: E402,F401  (many-body: rbimpact.manybody)

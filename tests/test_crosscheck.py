@@ -219,3 +219,134 @@ def test_import_rbimpact_does_not_import_pymunk():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+# ------------------------------------------------------------------ multi-body scenes (issue 16)
+
+MULTI = ("rod_strikes_ball", "box_on_box")
+
+
+def _pymunk_geometry(ps):
+    """(kind, geometry) of a pymunk shape in its body's frame."""
+    import pymunk
+    if isinstance(ps, pymunk.Circle):
+        return "disk", (ps.radius, tuple(ps.offset))
+    if isinstance(ps, pymunk.Segment):
+        return "rod", (tuple(ps.a), tuple(ps.b), ps.radius)
+    return "polygon", (sorted(tuple(v) for v in ps.get_vertices()), ps.radius)
+
+
+@pytest.mark.parametrize("name", MULTI + ("polygon_collide",))
+def test_multibody_scene_converts_body_by_body(name):
+    """Every body: its mass, moment, state and shape; every pair (body-body and
+    body-plane) combines to the law's e and mu."""
+    from rbimpact import Box, Polygon, scenarios
+    sc = scenarios.get(name, law="kane_levinson")
+    pm = to_pymunk(sc.scene, sc.law, sc.pair_laws)
+    bodies = sc.scene.bodies
+    assert len(bodies) >= 2
+    assert len(pm.bodies) == len(pm.shapes) == len(bodies)
+    assert len(pm.planes) == len(sc.scene.planes)
+    for body, pb, ps in zip(bodies, pm.bodies, pm.shapes):
+        assert pb.mass == body.mass and pb.moment == body.moment
+        assert ps.body is pb and pm.labels[ps] == body.index
+        assert tuple(pb.position) == body.position and pb.angle == body.angle
+        assert tuple(pb.velocity) == body.velocity
+        assert pb.angular_velocity == body.angular_velocity
+        kind, geo = _pymunk_geometry(ps)
+        sh = body.shape
+        if isinstance(sh, Disk):
+            assert kind == "disk" and geo == (sh.radius, (0.0, 0.0))
+        elif isinstance(sh, Rod):
+            assert kind == "rod"
+            assert geo == ((-0.5 * sh.length, 0.0), (0.5 * sh.length, 0.0), sh.radius)
+        else:
+            assert isinstance(sh, (Box, Polygon)) and kind == "polygon"
+            verts, radius = geo
+            assert radius == 0.0
+            np.testing.assert_allclose(verts, sorted(map(tuple, sh.vertices)), rtol=0,
+                                       atol=1e-15)
+        # the shape's own area and moment give the body's, i.e. the same body
+        assert ps.area == pytest.approx(sh.area, rel=1e-12, abs=1e-15)
+    e, mu = sc.law.params_dict["e"], sc.law.params_dict["mu"]
+    for i, a in enumerate(pm.shapes):
+        for b in list(pm.shapes[i + 1:]) + list(pm.planes):
+            assert a.elasticity * b.elasticity == pytest.approx(e, rel=1e-15)
+            assert a.friction * b.friction == pytest.approx(mu, rel=1e-15)
+    assert pm.pair_materials == {}
+    assert pm.space.collision_bias == 1.0 and pm.space.iterations >= 50
+
+
+def test_pair_laws_map_to_their_pairs():
+    """``pair_laws`` keys (i, j) in either order, (body, plane) and a plane alone map to
+    the arbiter's (e, mu) of exactly those pairs; the override reaches the solver."""
+    from rbimpact import scenarios
+    sc = scenarios.get("box_on_box", law="kane_levinson")
+    floor = sc.planes["floor"]
+    laws = {(1, 0): Law("kane_levinson", e=0.3, mu=0.1),
+            (1, floor): Law("kane_levinson", e=0.5, mu=0.7),
+            floor: Law("kane_levinson", e=0.6, mu=0.2)}
+    pm = to_pymunk(sc.scene, sc.law, laws)
+    assert pm.pair_materials == {(0, 1): (0.3, 0.1), (1, -1): (0.5, 0.7),
+                                 (0, -1): (0.6, 0.2)}
+    # the rod strikes the ball once: pymunk's restitution is the pair's, and the impact
+    # agrees with rbimpact's run under the same pair law (to O(dt))
+    sc = scenarios.get("rod_strikes_ball", law="kane_levinson")
+    pair = {(1, 0): Law("kane_levinson", e=0.4, mu=0.6)}
+    run = run_pymunk(sc.scene, sc.law, 0.45, 1e-5, [0.45], pair_laws=pair)
+    ref = Simulation(sc.scene, sc.law, pair_laws=pair).run(0.45)
+    ev = ref.events[ref.events["kind"] == "impact"]
+    assert len(run.impacts) == len(ev) == 1
+    imp = run.impacts[0]
+    assert (imp["a"], imp["b"]) == (0, 1) and (ev[0]["a"], ev[0]["b"]) == (0, 1)
+    assert imp["v_f"][0] == pytest.approx(-0.4 * imp["v_i"][0], rel=1e-9)
+    assert ev[0]["v_f"][0] == pytest.approx(-0.4 * ev[0]["v_i"][0], rel=1e-9)
+    np.testing.assert_allclose(imp["v_f"], ev[0]["v_f"], rtol=0, atol=2e-3)
+    assert abs(imp["t"] - ev[0]["t"]) < 2e-5
+
+
+@pytest.mark.parametrize("name", MULTI)
+def test_multibody_pymunk_error_goes_to_zero_with_dt(name):
+    """pymunk's error (largest centre-of-mass distance over every body) falls toward
+    rbimpact's event-driven answer about first order: by a clear factor from dt = 1e-2
+    to 1e-4 s, the fitted order near 1, every body's own error falling, and the same
+    impacts (body-body ones included) seen at dt <= 1e-3 s."""
+    text, rows = crosscheck_report(name, dts=(1e-2, 1e-3, 1e-4), repeat=1)
+    pm = [r for r in rows if r["engine"] == "pymunk"]
+    errs = [r["error_m"] for r in pm]
+    assert errs[0] > errs[1] > errs[2] > 0.0
+    assert errs[2] < errs[0] / 30.0 and errs[2] < errs[1] / 4.0, errs
+    p = _order(rows)
+    assert 0.75 <= p <= 1.3, (p, errs)
+    for r in pm:
+        per_body = r["error_per_body_m"]
+        assert len(per_body) == 2 and max(per_body) == r["error_m"]
+    for k in range(2):                            # every body converges, not just one
+        assert pm[2]["error_per_body_m"][k] < pm[0]["error_per_body_m"][k] / 20.0
+    rb = rows[-1]
+    assert rb["engine"] == "rbimpact" and rb["reference"] and rb["run_time_s"] > 0.0
+    for r in pm[1:]:
+        assert r["impacts_missed"] == 0 and r["impacts_extra"] == 0
+        assert r["impacts_matched"] == rb["impacts_matched"] >= 1
+    assert "all 2 bodies" in text and "error per body" in text
+    assert "local order" in text and f"{p:.2f}" in text and "times faster" in text
+
+
+def test_box_on_box_body_body_impacts_match():
+    """The body-body impacts of box_on_box, several of them, are matched one to one in
+    pymunk at dt = 1e-4 s with close post-impact velocities."""
+    from rbimpact import scenarios
+    sc = scenarios.get("box_on_box", law="kane_levinson")
+    ref = sc.simulation().run(0.63)
+    imp = ref.events[ref.events["kind"] == "impact"]
+    n_bb = int(np.count_nonzero(imp["b"] >= 0))
+    assert n_bb >= 3 and np.count_nonzero(imp["b"] < 0) >= 4
+    assert len(imp) == len(np.unique(imp["t"]))   # single contacts, distinct instants
+    run = run_pymunk(sc.scene, sc.law, 0.63, 1e-4, np.arange(0.0, 0.62, 1e-3))
+    c = compare(ref, run)
+    assert c["n_matched"] == len(imp) and c["n_missed"] == 0 and c["n_extra"] == 0
+    bb = [m for m in c["impacts"] if m["b"] >= 0]
+    assert len(bb) == n_bb
+    for m in bb:
+        assert (m["a"], m["b"]) == (0, 1)
+        assert abs(m["dt_impact"]) < 2e-3 and m["dv_f"] < 0.05, m
