@@ -43,8 +43,10 @@ EV_RELEASE = 5
 EV_CAPTURE = 6           # 3D: a face captured by the joint solve (capture option)
 EV_PIVOT = 7
 EV_STICK = 8
+EV_IWC = 9               # "painleve": an impact without collision (a sliding contact at
+                         # v_N = 0 with no consistent force takes an impulse)
 EVENT_KINDS = ("impact", "contact", "slide", "roll", "rest", "release", "capture", "pivot",
-               "stick")
+               "stick", "painleve")
 
 # persistent-contact modes (pm[:, 0])
 PM_FLIGHT = 0
@@ -54,6 +56,11 @@ PM_REST = 3
 PM_PIVOT = 4             # integrated vertex, edge or boundary contact (pivot2d, pivot3d)
 PM_WEDGED = 5            # held by two planes: 2D at rest on two contacts (wedge2d); 3D a
                          # sphere rolling (sliding if mu = 0) along their groove, or at rest
+
+# what a Painleve-inconsistent sliding contact does (the ``painleve`` option)
+PAINLEVE_ERROR = 0       # the run stops with status "painleve", the contact named
+PAINLEVE_IMPACT = 1      # an impact without collision (Darboux-Keller from v_N = 0)
+PAINLEVE_OPTIONS = ("error", "impact")
 
 # simultaneous-contact policies
 POL_SIMULTANEOUS = 0

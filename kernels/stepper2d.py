@@ -148,13 +148,15 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PERSISTENT_PAIR, ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI,
                    ERR_TOO_MANY,
-                   ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE,
+                   ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT,
+                   PAINLEVE_IMPACT, EV_RELEASE,
                    EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
                    POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
-from .common import P_E, P_MU
+from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_2d_as
+from .routh import routh_2d_scalar
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
                        fly_row)
 from .pivot2d import (CP_D, CP_D2, CP_DIR, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_K2, CP_KIND,
@@ -198,7 +200,8 @@ TF_SIMUL_TOL = 6
 TF_SEQ_VTOL = 7
 TF_T_END = 8
 TF_SIMUL_GAP = 9
-N_TF = 10
+TF_PAINLEVE = 10       # PAINLEVE_ERROR or PAINLEVE_IMPACT (codes.py), as a float
+N_TF = 11
 TI_TOI_MAXIT = 0
 TI_SIMUL_MAXIT = 1
 TI_SEQ_MAXSTEPS = 2
@@ -1297,12 +1300,51 @@ def _pv_follow_slip(i, st, w, pm, vT):
 
 
 @njit(cache=True, _nrt=False)
+def _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ev_t, ev_i,
+            ev_f, cnt):
+    """Impact without collision (Painleve): the held contact of body i on plane p slides at
+    v_N = 0 where sliding has no consistent force (``W_NN - mu s W_NT <= 0``: v_N would
+    fall under any normal force). The impulse is Darboux-Keller's integration in the
+    normal impulse from v_N = 0 (``routh_2d_scalar``: v_N first falls along that negative
+    slope; compression ends where it is back at 0 after the slip stopped or reversed) with
+    the pair's mu and e (``max(e, 0)``) and Poisson's termination ``p_f = (1 + e) p_c``,
+    whatever the pair's law: the collision laws are functions of an approach velocity,
+    which is zero here. Genot & Brogliato, Eur. J. Mech. A 18 (1999) 653; Stewart, SIAM
+    Review 42 (2000) 3; Nordmark, Dankowicz & Champneys, Int. J. Non-Linear Mech. 44 (2009)
+    1011. Logged as event "painleve". Returns True when an impulse was
+    applied."""
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+    wnn, wnt, wtt = _w_body(bflt[i, B_MASS], bflt[i, B_INERTIA], rx, ry, nx, ny)
+    row = bp_law[i, p]
+    mode, PN, PT = routh_2d_scalar(0.0, vT, wnn, wnt, wtt, max(law_par[row, P_E], 0.0),
+                                   law_par[row, P_MU], float(REST_POISSON))
+    if mode == MODE_NO_SOLUTION or not PN > 0.0:
+        return False
+    e0 = _energy(st, bflt, grav, i)
+    jx = PN * nx + PT * ny
+    jy = PN * ny - PT * nx
+    st[i, VX] += jx / bflt[i, B_MASS]
+    st[i, VY] += jy / bflt[i, B_MASS]
+    st[i, OMEGA] += (rx * jy - ry * jx) / bflt[i, B_INERTIA]
+    px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_IWC, i, -1 - p, int(mode), 0, px, py, nx, ny, 0.0, vT,
+         vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
+    return True
+
+
+@njit(cache=True, _nrt=False)
 def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
-                 zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
+                 zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err, iwc):
     """Body i (in flight at t) keeps vertex k (body-relative) on plane p: remove its tiny
     normal velocity (and a slip below the accumulation speed) by impulses, choose stick or
-    slide, and schedule an integration pass at t (event "pivot"). Returns 0, 1 (no
-    persistent contact is consistent) or an error code."""
+    slide, and schedule an integration pass at t (event "pivot"). A slide with no
+    consistent force (Painleve) takes an impact without collision (``_pv_iwc``) when
+    ``iwc`` is PAINLEVE_IMPACT (a float): the body then flies off (return 2) or, when it
+    leaves slower than the accumulation speed, is held again. Returns 0, 1 (no persistent
+    contact is consistent), 2 (in flight after an impact without collision) or an error
+    code."""
     nx = planes[p, 0]
     ny = planes[p, 1]
     gn = nx * grav[0] + ny * grav[1]
@@ -1332,6 +1374,24 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, False)
         px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
         rc = _pv_follow_slip(i, st, w, pm, vT)
+        if (rc == ERR_PAINLEVE and iwc == PAINLEVE_IMPACT
+                and _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                            pm, ev_t, ev_i, ev_f, cnt)):
+            px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+            if vN > vz:
+                pm[i, M_MODE] = PM_FLIGHT     # it leaves the plane: flight from t
+                tz[i] = INF
+                return 2
+            # it leaves slower than the accumulation speed: held again (sticking, or
+            # sliding the other way; once: a second inconsistency is refused)
+            if abs(vT) <= vz:
+                _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, True)
+                pm[i, M_AUX] = 0
+                rc = _pv_choose(i, st, w, pm)
+            else:
+                _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, False)
+                px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
+                rc = _pv_follow_slip(i, st, w, pm, vT)
     if rc != 0:
         pm[i, M_MODE] = PM_FLIGHT
         if rc == ERR_PAINLEVE:
@@ -1361,7 +1421,8 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
     st[i, ALPHA] = 0.0
     ttr[i] = INF
     rc = _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err,
+                      0.0)    # (tipping: no impact without collision)
     if rc == 1:
         return ERR_TIPPING      # err holds the face forces set by _persist_setup
     return rc
@@ -2670,7 +2731,8 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                 if pivot is not None:
                     rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, B_FIRST], t,
                                       st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err,
+                                      tolf[TF_PAINLEVE])
                 else:
                     rc = _not_compiled(err, t, i, FEATURE_PIVOT)
                 if rc == 1:

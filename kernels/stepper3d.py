@@ -117,21 +117,24 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PGS, ERR_ROT, ERR_SEQ, ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING,
                    ERR_TOI, ERR_TOO_MANY, ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE,
-                   EV_CONTACT, EV_IMPACT, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK,
+                   EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE,
+                   EV_STICK, PAINLEVE_IMPACT,
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS)
-from .common import P_E, P_MU, spd3_solve
+from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
 from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_3d_as
+from .routh import routh_3d_scalar
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
 from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2, contact_normal,
                       contact_plane, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
-                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE,
+                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE, PV_PAINLEVE,
                       PE_SLIP, PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_S0, PW_WHY, PW_Y,
-                      contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start)
+                      contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
+                      FW_C1, slip_growth)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 
@@ -169,7 +172,8 @@ TF_T_END = 8
 TF_ROT_TOL = 9
 TF_CONTACT_TOL = 10
 TF_SLIP_EPS = 11
-N_TF = 12
+TF_PAINLEVE = 12       # PAINLEVE_ERROR or PAINLEVE_IMPACT (codes.py), as a float
+N_TF = 13
 TI_TOI_MAXIT = 0
 TI_SIMUL_MAXIT = 1
 TI_SEQ_MAXSTEPS = 2
@@ -956,16 +960,10 @@ def _pv_stick_edge(st, i, bflt, pv):
 
 
 @njit(cache=True)
-def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
-    """Remove the slip (and any normal velocity) of integrated contact k by an impulse at
-    that contact (W P = -v), then zero the normal velocities of all the integrated
-    contacts again (the impulse couples into the other one). When the other contact
-    sticks too, both contact velocities are zeroed together (``_pv_stick_edge``)."""
-    if pv[i, CP_K] == 2.0 and pv[i, CP_S1 + 1 - k] == 1.0:
-        _pv_stick_edge(st, i, bflt, pv)
-        return
-    _pv_frame(c_f, cw, st, i, pv, k)
-    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+def _pv_w(st, i, bflt, c_f, cw, Ii):
+    """Delassus matrix W (1/kg) of body i alone at the contact frame c_f[cw] (arm CF_RA,
+    axes N, T1, T2): ``W = I_3 / m + [r]^T I^-1 [r]`` (DESIGN §3), as (w00, w01, w02, w11,
+    w12, w22); Ii receives the world inverse inertia."""
     _iinv(st, i, bflt, Ii)
     m = bflt[i, B_MASS]
     w00 = 1.0 / m
@@ -992,6 +990,21 @@ def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
     w11 += b0 * ib0 + b1 * ib1 + b2 * ib2
     w12 += b0 * id0 + b1 * id1 + b2 * id2
     w22 += d0 * id0 + d1 * id1 + d2 * id2
+    return w00, w01, w02, w11, w12, w22
+
+
+@njit(cache=True)
+def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
+    """Remove the slip (and any normal velocity) of integrated contact k by an impulse at
+    that contact (W P = -v), then zero the normal velocities of all the integrated
+    contacts again (the impulse couples into the other one). When the other contact
+    sticks too, both contact velocities are zeroed together (``_pv_stick_edge``)."""
+    if pv[i, CP_K] == 2.0 and pv[i, CP_S1 + 1 - k] == 1.0:
+        _pv_stick_edge(st, i, bflt, pv)
+        return
+    _pv_frame(c_f, cw, st, i, pv, k)
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    w00, w01, w02, w11, w12, w22 = _pv_w(st, i, bflt, c_f, cw, Ii)
     # W P = -v, backward stable (a single body's W is SPD: ok is always True here)
     _spd, p0, p1, p2 = spd3_solve(w00, w01, w02, w11, w12, w22, -v0, -v1, -v2)
     jx = p0 * c_f[cw, CF_N] + p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
@@ -1080,8 +1093,9 @@ def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
 def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     """Make the integrated contacts of body i consistent: contacts whose normal force
     would be negative are dropped (most negative first), sticking contacts outside their
-    friction cone slide (opposite to their friction force). Returns 0, 1 (no contact
-    left) or ERR_PAINLEVE."""
+    friction cone slide (opposite to their friction force), slips started from sticking
+    that are still below slip_eps and no longer grow stick again. Returns 0, 1 (no
+    contact left) or ERR_PAINLEVE."""
     farm = FORCE_ARM * pv[i, CP_M] * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
                                                 + pv[i, CP_G + 2] ** 2)
     # a sliding contact (without a stored start direction) whose slip is at most slip_eps
@@ -1095,6 +1109,7 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
             if v1 * v1 + v2 * v2 <= pv[i, CP_EPS] ** 2:
                 _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
                 pv[i, CP_S1 + k] = 1.0
+    restick = 0     # contacts stuck again below (bit k: contact k)
     for attempt in range(8):
         K = int(pv[i, CP_K])
         if K == 0:
@@ -1147,6 +1162,26 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
                          st[i, SX + 2], 3.0, pv[i, CP_MU], K)
                 return ERR_PAINLEVE
             continue
+        # a slip started from sticking, still below slip_eps, that no longer grows along
+        # its friction direction sticks again (each contact once per call): its growth
+        # event arms only while the growth is positive, so a phase that begins with it
+        # decelerating would keep it sliding, the friction along its blended start
+        # direction no longer opposing the slip (positive work; 3:2990834751)
+        restuck = False
+        for k in range(K):
+            uo = CP_U1 + 3 * k
+            if pv[i, CP_S1 + k] != 0.0 or (restick >> k) & 1 or (
+                    pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 and pv[i, uo + 2] == 0.0):
+                continue
+            co = FW_C1 + 3 * k
+            c2 = fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2
+            if c2 < pv[i, CP_EPS] ** 2 and slip_growth(st[i], pv[i], fw, k) <= 0.0:
+                restick |= 1 << k
+                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+                pv[i, CP_S1 + k] = 1.0
+                restuck = True
+        if restuck:
+            continue
         return 0
     _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i, SX + 2],
              3.0, pv[i, CP_MU], pv[i, CP_K])
@@ -1154,12 +1189,49 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
 
 
 @njit(cache=True)
+def _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t, ev_i, ev_f,
+            cnt):
+    """Impact without collision (Painleve) at body i's one integrated contact, on plane p,
+    sliding at v_N = 0 where sliding has no consistent force (its normal force coefficient
+    ``W_NN - mu u . W_TN <= 0``, u the slip direction: v_N would fall under any normal
+    force). The impulse is Darboux-Keller's integration in the normal impulse from v_N = 0
+    (``routh_3d_scalar``) with the pair's mu and e (``max(e, 0)``) and Poisson's
+    termination, whatever the pair's law (the laws are functions of an approach velocity,
+    zero here). Genot & Brogliato, Eur. J. Mech. A 18 (1999) 653; Stewart, SIAM Review 42
+    (2000) 3; Nordmark, Dankowicz & Champneys, Int. J. Non-Linear Mech. 44 (2009) 1011.
+    Logged as event "painleve". Returns True when an impulse was applied."""
+    _pv_frame(c_f, cw, st, i, pv, 0)
+    v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    w00, w01, w02, w11, w12, w22 = _pv_w(st, i, bflt, c_f, cw, Ii)
+    row = bp_law[i, p]
+    mode, p0, p1, p2 = routh_3d_scalar(0.0, v1, v2, w00, w01, w02, w11, w12, w22,
+                                       max(law_par[row, P_E], 0.0), law_par[row, P_MU],
+                                       float(REST_POISSON), law_par[row, P_TOL])
+    if mode == MODE_NO_SOLUTION or not p0 > 0.0:
+        return False
+    e0 = _energy(st, bflt, grav, i)
+    jx = p0 * c_f[cw, CF_N] + p1 * c_f[cw, CF_T1] + p2 * c_f[cw, CF_T2]
+    jy = p0 * c_f[cw, CF_N + 1] + p1 * c_f[cw, CF_T1 + 1] + p2 * c_f[cw, CF_T2 + 1]
+    jz = p0 * c_f[cw, CF_N + 2] + p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
+    _apply_body(st, bflt, i, c_f[cw, CF_RA], c_f[cw, CF_RA + 1], c_f[cw, CF_RA + 2], jx, jy,
+                jz, Ii)
+    u0, u1, u2 = _contact_velocity_row(st, i, c_f, cw)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_IWC, i, -1 - p, int(mode), 0, c_f, cw, 0.0, v1, v2, u0,
+         u1, u2, p0, p1, p2, _energy(st, bflt, grav, i) - e0)
+    return True
+
+
+@njit(cache=True)
 def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, law_par,
-                 bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
+                 bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                 iwc):
     """Body i keeps feature kf1 on plane p (and kf2 on plane p2 when K == 2: the same
     plane, or the other plane of a groove or a corner; feature rows): remove their (tiny)
     normal velocities with normal impulses, choose stick or slip, and enter integrated
-    contact (event "pivot"). Returns 0, 1 (no contact can persist) or an error."""
+    contact (event "pivot"). One sliding contact with no consistent force (Painleve) takes
+    an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
+    the body then flies off (return 2) or, leaving slower than the accumulation speed, is
+    held again (once). Returns 0, 1 (no contact can persist), 2 or an error."""
     if K < 2:
         p2 = p
     pv[i, CP_M] = bflt[i, B_MASS]
@@ -1209,6 +1281,29 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
             if c > 0.0:
                 _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
     rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
+    if (rc == ERR_PAINLEVE and err[6] == PV_PAINLEVE and K == 1 and pv[i, CP_S1] == 0.0
+            and iwc == PAINLEVE_IMPACT
+            and _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t,
+                        ev_i, ev_f, cnt)):
+        _pv_frame(c_f, cw, st, i, pv, 0)
+        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
+        if vn > 0.0 and vn * vn > _vz2(tolf, abs(gn)):
+            pm[i, M_MODE] = PM_FLIGHT       # it leaves the plane: flight from t
+            for j in range(3):
+                st[i, SA + j] = grav[j]
+                st[i, SAL + j] = 0.0
+            tz[i] = INF
+            ttr[i] = INF
+            return 2
+        # it leaves slower than the accumulation speed: held again, sticking or sliding
+        _pv_zero_normals(st, i, bflt, pv, Ii)
+        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        pv[i, CP_S1] = 0.0
+        if v1 * v1 + v2 * v2 <= eps * eps:
+            pv[i, CP_S1] = 1.0
+            _pv_unslip(st, i, bflt, pv, 0, c_f, cw, Ii)
+        rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if rc != 0:
         return rc
     pm[i, M_MODE] = PM_PIVOT
@@ -1787,7 +1882,8 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     ttr[i] = INF
     rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, t, st, bint, bflt, feats, planes, grav,
                       law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
-                      cw, Ii, err)
+                      cw, Ii, err,
+                      0.0)    # (no impact without collision here)
     if rc < 0:
         return rc
     if rc == 1:     # the plane no longer pushes
@@ -2051,7 +2147,8 @@ def _groove_slide(i, p, q, t, st, bint, bflt, feats, planes, grav, law_par, bp_l
     f = bint[i, B_FIRST]
     rc = _pivot_enter(i, p, f, q, f, 2, t, st, bint, bflt, feats, planes, grav, law_par,
                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
-                      err)
+                      err,
+                      0.0)    # (no impact without collision here)
     if rc == 1:
         _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0, 0.0)
         return ERR_UNSUPPORTED
@@ -2547,7 +2644,7 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                 return _not_compiled(err, t, i, FEATURE_PIVOT)
             rc = _pivot_enter(i, p, k1, p2, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
                               bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
-                              cw, Ii, err)
+                              cw, Ii, err, tolf[TF_PAINLEVE])
             if rc == 1:
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
                          0.0)

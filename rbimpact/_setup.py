@@ -48,6 +48,13 @@ def check_scene(who, scene, policy, policies):
     return choice(f"{who}: policy", policy, policies)
 
 
+def check_painleve(who, painleve):
+    """``painleve`` is one of ``kernels.codes.PAINLEVE_OPTIONS`` ("error", "impact");
+    returns it."""
+    from .kernels.codes import PAINLEVE_OPTIONS
+    return choice(f"{who}: painleve", painleve, PAINLEVE_OPTIONS)
+
+
 def _check_body(who, scene, i):
     if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) \
             or not 0 <= int(i) < len(scene.bodies):

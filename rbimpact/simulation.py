@@ -142,8 +142,9 @@ import warnings
 
 import numpy as np
 
-from ._setup import (Arena, check_law, check_run_args, check_scene, check_tolerances,
-                     compiled_loop, pack_laws, run_status)
+from ._setup import (Arena, check_law, check_painleve, check_run_args, check_scene,
+                     check_tolerances, compiled_loop, pack_laws, run_status)
+from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
 from .result import Result, _build_events
@@ -230,7 +231,12 @@ class Simulation:
     Keywords: ``policy`` ("simultaneous" or "sequential", see the module docstring),
     ``ignore_unsupported_pairs`` (bool: only disks collide with each other, the other
     bodies pass through each other, as before issue 16; default False: every pair of
-    shapes collides), and the tolerances of ``TOLERANCES`` (name: default, unit):
+    shapes collides), ``painleve`` ("impact", default: a body whose impacts leave a
+    contact sliding at v_N = 0 where sliding has no consistent force -- the Painleve
+    paradox, ``W_NN - mu s W_NT <= 0`` -- takes an impact without collision, event
+    "painleve"; "error": the run stops with status "painleve"; a
+    Painleve state met otherwise, e.g. during an integrated slide, always stops the run),
+    and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
     simul_tol 1e-14 (relative);
@@ -246,7 +252,7 @@ class Simulation:
         return super().__new__(cls)
 
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
-                 ignore_unsupported_pairs=False, **tolerances):
+                 ignore_unsupported_pairs=False, painleve="impact", **tolerances):
         if not isinstance(scene, Scene2D):
             raise ValueError(f"Simulation: scene must be a Scene2D or a Scene3D, got {scene!r}")
         if not scene.bodies:
@@ -258,6 +264,7 @@ class Simulation:
         self.policy = policy
         self.tolerances = tol
         self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
+        self.painleve = check_painleve("Simulation", painleve)
         self._pack(pair_laws or {})
         self._check_initial()
 
@@ -297,7 +304,8 @@ class Simulation:
         self._masses.flags.writeable = False
         self._moments.flags.writeable = False
         self._law_name = getattr(self.law, "name", repr(self.law))
-        self._result_tol = {**self.tolerances, "policy": self.policy}
+        self._result_tol = {**self.tolerances, "policy": self.policy,
+                            "painleve": self.painleve}
         from .kernels import stepper2d
         self._arena = self._make_arena(stepper2d)     # the run's arrays, reset per run
 
@@ -352,6 +360,7 @@ class Simulation:
         tolf[k.TF_SIMUL_TOL] = tol["simul_tol"]
         tolf[k.TF_SIMUL_GAP] = tol["simul_gap"]
         tolf[k.TF_SEQ_VTOL] = tol["seq_vtol"]
+        tolf[k.TF_PAINLEVE] = PAINLEVE_OPTIONS.index(self.painleve)
         toli = np.zeros(k.N_TI, np.int64)
         toli[k.TI_TOI_MAXIT] = tol["toi_max_iter"]
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]

@@ -49,8 +49,9 @@ import warnings
 
 import numpy as np
 
-from ._setup import (check_law, check_run_args, check_scene, check_tolerances, compiled_loop,
-                     pack_laws, run_status)
+from ._setup import (check_law, check_painleve, check_run_args, check_scene, check_tolerances,
+                     compiled_loop, pack_laws, run_status)
+from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
 from .result3d import Result3D, build_events_3d
@@ -153,7 +154,9 @@ class Simulation3D:
     ``(i, plane)`` or ``(plane, i)``, or a ``Plane3D`` alone. Most specific key wins.
 
     Keywords: ``policy`` ("simultaneous" or "sequential"), ``ignore_unsupported_pairs``
-    (bool), ``capture`` (bool, default True: see the module docstring) and the tolerances
+    (bool), ``capture`` (bool, default True: see the module docstring), ``painleve``
+    ("impact", default, or "error": as for ``Simulation``; in 3D the impact without
+    collision is taken where impacts accumulate at one sliding point) and the tolerances
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
@@ -163,7 +166,8 @@ class Simulation3D:
     """
 
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
-                 ignore_unsupported_pairs=False, capture=True, **tolerances):
+                 ignore_unsupported_pairs=False, capture=True, painleve="impact",
+                 **tolerances):
         if not isinstance(scene, Scene3D):
             raise ValueError(f"Simulation3D: scene must be a Scene3D, got {scene!r}")
         if not scene.bodies:
@@ -176,6 +180,7 @@ class Simulation3D:
         self.law = check_law("Simulation3D", law, "law")
         self.policy = policy
         self.capture = bool(capture)
+        self.painleve = check_painleve("Simulation3D", painleve)
         self.tolerances = tol
         self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
         self._pack(pair_laws or {})
@@ -273,6 +278,7 @@ class Simulation3D:
         tolf[k.TF_ROT_TOL] = tol["rot_tol"]
         tolf[k.TF_CONTACT_TOL] = tol["contact_tol"]
         tolf[k.TF_SLIP_EPS] = tol["slip_eps"]
+        tolf[k.TF_PAINLEVE] = PAINLEVE_OPTIONS.index(self.painleve)
         toli = np.zeros(k.N_TI, np.int64)
         toli[k.TI_TOI_MAXIT] = tol["toi_max_iter"]
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
@@ -376,7 +382,8 @@ class Simulation3D:
                         gravity=self.scene.gravity,
                         law=getattr(self.law, "name", repr(self.law)),
                         tolerances={**self.tolerances, "policy": self.policy,
-                                    "capture": self.capture}, recording=recording)
+                                    "capture": self.capture, "painleve": self.painleve},
+                        recording=recording)
 
     def _sampler(self, seg_t, seg_b, seg_s, times):
         """States at ``times`` (s) from logged segment rows (``Result3D.sample``)."""

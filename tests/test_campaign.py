@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from rbimpact import Box, Disk, Law, Scene2D, Simulation
-from rbimpact.campaign import (ENERGY_RTOL, draw_scene, drop_campaign, run_drop,
+from rbimpact.campaign import (ENERGY_RTOL, build_scene, draw_scene, drop_campaign, run_drop,
                                scene_seed)
 
 CI_SCENES = 200
@@ -299,6 +299,36 @@ def test_3d_edge_that_sticks_keeps_no_slip():
     row = run_drop(3, 3654158967)
     assert row.verdict == "OK", row.note
     assert row.energy_gain < 1e-10
+
+
+def test_3d_slip_that_stopped_growing_at_a_phase_start_sticks():
+    """A box on an edge (Routh, e = 0.3, mu = 1): its first contact began to slip from
+    sticking, then its second contact stuck and a new phase began with the first slip
+    (3.5e-7 m/s, below slip_eps) already decelerating. Its growth event arms only while
+    the growth is positive, so it slid on for 0.165 s with friction along its blended
+    start direction, which no longer opposed the slip: +2.4e-5 W, 2.7e-9 of the scene's
+    energy, 'done'. Such a slip now sticks again (stepper3d._pv_validate)."""
+    row = run_drop(3, 2990834751)
+    assert row.verdict == "OK", row.note
+    assert row.energy_gain < 1e-10
+
+
+def test_3d_capsule_rolling_on_its_cap_keeps_its_energy():
+    """A capsule rolling on its cap for 6.3 s (C&R, e = 0, mu = 10: it sticks): the
+    integrator's local errors added +4.4e-10 J of 0.4 J (1.07e-9 of the scene's energy,
+    over the campaign's 1e-9). A conservative phase is now projected onto its energy after
+    every accepted step (pivot3d._keep_energy): the energy stays at its value when the
+    contact stuck to round-off, neither created nor lost."""
+    spec = draw_scene(3, 3045601098)
+    sim, t_end, max_events = build_scene(spec)
+    res = sim.run(t_end, max_events=max_events)
+    assert res.status == "done"
+    ev = res.events
+    stick = ev["t"][ev["kind"] == "stick"]
+    assert stick.size == 1 and t_end - stick[0] > 6.0     # one long rolling phase
+    t = np.linspace(stick[0], t_end, 200)
+    E = np.asarray(res.energy(t))
+    assert np.max(np.abs(E - E[0])) <= 1e-12 * abs(E[0]) + 1e-13
 
 
 def test_3d_ball_leaving_a_pending_accumulation_falls_under_gravity():
