@@ -1411,8 +1411,10 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
          w, ev_t, ev_i, ev_f, cnt, err):
     """Body i resting or sliding on a face tips over (``_persist_setup`` returned RC_TIP,
     with the loaded corner in pm[i, M_FEAT]): from t it pivots on that corner (mode table:
-    rest/slide on a face -> pivot on a vertex). Returns 0 or an error code (ERR_TIPPING
-    when no pivot state is consistent either)."""
+    rest/slide on a face -> pivot on a vertex; a corner that would slide with no
+    consistent force takes an impact without collision and may fly off: then it is in
+    flight on return). Returns 0 or an error code (ERR_TIPPING when no pivot state is
+    consistent either)."""
     p = pm[i, M_PLANE]
     k = pm[i, M_FEAT]
     pm[i, M_MODE] = PM_FLIGHT
@@ -1421,10 +1423,11 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
     st[i, ALPHA] = 0.0
     ttr[i] = INF
     rc = _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err,
-                      0.0)    # (tipping: no impact without collision)
+                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err, tolf[TF_PAINLEVE])
     if rc == 1:
         return ERR_TIPPING      # err holds the face forces set by _persist_setup
+    if rc == 2:
+        return 0                # it flies off after an impact without collision
     return rc
 
 

@@ -301,6 +301,18 @@ def test_3d_edge_that_sticks_keeps_no_slip():
     assert row.energy_gain < 1e-10
 
 
+@pytest.mark.parametrize("seed", [184805226, 1434133100, 974850801, 821168352])
+def test_2d_painleve_jam_takes_an_impact_without_collision(seed):
+    """Drops whose impacts leave a corner, a rod end or an ellipse sliding at v_N = 0 where
+    sliding has no consistent force (mu = 10: Smith, Brach, Kane & Levinson), on landing
+    or on tipping from a sliding face: refused ("painleve") before; the default
+    painleve="impact" takes Darboux-Keller's impulse from v_N = 0 and the run ends right
+    (no energy created, nothing below the floor)."""
+    row = run_drop(2, seed)
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+
+
 def test_3d_slip_that_stopped_growing_at_a_phase_start_sticks():
     """A box on an edge (Routh, e = 0.3, mu = 1): its first contact began to slip from
     sticking, then its second contact stuck and a new phase began with the first slip
