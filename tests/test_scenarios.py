@@ -18,8 +18,9 @@ import pytest
 from rbimpact import scenarios
 from rbimpact.run import list_text, run_scenario
 
-NAMES = ("billiards", "bouncing_ball", "bouncing_ellipse", "falling_rod", "perforation",
-         "polygon_collide", "rocking_block", "rod_strikes_ball", "spinning_ball", "superball")
+NAMES = ("billiards", "bouncing_ball", "bouncing_ellipse", "box_on_box", "falling_rod",
+         "painleve_rod", "perforation", "polygon_collide", "rocking_block", "rod_strikes_ball",
+         "spinning_ball", "superball")
 # the 3D scenarios (tests/test_stepper3d.py runs them)
 NAMES_3D = ("die_toss", "spinning_ball_3d", "superball_3d", "tumbling_capsule")
 # many-body scenarios (rbimpact.manybody; tests/test_gas_physics.py runs them)
