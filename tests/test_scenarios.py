@@ -23,8 +23,9 @@ NAMES = ("billiards", "bouncing_ball", "bouncing_ellipse", "box_on_box", "fallin
          "spinning_ball", "superball")
 # the 3D scenarios (tests/test_stepper3d.py runs them)
 NAMES_3D = ("die_toss", "spinning_ball_3d", "superball_3d", "tumbling_capsule")
-# many-body scenarios (rbimpact.manybody; tests/test_gas_physics.py runs them)
-NAMES_MANY = ("granular_gas",)
+# many-body scenarios (granular_gas: rbimpact.manybody, tests/test_gas_physics.py;
+# polygon_gas: the 2D stepper, tests/test_polygon_gas.py)
+NAMES_MANY = ("granular_gas", "polygon_gas")
 CASES = [(name, law) for name in NAMES for law in scenarios.spec(name).laws]
 
 # Energy may not rise between two samples by more than this fraction of the run's energy
