@@ -534,7 +534,7 @@ _COUNTERS = {
     ("smith", 2): ("smith_2d", (), ("dq = c1 + t * (2.0 * c2",
                                     "if c0 + h * (c1 + h * (c2 + h * c3)) > 0.0"), "it"),
     ("smith", 3): ("smith_3d", ("_full_3d", "_inner_3d"), (), "F evals"),
-    ("routh", 3): ("routh_3d", (), ("nstep += 1",), "RK steps"),
+    ("routh", 3): ("routh_3d", (), ("nstep += 1",), "Taylor steps"),
 }
 CLOSED_FORM = {("kane_levinson", 2), ("brach", 2), ("brach", 3), ("chatterjee_ruina", 2),
                ("chatterjee_ruina", 3), ("routh", 2)}
