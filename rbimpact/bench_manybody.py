@@ -211,10 +211,12 @@ def bench_bed(**over):
 
 
 def print_manybody(rows):
-    print(f"Many bodies: impacts/s (body-body + wall, the law on every impact) against N, "
-          f"packing {PACKING}, one thread; median wall-clock rate and rate per CPU second")
-    print(f"{'case':<48}{'record':>7}{'N':>7}{'impacts':>9}{'M/s':>8}{'M/s cpu':>9}"
-          f"{'coll':>9}{'wall':>7}{'cross/imp':>10}")
+    if any(not (r.get("poly") or r.get("bed")) for r in rows):
+        print(f"Many bodies: impacts/s (body-body + wall, the law on every impact) against "
+              f"N, packing {PACKING}, one thread; median wall-clock rate and rate per CPU "
+              f"second")
+        print(f"{'case':<48}{'record':>7}{'N':>7}{'impacts':>9}{'M/s':>8}{'M/s cpu':>9}"
+              f"{'coll':>9}{'wall':>7}{'cross/imp':>10}")
     poly_head = False
     for r in rows:
         if r.get("poly"):
