@@ -251,6 +251,36 @@ def _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, stB
 
 
 @njit(cache=True, _nrt=False)
+def _circle_window(stA, stB, R, S, gap_tol):
+    """The window ``[s_in, s_out]`` (clipped to ``[0, S]``) in which the circumcircles of
+    two bodies in free flight with equal accelerations (relative motion linear), radii
+    summing to ``R`` (m), overlap: outside it the gap is positive. ``s_in > S``: none."""
+    R = R * (1.0 + 1e-9) + gap_tol
+    dx = stB[X] - stA[X]
+    dy = stB[Y] - stA[Y]
+    ux = stB[VX] - stA[VX]
+    uy = stB[VY] - stA[VY]
+    a = ux * ux + uy * uy
+    b = 2.0 * (dx * ux + dy * uy)
+    dist = math.sqrt(dx * dx + dy * dy)
+    c = (dist - R) * (dist + R)
+    if c > 0.0:                 # apart now: they overlap between the two roots, if any
+        if b >= 0.0 or a == 0.0:
+            return INF, S
+        disc = b * b - 4.0 * a * c
+        if disc <= 0.0:
+            return INF, S
+        q = -0.5 * (b - math.sqrt(disc))        # > 0
+        return c / q, min(S, q / a)
+    if a == 0.0:                # overlapping for ever
+        return 0.0, S
+    disc = b * b - 4.0 * a * c  # >= b^2
+    sq = math.sqrt(disc)
+    s_out = (sq - b) / (2.0 * a) if b <= 0.0 else (-2.0 * c) / (b + sq)
+    return 0.0, min(S, s_out)
+
+
+@njit(cache=True, _nrt=False)
 def pair_toi(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, stB, t0, S,
              rtol, atol, gap_tol, maxit):
     """Earliest impact ``s`` in ``[0, S]`` (s after ``t0``) of bodies A and B (``pair2d_shape``
@@ -266,6 +296,11 @@ def pair_toi(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, st
                              rA + rB, t0, S, rtol, atol, gap_tol, maxit)
     K1A, K2A = body_reach(kA, rA, eaA, ebA, VA, iA, nA)
     K1B, K2B = body_reach(kB, rB, eaB, ebB, VB, iB, nB)
+    s0 = 0.0
+    if stA[AX] == stB[AX] and stA[AY] == stB[AY]:
+        s0, S = _circle_window(stA, stB, K1A + rA + K1B + rB, S, gap_tol)
+        if s0 > S:
+            return INF, TOI_OK
     s = 0.0
     g, gd, nx, ny, fa, fb = _eval(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB,
                                   iB, nB, stB, s)
@@ -273,6 +308,14 @@ def pair_toi(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB, st
         code = TOI_MISSED if g < -gap_tol else TOI_OK
         if gd < 0.0 or code == TOI_MISSED:
             return 0.0, code
+    if s0 > 0.0:
+        s = s0
+        g, gd, nx, ny, fa, fb = _eval(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB,
+                                      VB, iB, nB, stB, s)
+        if g <= 0.0 and gd < 0.0:
+            r = _polish(kA, rA, eaA, ebA, VA, iA, nA, stA, kB, rB, eaB, ebB, VB, iB, nB,
+                        stB, s, atol + rtol * abs(t0 + s))
+            return (r if r <= S else INF), TOI_OK
     H = S
     for _ in range(maxit):
         mode = AX_B if fb == FT_EDGE else (AX_A if fa == FT_EDGE else AX_WORLD)

@@ -646,7 +646,7 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 @njit(cache=True, _nrt=False)
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                    pr_t, pr_off, tolf, toli, tmp, err):
+                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
@@ -675,7 +675,20 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             fly_into(tmp[j], t_now - tref[i], tmp[j])
         else:
             fly_into(st[i], t_now - tref[i], tmp[j])
-    S = tolf[TF_T_END] - t_now
+    # no search past the next scheduled event of either body after t_now (a plane impact,
+    # an accumulation point, a transition): that event marks the body, and its pairs are
+    # searched again from there (_recompute_marked: planes first)
+    tl = tolf[TF_T_END]
+    for j in range(2):
+        i = a if j == 0 else b
+        if t_now < tz[i] < tl:
+            tl = tz[i]
+        if t_now < ttr[i] < tl:
+            tl = ttr[i]
+        for p in range(planes.shape[0]):
+            if t_now < bp_t[i, p] < tl:
+                tl = bp_t[i, p]
+    S = tl - t_now
     if disks:
         R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
         s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
@@ -759,7 +772,7 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
 
 @njit(cache=True, _nrt=False, inline="always")
 def _recompute_marked(pivot, pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                      zp, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
+                      zp, ttr, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
     """Recompute the candidates of every marked body (state at t_now) and of its pairs
     (``pair``, ``pgen``: the pair switches, see ``loop_for``)."""
     for i in range(st.shape[0]):
@@ -773,7 +786,8 @@ def _recompute_marked(pivot, pair, pgen, t_now, st, tref, bint, bflt, verts, pla
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
             if pair is not None:
                 rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
-                                     pairs, pm, tz, zp, pr_t, pr_off, tolf, toli, tmp, err)
+                                     pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
+                                     tmp, err)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
@@ -2837,7 +2851,7 @@ def _loop_for(law, pivot, wedge, pair, joint):
             if pend:
                 pend = False
                 rc = _recompute_marked(pivot, pair, pgen, glob[0], st, tref, bint, bflt, verts,
-                                       planes, pairs, pm, tz, zp, bp_t, bp_off, pr_t, pr_off,
+                                       planes, pairs, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
                                        tolf, toli, bmark, tmp, err)
                 if rc < 0:
                     return rc

@@ -232,6 +232,21 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
         if gd < 0.0 or code == TOI_MISSED:
             return 0.0, code
         g = 0.0
+    else:
+        # the feature lies within K1 of the centre, so g(s) >= n.x(s) - d - rad - K1, an
+        # exact quadratic: no root of g before the first root of that bound (closed form)
+        c0 = nx * st[0] + ny * st[1] - d - rad - K1 - gap_tol
+        if c0 > 0.0:
+            s0, _ = quadratic_descending_root(c0, nx * st[3] + ny * st[4], na, S, gap_tol)
+            if not s0 <= S:
+                return INF, TOI_OK
+            if s0 > 0.0:
+                s = s0
+                g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
+                if g <= 0.0:
+                    if gd < 0.0:
+                        return s, TOI_OK
+                    g = 0.0
     for _ in range(maxit):
         h = _safe_step(g, gd, M)
         tol = atol + rtol * abs(t0 + s)
