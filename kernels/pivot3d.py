@@ -149,7 +149,7 @@ FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM 
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
 CONE_RTOL = 1e-12   # two sticking contacts on two planes: a squeeze interval of zero
                     #   length is accepted within CONE_RTOL m |g| (round-off of the forces)
-ENERGY_FIX_MAX = 1e-6  # a conservative phase's velocities are rescaled to its energy after
+ENERGY_FIX_MAX = 1e-6  # a conservative rolling phase's velocities are rescaled to its energy after
                     #   each accepted step when the kinetic energy's relative correction is
                     #   at most this (integration error); a larger one is left alone
 
@@ -670,7 +670,11 @@ def pivot_start(pw, y0, cp, tol, max_steps):
     wcap = V / L
     pw[PW_HMAX] = MAX_ANGLE / wcap
     pw[PW_MAXSTEP] = max_steps
-    conservative = True
+    # a rolling phase on round features keeps its energy by projection (_keep_energy): it
+    # has no end of its own (a capsule rolls on its cap for ever), so the integrator's
+    # local errors would accumulate without bound; a pivot on a corner or an edge (radius
+    # 0) ends when the body falls, and is left to the integrator alone
+    conservative = cp[CP_RAD] > 0.0
     for k in range(int(cp[CP_K])):
         if cp[CP_S1 + k] != 1.0 and contact_mu(cp, k) != 0.0:
             conservative = False        # a contact slides with friction
@@ -695,8 +699,8 @@ def _potential(y, cp):
 @njit(cache=True)
 def _keep_energy(pw, cp):
     """Projection of the step's state ``pw[PW_Y]`` onto the energy of a conservative
-    phase (every contact sticks, or slides without friction: the contact forces do no
-    work): v and w are scaled by one factor, which keeps every contact velocity (linear
+    rolling phase (round features; every contact sticks, or slides without friction: the
+    contact forces do no work): v and w are scaled by one factor, which keeps every contact velocity (linear
     in v and w) at zero. Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd
     ed., section IV.4 (standard projection). Without it the energy of a long rolling or
     rocking phase drifts by the integrator's local errors (a capsule rolling 6 s on its

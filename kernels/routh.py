@@ -129,6 +129,11 @@ SING_VT_MIN = 1e-14    #   (m/s per m/s of the velocity scale |v0|), zs = max(1,
                        #   An error dv_T in where the slip ends moves v_N by z . dv_T
                        #   (v_N = v_N0 + kappa p + z . (v_T - v_T0) on every path), hence the
                        #   1/zs: the error this makes in v is O(tol |v0|) (ray lock-on: same).
+SHORT_TURN = 1.0       # a compression too short to turn the slip: when the slip would change by at
+                       #   most SHORT_TURN * tol * |v_T| over the whole impact at its start slope,
+                       #   the impulse is the closed form along the start direction (a v_N0 of
+                       #   round-off size under a finite slip: the integrator's first step is
+                       #   longer than the whole impact)
 LOCK_REL = 1.0         # ray lock-on: when v_T is within LOCK_REL * tol * |v0| / zs (m/s, distance
                        #   |v_T| |phi - phi*|) of an invariant ray phi* that attracts the slip
                        #   angle faster than |v_T| changes (dF/dphi < -|lambda|), the rest of
@@ -752,6 +757,19 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     thr = max(SING_VT_PER_TOL * tol / zs, SING_VT_MIN) * vscale
     lock = LOCK_REL * tol * vscale / zs
 
+    r0 = math.sqrt(x01 * x01 + x02 * x02)
+    if r0 > 0.0:
+        # short compression (SHORT_TURN): one segment of constant slope along u = v_T/|v_T|,
+        # v_N = vN0 + (W_NN - mu W_TN . u) p, so p_f = (1 + e) p_c for every termination
+        u1 = x01 / r0
+        u2 = x02 / r0
+        kN = a - mu * (w1 * u1 + w2 * u2)
+        d1 = w1 - mu * (c00 * u1 + c01 * u2)       # d v_T / dp
+        d2 = w2 - mu * (c01 * u1 + c11 * u2)
+        if kN > 0.0:
+            pl = -(1.0 + e) * vN0 / kN
+            if pl * math.sqrt(d1 * d1 + d2 * d2) <= SHORT_TURN * tol * r0:
+                return MODE_SLIP, pl, -mu * u1 * pl, -mu * u2 * pl
     p = 0.0
     x1 = x01
     x2 = x02
@@ -762,7 +780,6 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     pc = 0.0
     Wc = 0.0
     pf = np.inf
-    r0 = math.sqrt(x01 * x01 + x02 * x02)
     mode = MODE_SLIP
     # status: 0 sliding, 1 terminated while sliding, 2 singular zone (|v_T| < thr),
     # 3 v_T = 0 exactly at the start, 4 locked on the invariant ray (u1, u2) with rate lam

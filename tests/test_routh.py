@@ -834,3 +834,24 @@ def test_3d_taylor_near_invariant_rays(rest):
             kinds.add(lam > 0)
             n += 1
     assert kinds == {True, False}
+
+
+def test_3d_round_off_approach_under_a_finite_slip_gets_its_impulse():
+    """A contact approaching at round-off speed (v_N = -1e-18 m/s) under a slip of 0.6 m/s:
+    the Taylor integrator's first step was longer than the whole impact and it returned
+    P = 0, so a stepper resolved the same sphere pair 10000 times at t = 0 (campaign seed
+    3:3811175237, a stall). A compression too short to turn the slip now takes the
+    closed form along the start direction (routh.SHORT_TURN): P is linear in v_N0 down to
+    1e-18 m/s, agrees with the integrated impulse at 1e-6 m/s to 1e-8, and leaves v_N at
+    zero (e = 0) to round-off."""
+    from rbimpact.kernels.routh import routh_3d_scalar
+    W = (300.0, 10.0, -5.0, 250.0, 3.0, 260.0)
+    vT = (-0.43367025, 0.45002554)
+    ref = np.array(routh_3d_scalar(-1e-6, vT[0], vT[1], *W, 0.0, 0.3, 1.0, 1e-10)[1:])
+    for vn in (-1e-18, -1e-15, -1e-12):
+        mode, PN, P1, P2 = routh_3d_scalar(vn, vT[0], vT[1], *W, 0.0, 0.3, 1.0, 1e-10)
+        P = np.array([PN, P1, P2])
+        assert PN > 0.0
+        assert np.allclose(P * (-1e-6 / vn), ref, rtol=1e-8, atol=0.0)
+        vNf = vn + W[0] * PN + W[1] * P1 + W[2] * P2
+        assert abs(vNf) <= 1e-12 * abs(vn)
