@@ -129,6 +129,10 @@ SING_VT_MIN = 1e-14    #   (m/s per m/s of the velocity scale |v0|), zs = max(1,
                        #   An error dv_T in where the slip ends moves v_N by z . dv_T
                        #   (v_N = v_N0 + kappa p + z . (v_T - v_T0) on every path), hence the
                        #   1/zs: the error this makes in v is O(tol |v0|) (ray lock-on: same).
+FRICTION_NEGLIGIBLE = 1.0  # mu (1 + |W_TN| / W_NN) <= FRICTION_NEGLIGIBLE * tol: friction
+                       #   changes the impulse by less than tol of it, and the frictionless
+                       #   impulse is returned (exact in energy: with e = 1 and mu -> 0 the
+                       #   integrator's tol-level error alone would decide the sign of dE)
 SHORT_TURN = 1.0       # a compression too short to turn the slip: when the slip would change by at
                        #   most SHORT_TURN * tol * |v_T| over the whole impact at its start slope,
                        #   the impulse is the closed form along the start direction (a v_N0 of
@@ -757,6 +761,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     thr = max(SING_VT_PER_TOL * tol / zs, SING_VT_MIN) * vscale
     lock = LOCK_REL * tol * vscale / zs
 
+    if mu * (1.0 + math.sqrt(w1 * w1 + w2 * w2) / a) <= FRICTION_NEGLIGIBLE * tol:
+        return MODE_SLIP, -(1.0 + e) * vN0 / a, 0.0, 0.0     # as for mu = 0
     r0 = math.sqrt(x01 * x01 + x02 * x02)
     if r0 > 0.0:
         # short compression (SHORT_TURN): one segment of constant slope along u = v_T/|v_T|,
