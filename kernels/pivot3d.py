@@ -149,9 +149,9 @@ FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM 
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
 CONE_RTOL = 1e-12   # two sticking contacts on two planes: a squeeze interval of zero
                     #   length is accepted within CONE_RTOL m |g| (round-off of the forces)
-ENERGY_FIX_MAX = 1e-6  # a conservative rolling phase's velocities are rescaled to its energy after
-                    #   each accepted step when the kinetic energy's relative correction is
-                    #   at most this (integration error); a larger one is left alone
+ENERGY_FIX_MAX = 1e-6  # a conservative rolling phase's velocities are rescaled to its
+                    #   energy after each accepted step when the kinetic energy's relative
+                    #   correction is at most this (integration error); a larger one is left
 
 # event kinds
 PE_NONE = 0
@@ -700,9 +700,9 @@ def _potential(y, cp):
 def _keep_energy(pw, cp):
     """Projection of the step's state ``pw[PW_Y]`` onto the energy of a conservative
     rolling phase (round features; every contact sticks, or slides without friction: the
-    contact forces do no work): v and w are scaled by one factor, which keeps every contact velocity (linear
-    in v and w) at zero. Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd
-    ed., section IV.4 (standard projection). Without it the energy of a long rolling or
+    contact forces do no work): v and w are scaled by one factor, which keeps every
+    contact velocity (linear in v and w) at zero. Hairer, Lubich & Wanner, Geometric
+    Numerical Integration, 2nd ed., section IV.4 (standard projection). Without it the energy of a long rolling or
     rocking phase drifts by the integrator's local errors (a capsule rolling 6 s on its
     cap: +4e-10 J of 0.4 J, 3:3045601098)."""
     E0 = pw[PW_E0]

@@ -149,10 +149,10 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    ERR_PERSISTENT_PAIR, ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI,
                    ERR_TOO_MANY,
                    ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT,
-                   PAINLEVE_IMPACT, EV_RELEASE,
-                   EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
+                   EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
-                   POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
+                   PAINLEVE_IMPACT, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
+                   RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from .decisions import impacts_before_rest, perforates
 from .dispatch import resolve_2d_as
