@@ -1350,12 +1350,12 @@ def _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, e
 
 @njit(cache=True, _nrt=False)
 def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
-                 zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err, iwc):
+                 zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Body i (in flight at t) keeps vertex k (body-relative) on plane p: remove its tiny
     normal velocity (and a slip below the accumulation speed) by impulses, choose stick or
     slide, and schedule an integration pass at t (event "pivot"). A slide with no
     consistent force (Painleve) takes an impact without collision (``_pv_iwc``) when
-    ``iwc`` is PAINLEVE_IMPACT (a float): the body then flies off (return 2) or, when it
+    ``tolf[TF_PAINLEVE]`` is PAINLEVE_IMPACT: the body then flies off (return 2) or, when it
     leaves slower than the accumulation speed, is held again. Returns 0, 1 (no persistent
     contact is consistent), 2 (in flight after an impact without collision) or an error
     code."""
@@ -1388,7 +1388,7 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
         PN, PT = _pv_impulse(i, st, bflt, rx, ry, nx, ny, viN, viT, False)
         px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
         rc = _pv_follow_slip(i, st, w, pm, vT)
-        if (rc == ERR_PAINLEVE and iwc == PAINLEVE_IMPACT
+        if (rc == ERR_PAINLEVE and tolf[TF_PAINLEVE] == PAINLEVE_IMPACT
                 and _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pm, ev_t, ev_i, ev_f, cnt)):
             px, py, rx, ry, vN, vT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
@@ -1437,7 +1437,7 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
     st[i, ALPHA] = 0.0
     ttr[i] = INF
     rc = _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err, tolf[TF_PAINLEVE])
+                      tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
     if rc == 1:
         return ERR_TIPPING      # err holds the face forces set by _persist_setup
     if rc == 2:
@@ -2748,8 +2748,7 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                 if pivot is not None:
                     rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, B_FIRST], t,
                                       st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err,
-                                      tolf[TF_PAINLEVE])
+                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
                 else:
                     rc = _not_compiled(err, t, i, FEATURE_PIVOT)
                 if rc == 1:
