@@ -51,19 +51,26 @@ with compensated numerators and determinant.
 3D: a Taylor-series integrator in the regularised variable ``tau``, ``dp = |v_T| dtau``
 (a Sundman-type time transformation). With ``s = |v_T|`` the sliding ODE becomes
 ``dv_T/dtau = s w - mu C v_T``, ``dp/dtau = s``, ``dP_T/dtau = -mu v_T``,
-``dWk/dtau = v_N s`` (``Wk = int v_N dp``, ``v_N = v_N0 + kappa p + z.(v_T - v_T0)``,
+``dQ/dtau = s^2`` (``Q = int |v_T| dp``; ``v_N = v_N0 + kappa p + z.(v_T - v_T0)``,
 ``z = C^-1 w``): no division by ``s``, and the sharp swerve of the slip direction where
 ``|v_T|`` passes close to 0 (a short impulse interval in ``p``) is spread over a ``tau``
 interval of order ``1/|dF/dphi|``, independent of ``|v_T|`` (the ODE is homogeneous of
 degree one in ``v_T``). The Taylor coefficients come from the recurrences of automatic
-differentiation (``_taylor``; Jorba & Zou, Experiment. Math. 14:99, 2005) at the order
-``TAYLOR_ORDER_*`` chosen from ``tol``; the step from the last two coefficients (both
-terms below ``tol |v0|``, ``TAYLOR_SAFETY``) and a fraction of the estimated radius of
-convergence (``TAYLOR_RHO_FRAC``). The series is the dense output: events (``v_N = 0``,
-energetic/newton termination, poisson ``p = p_f``) are polynomial roots polished by
-safeguarded Newton. Measured (bench_laws contacts, e = 0.5, mu = 0.3, energetic, tol
-1e-10): 5-6 steps per contact on average against 26 Dormand-Prince 5(4) steps in ``p``
-(the former integrator), at a smaller error against a tol = 1e-13 reference. ``P_T`` is
+differentiation (``_taylor``; Jorba & Zou, Experiment. Math. 14:99, 2005), rearranged so
+that the serial chain s_(K-1) -> v_K -> s_K costs one multiply-add per order, at the
+order ``TAYLOR_ORDER_*`` chosen from ``tol``; the step from the last two coefficients
+(of ``v_T`` and of the normal work ``Wk = int v_N dp``, both terms below ``tol |v0|``,
+``TAYLOR_SAFETY``) and a fraction of the estimated radius of convergence
+(``TAYLOR_RHO_FRAC``). The normal work itself is evaluated from the work identity
+``Wk = P.(v0 + v)/2 + mu Q`` (``_wk_at``), whose error at the energetic termination is
+that of ``p`` times ``v_N`` (a series of ``Wk`` has its own truncation error, which the
+termination divides by ``v_N``). The series is the dense output: events (``v_N = 0``,
+energetic/newton termination, poisson ``p = p_f``) are roots polished by safeguarded
+Newton from a quadratic model, and a step goes on past the compression end to the
+termination on the same series (no new expansion at ``p_c``). Measured (bench_laws
+contacts, e = 0.5, mu = 0.3, energetic, tol 1e-10): 4.3 steps per contact on average
+against 26 Dormand-Prince 5(4) steps in ``p`` (the former integrator), at a smaller error
+against a tol = 1e-13 reference. ``P_T`` is
 carried along (on the friction cone up to truncation error, clipped onto it at the end)
 instead of being recovered as ``C^-1 (v_T - v_T0 - w p)``, which multiplies the
 tol-level error of ``v_T`` by ``||C^-1||``. When the slip is within LOCK_REL tol |v0| of
@@ -166,6 +173,11 @@ TAYLOR_P_STEP = 10.0   # and the normal impulse grows by at most TAYLOR_P_STEP |
 N_RAY_SCAN = 72        # jam check: sign scan of F(phi) = u x (w - mu C u) in steps of
                        #   360/N_RAY_SCAN degrees for the next invariant ray, then polished
 ROOT_MAX_ITER = 80     # safeguarded Newton/bisection iterations (dense-output events, rays)
+ROOT_NOISE = 4.0       # dense-output event roots also stop when the event function is within
+                       #   ROOT_NOISE * N ulps of the sum of the magnitudes of its terms
+                       #   (its rounding error, Higham's bound for Horner's rule): below
+                       #   that, Newton's steps are noise and only bisection would narrow
+                       #   the bracket further (-)
 ROOT_XTOL = 4e-16      # root polishing stops at this width: fraction of the Taylor step (-),
                        #   ray angle (rad), or relative width for the ray rate lambda
 
@@ -564,8 +576,8 @@ def _jam_ahead(u1, u2, a, w1, w2, c00, c01, c11, mu):
 # 3D: Taylor series of the sliding motion in the regularised variable tau (dp = |v_T| dtau)
 # ============================================================================================
 _NMAX = TAYLOR_ORDER_MAX + 1          # coefficients 0..N of each series (N <= TAYLOR_ORDER_MAX)
-_R_X1, _R_X2, _R_S, _R_P, _R_P1, _R_P2, _R_VN, _R_WK = 0, 1, 2, 3, 4, 5, 6, 7
-_ROWS = 8                             # series: v_T1, v_T2, |v_T|, p, P_T1, P_T2, v_N, Wk
+_R_X1, _R_X2, _R_S, _R_P, _R_P1, _R_P2, _R_VN, _R_Q = 0, 1, 2, 3, 4, 5, 6, 7
+_ROWS = 8                             # series: v_T1, v_T2, |v_T|, p, P_T1, P_T2, v_N, Q
 _SCRATCH = _ROWS * _NMAX
 _INV = np.array([0.0] + [1.0 / k for k in range(1, _NMAX + 1)])   # 1/k (constants)
 
@@ -605,54 +617,121 @@ def _taylor_order(tol):
 
 
 @njit(cache=True, error_model="numpy")
-def _taylor(T, N, x1, x2, p, P1, P2, Wk, w1, w2, m00, m01, m11, mu, c0, kap, z1, z2):
+def _taylor(T, N, x1, x2, p, P1, P2, Q, w1, w2, m00, m01, m11, mu, c0, kap, z1, z2):
     """Taylor coefficients 0..N (in tau) of the sliding motion from the state (v_T = (x1, x2),
-    p, P_T, Wk), into the rows of T. With dp = s dtau, s = |v_T|, the sliding ODE
-    (Routh; Mirtich 1996) dv_T/dp = w - mu C v_T/s, dP_T/dp = -mu v_T/s, dWk/dp = v_N becomes
-    polynomial apart from s (a Sundman-type regularisation: no division by s, no singularity
-    at v_T = 0 for finite tau):
-        dv_T/dtau = s w - mu C v_T,  dp/dtau = s,  dP_T/dtau = -mu v_T,  dWk/dtau = v_N s,
-    with v_N = c0 + kappa p + z . v_T (c0 = v_N0 - z . v_T0). The coefficients follow from
-    the Cauchy products s^2 = v_T . v_T and v_N s (automatic differentiation; Jorba & Zou,
-    Experiment. Math. 14:99, 2005): s_k = (sum_j v_j.v_(k-j) - sum_(0<j<k) s_j s_(k-j))/(2 s_0),
-    y_(k+1) = (dy/dtau)_k / (k + 1). Requires s_0 > 0."""
+    p, P_T, Q), into the rows of T. With dp = s dtau, s = |v_T|, the sliding ODE
+    (Routh; Mirtich 1996) dv_T/dp = w - mu C v_T/s, dP_T/dp = -mu v_T/s becomes polynomial
+    apart from s (a Sundman-type regularisation: no division by s, no singularity at
+    v_T = 0 for finite tau):
+        dv_T/dtau = s w - M v_T,  dp/dtau = s,  dP_T/dtau = -mu v_T,  dQ/dtau = s^2,
+    M = mu C, Q = int_0^p |v_T| dp (the friction work is -mu Q; ``_wk_at``), and the row
+    v_N = c0 + kappa p + z . v_T (c0 = v_N0 - z . v_T0). Coefficients by the recurrences of
+    automatic differentiation (Jorba & Zou, Experiment. Math. 14:99, 2005):
+    y_(K+1) = (dy/dtau)_K / (K + 1), and s from the Cauchy product s^2 = v_T . v_T,
+        2 s_0 s_K = 2 v_0 . v_K + sum_(0<j<K) (v_j . v_(K-j) - s_j s_(K-j)).
+    The recurrence is a serial chain (s_K needs v_K, which needs s_(K-1)); to shorten it,
+    v_K = (w s_(K-1) - M v_(K-1))/K is substituted into v_0 . v_K and the j = 1, K-1 terms
+    are split off: s_K = beta_K s_(K-1) + gamma_K, beta_K = u.w/K - s_1/s_0 (u = v_0/s_0;
+    s_1/(2 s_0) for K = 2), gamma_K = (v_1/s_0 - M u/K) . v_(K-1) + R_K/(2 s_0) (v_1/(2 s_0)
+    for K = 2), R_K = sum_(1<j<K-1) (v_j . v_(K-j) - s_j s_(K-j)): one multiply-add on the
+    chain per order, the rest computed off it. (s^2)_K = sum_j s_j s_(K-j) gives Q.
+    Requires s_0 > 0."""
     T[_R_X1, 0] = x1
     T[_R_X2, 0] = x2
     T[_R_P, 0] = p
     T[_R_P1, 0] = P1
     T[_R_P2, 0] = P2
-    T[_R_WK, 0] = Wk
-    s0 = math.sqrt(x1 * x1 + x2 * x2)
+    T[_R_Q, 0] = Q
+    ss0 = x1 * x1 + x2 * x2
+    s0 = math.sqrt(ss0)
     T[_R_S, 0] = s0
-    inv2s = 0.5 / s0
+    i_s0 = 1.0 / s0
+    inv2s = 0.5 * i_s0
+    u1 = x1 * i_s0
+    u2 = x2 * i_s0
+    uw = u1 * w1 + u2 * w2                 # u . w
+    mu1 = m00 * u1 + m01 * u2              # M u (M symmetric)
+    mu2 = m01 * u1 + m11 * u2
     T[_R_VN, 0] = c0 + kap * p + z1 * x1 + z2 * x2
-    for k in range(N):
-        if k > 0:
-            # s_k from the symmetric Cauchy products (each pair once, then doubled)
-            q = 0.0
-            for j in range(1, (k + 1) // 2):
-                q += (T[_R_X1, j] * T[_R_X1, k - j] + T[_R_X2, j] * T[_R_X2, k - j]
-                      - T[_R_S, j] * T[_R_S, k - j])
-            q = 2.0 * (q + (T[_R_X1, 0] * T[_R_X1, k] + T[_R_X2, 0] * T[_R_X2, k]))
-            if k % 2 == 0:
-                m = k // 2
-                q += T[_R_X1, m] * T[_R_X1, m] + T[_R_X2, m] * T[_R_X2, m] - T[_R_S, m] * T[_R_S, m]
-            T[_R_S, k] = q * inv2s
-            T[_R_VN, k] = kap * T[_R_P, k] + z1 * T[_R_X1, k] + z2 * T[_R_X2, k]
-        sk = T[_R_S, k]
-        ik = _INV[k + 1]
+    # order 1
+    b1 = w1 * s0 - (m00 * x1 + m01 * x2)
+    b2 = w2 * s0 - (m01 * x1 + m11 * x2)
+    T[_R_X1, 1] = b1
+    T[_R_X2, 1] = b2
+    T[_R_P, 1] = s0
+    T[_R_P1, 1] = -mu * x1
+    T[_R_P2, 1] = -mu * x2
+    T[_R_Q, 1] = ss0
+    s1 = u1 * b1 + u2 * b2
+    T[_R_S, 1] = s1
+    T[_R_VN, 1] = kap * s0 + z1 * b1 + z2 * b2
+    g1 = b1 * i_s0                         # v_1 / s_0: the j = 1 and K-1 terms
+    g2 = b2 * i_s0
+    sc = s1 * i_s0
+    # order 2 (the j = 1 term counted once)
+    ik = _INV[2]
+    T[_R_X1, 2] = (w1 * s1 - (m00 * b1 + m01 * b2)) * ik
+    T[_R_X2, 2] = (w2 * s1 - (m01 * b1 + m11 * b2)) * ik
+    T[_R_P, 2] = s1 * ik
+    T[_R_P1, 2] = -mu * b1 * ik
+    T[_R_P2, 2] = -mu * b2 * ik
+    T[_R_Q, 2] = 2.0 * s0 * s1 * ik
+    sk = (uw * ik - 0.5 * sc) * s1 + ((0.5 * g1 - mu1 * ik) * b1 + (0.5 * g2 - mu2 * ik) * b2)
+    T[_R_S, 2] = sk
+    T[_R_VN, 2] = kap * T[_R_P, 2] + z1 * T[_R_X1, 2] + z2 * T[_R_X2, 2]
+    sq = 2.0 * s0 * sk + s1 * s1           # (s^2)_2
+    for k in range(2, N):
+        K = k + 1
+        ik = _INV[K]
         a1 = T[_R_X1, k]
         a2 = T[_R_X2, k]
-        T[_R_X1, k + 1] = (w1 * sk - (m00 * a1 + m01 * a2)) * ik
-        T[_R_X2, k + 1] = (w2 * sk - (m01 * a1 + m11 * a2)) * ik
-        T[_R_P, k + 1] = sk * ik
-        T[_R_P1, k + 1] = -mu * a1 * ik
-        T[_R_P2, k + 1] = -mu * a2 * ik
-        acc = 0.0
-        for j in range(k + 1):
-            acc += T[_R_VN, j] * T[_R_S, k - j]
-        T[_R_WK, k + 1] = acc * ik
-    T[_R_VN, N] = kap * T[_R_P, N] + z1 * T[_R_X1, N] + z2 * T[_R_X2, N]
+        T[_R_X1, K] = (w1 * sk - (m00 * a1 + m01 * a2)) * ik
+        T[_R_X2, K] = (w2 * sk - (m01 * a1 + m11 * a2)) * ik
+        T[_R_P, K] = sk * ik
+        T[_R_P1, K] = -mu * a1 * ik
+        T[_R_P2, K] = -mu * a2 * ik
+        T[_R_Q, K] = sq * ik
+        # s_K: the pairs (j, K-j), 2 <= j < K-j, once and doubled, and the middle term
+        RX = 0.0
+        RS = 0.0
+        for j in range(2, (K + 1) // 2):
+            RX += T[_R_X1, j] * T[_R_X1, K - j] + T[_R_X2, j] * T[_R_X2, K - j]
+            RS += T[_R_S, j] * T[_R_S, K - j]
+        RX = 2.0 * RX
+        RS = 2.0 * RS
+        if K % 2 == 0:
+            m = K // 2
+            RX += T[_R_X1, m] * T[_R_X1, m] + T[_R_X2, m] * T[_R_X2, m]
+            RS += T[_R_S, m] * T[_R_S, m]
+        gam = (g1 - mu1 * ik) * a1 + (g2 - mu2 * ik) * a2 + (RX - RS) * inv2s
+        sq = 2.0 * s1 * sk + RS             # (s^2)_K without its 2 s_0 s_K term
+        sk = (uw * ik - sc) * sk + gam
+        sq += 2.0 * s0 * sk
+        T[_R_S, K] = sk
+        T[_R_VN, K] = kap * T[_R_P, K] + z1 * T[_R_X1, K] + z2 * T[_R_X2, K]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wk_coefs(T, N):
+    """Taylor coefficients N and N - 1 of the normal work Wk = int v_N dp in tau
+    (dWk/dtau = v_N s: Wk_K = sum_(j<K) (v_N)_j s_(K-1-j) / K), for the step control."""
+    aN = 0.0
+    aM = 0.0
+    for j in range(N - 1):
+        aN += T[_R_VN, j] * T[_R_S, N - 1 - j]
+        aM += T[_R_VN, j] * T[_R_S, N - 2 - j]
+    aN += T[_R_VN, N - 1] * T[_R_S, 0]
+    return aN * _INV[N], aM * _INV[N - 1]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wk_at(vN0, x01, x02, mu, vN, p, x1, x2, P1, P2, Q):
+    """Normal work Wk = int_0^p v_N dp (J) from the work identity: with v = v0 + W P and W
+    symmetric, int v . dP = P . (v0 + v) / 2 along any path, and v_T . dP_T = -mu |v_T| dp
+    while sliding (Coulomb), so Wk = P . (v0 + v) / 2 + mu Q, Q = int_0^p |v_T| dp. Its
+    error near the energetic termination is the error of p times v_N there (a series of Wk
+    itself has a truncation error of its own, which the termination divides by v_N)."""
+    return 0.5 * ((vN0 + vN) * p + (x01 + x1) * P1 + (x02 + x2) * P2) + mu * Q
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -666,45 +745,115 @@ def _poly(T, r, N, t):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _poly_state(T, N, t):
-    """The series of v_T1, v_T2, p, P_T1, P_T2, Wk at t, in one interleaved Horner loop."""
+    """The series of v_T1, v_T2, p, P_T1, P_T2, Q at t, in one interleaved Horner loop."""
     y1 = T[_R_X1, N]
     y2 = T[_R_X2, N]
     yp = T[_R_P, N]
     q1 = T[_R_P1, N]
     q2 = T[_R_P2, N]
-    yw = T[_R_WK, N]
+    yq = T[_R_Q, N]
     for k in range(N - 1, -1, -1):
         y1 = y1 * t + T[_R_X1, k]
         y2 = y2 * t + T[_R_X2, k]
         yp = yp * t + T[_R_P, k]
         q1 = q1 * t + T[_R_P1, k]
         q2 = q2 * t + T[_R_P2, k]
-        yw = yw * t + T[_R_WK, k]
-    return y1, y2, yp, q1, q2, yw
+        yq = yq * t + T[_R_Q, k]
+    return y1, y2, yp, q1, q2, yq
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _poly_d2(T, r, N, t):
+    """Row r of T as a polynomial of degree N at t, with its first and second derivatives."""
+    y = T[r, N]
+    d1 = 0.0
+    d2 = 0.0
+    for k in range(N - 1, -1, -1):
+        d2 = d2 * t + d1
+        d1 = d1 * t + y
+        y = y * t + T[r, k]
+    return y, d1, 2.0 * d2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _root_start(g0, d1, d2, lo, hi, g_hi):
+    """First iterate for an increasing event function g on [lo, hi] with g(lo) = g0 < 0 <=
+    g(hi) = g_hi: the root of its quadratic Taylor model at lo,
+    dt = 2 |g0| / (g' + sqrt(g'^2 + 2 g'' |g0|)) (no cancellation), inside the bracket;
+    else the secant (regula falsi) point."""
+    disc = d1 * d1 + 2.0 * d2 * -g0
+    if disc >= 0.0:
+        den = d1 + math.sqrt(disc)
+        if den > 0.0:
+            t = lo + 2.0 * -g0 / den
+            if t > lo and t < hi:
+                return t
+    return lo + (hi - lo) * (g0 / (g0 - g_hi))
 
 
 @njit(cache=True, error_model="numpy")
-def _poly_root(T, r, N, target, h):
-    """Root t in [0, h] of poly_r(t) = target, given poly_r(0) < target <= poly_r(h):
-    safeguarded Newton (bisection when Newton leaves the bracket), to ROOT_XTOL h."""
-    lo = 0.0
+def _poly_root(T, r, N, target, t0, h, g_h):
+    """Root t in [t0, h] of poly_r(t) = target, given poly_r(t0) < target <= poly_r(h)
+    (``g_h = poly_r(h) - target``): safeguarded Newton (bisection when Newton leaves the
+    bracket) from the root of the quadratic model at t0 (``_root_start``), to ROOT_XTOL h
+    or to the rounding level of the polynomial (ROOT_NOISE)."""
+    lo = t0
     hi = h
-    g0 = T[r, 0] - target
-    g1 = _poly(T, r, N, h) - target
-    t = h * (g0 / (g0 - g1)) if g1 > g0 else 0.5 * h
+    g0, d1, d2 = _poly_d2(T, r, N, t0)
+    t = _root_start(g0 - target, d1, d2, t0, h, g_h)
+    noise = ROOT_NOISE * N * 2.220446049250313e-16
     for _ in range(ROOT_MAX_ITER):
         y = T[r, N]
+        ya = abs(y)
         dy = 0.0
         for k in range(N - 1, -1, -1):
             dy = dy * t + y
             y = y * t + T[r, k]
+            ya = ya * t + abs(T[r, k])
         g = y - target
+        if abs(g) <= noise * (ya + abs(target)):
+            return t                               # g is zero to rounding
         if g < 0.0:
             lo = t
-        elif g > 0.0:
-            hi = t
         else:
-            return t
+            hi = t
+        tn = t - g / dy if dy != 0.0 else -1.0
+        if not (tn > lo and tn < hi):
+            tn = 0.5 * (lo + hi)
+        if abs(tn - t) <= ROOT_XTOL * h or hi - lo <= ROOT_XTOL * h:
+            return tn
+        t = tn
+    return t
+
+
+@njit(cache=True, error_model="numpy")
+def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2):
+    """Root t in [t0, h] of Wk(t) = target (energetic termination), given Wk(t0) < target
+    <= Wk(h) (``g_h = Wk(h) - target``), Wk from the work identity (``_wk_at``) on the
+    series: safeguarded Newton (dWk/dtau = v_N s, d2Wk/dtau2 = v_N' s + v_N s') from the
+    root of the quadratic model at t0, to ROOT_XTOL h or to the rounding level of the
+    identity (ROOT_NOISE)."""
+    lo = t0
+    hi = h
+    y1, y2, yp, q1, q2, yq = _poly_state(T, N, t0)
+    vN, dvN, _ = _poly_d2(T, _R_VN, N, t0)
+    sv, ds, _ = _poly_d2(T, _R_S, N, t0)
+    g0 = _wk_at(vN0, x01, x02, mu, vN, yp, y1, y2, q1, q2, yq) - target
+    t = _root_start(g0, vN * sv, dvN * sv + vN * ds, t0, h, g_h)
+    noise = ROOT_NOISE * N * 2.220446049250313e-16
+    for _ in range(ROOT_MAX_ITER):
+        y1, y2, yp, q1, q2, yq = _poly_state(T, N, t)
+        vN = c0 + kap * yp + z1 * y1 + z2 * y2
+        g = _wk_at(vN0, x01, x02, mu, vN, yp, y1, y2, q1, q2, yq) - target
+        mag = (0.5 * (abs(vN0 * yp) + abs(vN * yp) + abs((x01 + y1) * q1)
+                      + abs((x02 + y2) * q2)) + mu * abs(yq) + abs(target))
+        if abs(g) <= noise * mag:
+            return t                               # g is zero to rounding
+        if g < 0.0:
+            lo = t
+        else:
+            hi = t
+        dy = vN * _poly(T, _R_S, N, t)
         tn = t - g / dy if dy != 0.0 else -1.0
         if not (tn > lo and tn < hi):
             tn = 0.5 * (lo + hi)
@@ -781,7 +930,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
     x2 = x02
     P1 = 0.0                                       # tangential impulse (N s)
     P2 = 0.0
-    Wk = 0.0
+    Q = 0.0                                        # int_0^p |v_T| dp (N s m/s; _wk_at)
     comp = True
     pc = 0.0
     Wc = 0.0
@@ -814,46 +963,63 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             if nstep >= MAX_STEPS:
                 return MODE_NOT_CONVERGED, 0.0, 0.0, 0.0
             nstep += 1
-            _taylor(T, N, x1, x2, p, P1, P2, Wk, w1, w2, m00, m01, m11, mu, c0, kap, z1, z2)
+            _taylor(T, N, x1, x2, p, P1, P2, Q, w1, w2, m00, m01, m11, mu, c0, kap, z1, z2)
             # ---- step size from the last two coefficients (Jorba & Zou) ----
             s0 = T[_R_S, 0]
-            cN = max(max(abs(T[_R_X1, N]), abs(T[_R_X2, N])), wsc * abs(T[_R_WK, N]))
-            cM = max(max(abs(T[_R_X1, N - 1]), abs(T[_R_X2, N - 1])),
-                     wsc * abs(T[_R_WK, N - 1]))
+            wN, wM = _wk_coefs(T, N)
+            cN = max(max(abs(T[_R_X1, N]), abs(T[_R_X2, N])), wsc * abs(wN))
+            cM = max(max(abs(T[_R_X1, N - 1]), abs(T[_R_X2, N - 1])), wsc * abs(wM))
             h = dpmax / s0
             if cN > 0.0:
                 h = min(h, TAYLOR_SAFETY * math.pow(eps / cN, invN),
                         TAYLOR_RHO_FRAC * math.pow(s0 / cN, invN))
             if cM > 0.0:
                 h = min(h, TAYLOR_SAFETY * math.pow(eps / cM, invN1))
-            # ---- events inside the step: sign of the event function at its end ----
-            ev = 0                                 # 1: compression end, 2/3: termination
-            row = _R_VN
-            target = 0.0
-            if comp:
-                if _poly(T, _R_VN, N, h) >= 0.0:
-                    ev = 1
-            elif rest == REST_NEWTON:
-                target = -e * vN0
-                if _poly(T, _R_VN, N, h) >= target:
+            # ---- events inside the step: sign of the event function at its end. The
+            # series is valid on all of [0, h]: after the compression end the step goes on
+            # to the termination check on [t_c, h] (no new expansion at p_c) ----
+            t0 = 0.0
+            ev = 0                                 # 1: compression end, 2: termination
+            gh = _poly(T, _R_VN, N, h)
+            if comp and gh >= 0.0:
+                t0 = _poly_root(T, _R_VN, N, 0.0, 0.0, h, gh)
+                y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, t0)
+                comp = False
+                pc = yp
+                Wc = _wk_at(vN0, x01, x02, mu, c0 + kap * yp + z1 * y1 + z2 * y2, yp, y1, y2,
+                            yq1, yq2, yq)
+                ev = 1
+                if e <= 0.0:
                     ev = 2
-            elif rest == REST_ENERGETIC:
-                row = _R_WK
-                target = (1.0 - e * e) * Wc
-                if _poly(T, _R_WK, N, h) >= target:
-                    ev = 2
-            else:
-                row = _R_P
-                target = pf
-                if _poly(T, _R_P, N, h) >= pf:
-                    ev = 3
-            if ev != 0:
-                t = _poly_root(T, row, N, target, h)
-            else:
-                t = h
-            y1, y2, yp, yq1, yq2, yw = _poly_state(T, N, t)
-            rn = math.sqrt(y1 * y1 + y2 * y2)
-            if ev == 0:
+                else:
+                    pf = (1.0 + e) * pc
+                    if rest == REST_POISSON and not (pf > pc):
+                        ev = 2                     # (1 + e) p_c == p_c in floating point
+            if not comp and ev != 2:
+                if rest == REST_NEWTON:
+                    target = -e * vN0
+                    if gh >= target:
+                        t0 = _poly_root(T, _R_VN, N, target, t0, h, gh - target)
+                        ev = 2
+                elif rest == REST_ENERGETIC:
+                    target = (1.0 - e * e) * Wc
+                    y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, h)
+                    gh = _wk_at(vN0, x01, x02, mu, c0 + kap * yp + z1 * y1 + z2 * y2, yp, y1, y2,
+                                yq1, yq2, yq) - target
+                    if gh >= 0.0:
+                        t0 = _wk_root(T, N, target, t0, h, gh, vN0, x01, x02, mu, c0, kap, z1,
+                                      z2)
+                        ev = 2
+                else:
+                    gh = _poly(T, _R_P, N, h) - pf
+                    if gh >= 0.0:
+                        t0 = _poly_root(T, _R_P, N, pf, t0, h, gh)
+                        ev = 3
+                if ev >= 2:
+                    y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, t0)
+            if ev < 2:
+                y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, h)
+                rn = math.sqrt(y1 * y1 + y2 * y2)
                 vNe = c0 + kap * yp + z1 * y1 + z2 * y2
                 S = a - mu * (w1 * y1 + w2 * y2) / rn if rn > 0.0 else a
                 if comp:
@@ -868,27 +1034,14 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             x1 = y1
             x2 = y2
             p = yp
-            Wk = yw
+            Q = yq
             P1 = yq1
             P2 = yq2
             if ev == 3:
                 p = pf                             # poisson lands on p_f exactly
+            if ev >= 2:
                 status = 1
                 break
-            if ev == 2:
-                status = 1
-                break
-            if ev == 1:
-                comp = False
-                pc = p
-                Wc = Wk
-                if e <= 0.0:
-                    status = 1
-                    break
-                pf = (1.0 + e) * pc
-                if rest == REST_POISSON and not (pf > pc):
-                    status = 1                     # (1 + e) p_c == p_c in floating point
-                    break
             r2 = x1 * x1 + x2 * x2
             if r2 < thr * thr:
                 status = 2
@@ -919,6 +1072,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         return mode, p, PT1, PT2
 
     vN = vN0 + kap * p + z1 * (x1 - x01) + z2 * (x2 - x02)
+    Wk = _wk_at(vN0, x01, x02, mu, vN, p, x1, x2, P1, P2, Q)    # 0 if nothing integrated
     if status == 2 or status == 4:
         r = math.sqrt(x1 * x1 + x2 * x2)
         if status == 2:
