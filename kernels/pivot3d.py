@@ -30,7 +30,12 @@ off); a sticking force reaching its friction cone (slip starts opposite to the f
 force at that instant, i.e. continuously); the slip speed of a sliding contact falling to
 ``slip_eps`` (m/s: it then sticks, its remaining slip removed by a tangential impulse of
 at most ``m slip_eps``, or slides on when sticking is infeasible); the gap of any other
-feature to any plane reaching 0 (an impact).
+feature to any plane reaching 0 (an impact). A sliding contact whose coefficient of
+``lam_k`` falls to 0 while ``lam_k`` grows without bound (a dynamic Painleve jam: the
+swerving slip turns ``u_k`` towards the cone where sliding has no consistent force) stops
+the integration where the steps shrink below ``STAGE_HMIN``; the stepper continues from
+that state by an impact without collision (``PE_JAM``), or refuses under
+``painleve="error"``.
 
 Integration: the state ``y = (x, q, v, w)`` (13 numbers, world angular velocity) by the
 Dormand-Prince RK5(4) pair with its 4th-order dense output (as ``flight3d``), steps
@@ -130,7 +135,8 @@ PW_K = 72           # 72:163 seven stages
 PW_RC = 163         # 163:228 dense output, 5 x 13
 PW_WHY = 228        # the pivot_forces code (PV_*) of the last force failure
 PW_E0 = 229         # energy (J) a conservative phase keeps (NaN: the phase dissipates)
-N_PW = 230
+PW_JAM = 230        # 230:243 the state where the phase reached a Painleve jam (PE_JAM)
+N_PW = 243
 
 PI_OK = 0
 PI_TOO_MANY_STEPS = 1
@@ -159,6 +165,10 @@ PE_LIFT = 1         # index: contact 0 or 1
 PE_SLIP = 2         # a sticking contact reaches its cone (index: contact, or 2 = both)
 PE_STOP = 3         # a sliding contact's slip falls to slip_eps (index: contact)
 PE_GAP = 4          # another feature reaches a plane (index: plane * 1000 + feature)
+PE_JAM = 5          # one sliding contact reaches a Painleve jam: its normal-force coefficient
+                    #   W_NN - mu u . W_TN falls to 0 under a normal force growing without
+                    #   bound (the step shrank to STAGE_HMIN at the state kept in PW_JAM);
+                    #   scheduled by the stepper only under painleve="impact"
 
 # Dormand-Prince RK5(4)7M (the same step as flight3d): kernels/dopri5.py
 

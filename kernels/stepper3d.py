@@ -131,8 +131,9 @@ from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, p
 from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2, contact_normal,
                       contact_plane, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
-                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_LIFT, PE_NONE, PV_PAINLEVE,
-                      PE_SLIP, PE_STOP, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_S0, PW_WHY, PW_Y,
+                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE,
+                      PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
+                      PW_JAM, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
                       FW_C1, slip_growth)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
@@ -238,6 +239,18 @@ FACE_RTOL = 1e-12
 #: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
 #: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
 SNAP_RTOL = 1e-12
+#: two spheres touching (gap <= 0, within gap_tol) approach only when their centres' normal
+#: rate is below -TOUCH_RTOL (|v_a| + |v_b|) (m/s, the centres' speeds): a plastic impact
+#: between them ends at v_N = 0 up to the round-off of those speeds (-2.8e-17 m/s at
+#: 0.5 m/s, 3:3811175237), which is zero here, not a new approach at the same instant
+TOUCH_RTOL = 1e-12
+#: Painleve jam inside an integrated slide (pivot3d.PE_JAM): the phase stops within
+#: pivot3d.STAGE_HMIN of its largest step before the point where the sliding contact's
+#: normal-force coefficient A = W_NN - mu u . W_TN reaches 0. The impact without collision
+#: starts there; the last stretch to A = 0 (the slip turning by dA/dP under the unbounded
+#: normal force) is taken to first order in impulse (``_jam_approach``) when it turns the
+#: slip by at most JAM_TURN (rad); a larger turn is not a jam and stays an error
+JAM_TURN = 1e-3
 
 MAXC = 24          # contacts resolved at one instant
 N_CF = 25
@@ -704,6 +717,14 @@ def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_of
     u1 = va - vb
     u2 = wa - wb
     R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+    dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    un = (d0 * u0 + d1 * u1 + d2 * u2) / dist
+    if dist <= R and un < 0.0 and -un <= TOUCH_RTOL * (
+            math.sqrt(ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)):
+        # touching at a normal rate that is round-off: zero (TOUCH_RTOL)
+        u0 -= un * d0 / dist
+        u1 -= un * d1 / dist
+        u2 -= un * d2 / dist
     s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, aa - ab, ba - bb, ca - cb, R, t_now,
                                 tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                 tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
@@ -732,11 +753,20 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
     s, kind, idx, code = pivot_next_event(pw[i], pv[i], fw, feats, bint[i, B_FIRST], bint[i,
                                           B_COUNT], planes, skip, S, t_now, tolf[TF_TOI_RTOL],
                                           tolf[TF_TOI_ATOL], ybuf, vals, vals0, vfl)
+    if (code == PI_FORCES and pw[i, PW_WHY] == PV_PAINLEVE and pv[i, CP_K] == 1.0
+            and pv[i, CP_S1] == 0.0 and tolf[TF_PAINLEVE] == PAINLEVE_IMPACT):
+        # the slide runs into a Painleve jam: an impact without collision there (PE_JAM;
+        # the state where the step gave up is kept, pivot_eval would not reach past it)
+        for j in range(13):
+            pw[i, PW_JAM + j] = pw[i, PW_Y + j]
+        ttr[i] = t_now + s
+        pk[i, 0] = PE_JAM
+        pk[i, 1] = 0
+        return 0
     if code != PI_OK:
         # the force system failed inside the phase: say why (pivot_forces' PV_* code) at
-        # the state where it failed
-        # (pivot_forces' PV_* code where it failed: a sliding contact's normal-force
-        # coefficient reaching 0 on the way is the Painleve paradox)
+        # the state where it failed (a sliding contact's normal-force coefficient reaching
+        # 0 on the way is the Painleve paradox)
         _set_err(err, t_now + pw[i, PW_S0], i, -1 - int(pv[i, CP_PLANE]), pw[i, PW_Y + SX],
                  pw[i, PW_Y + SX + 1], pw[i, PW_Y + SX + 2], pw[i, PW_WHY], pv[i, CP_MU],
                  pv[i, CP_K])
@@ -1189,23 +1219,65 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
 
 
 @njit(cache=True)
+def _jam_approach(a, w1, w2, c00, c01, c11, mu, x1, x2):
+    """Where a contact sliding at v_N = 0 with slip ``x = (x1, x2)`` (m/s) stands before a
+    Painleve jam: the approach speed (m/s, <= 0) from which Routh's integration in the
+    normal impulse P gives the impact without collision of the jam. With ``W`` (1/kg) as in
+    ``routh_3d_scalar`` (a = W_NN, w = W_TN, C = W_TT), u = x/|x|, the coefficient
+    ``A = a - mu w . u`` and, under the normal force, ``dx/dP = w - mu C u`` (Routh's
+    sliding equations): A <= 0 gives 0 (the jam is here); A > 0 falling at
+    ``dA/dP = -mu w . (dx/dP)_perp / |x|`` reaches 0 at ``P1 = A / |dA/dP|`` (first order in
+    P1), v_N held at 0 meanwhile by the unbounded normal force. Integrated from v_N = 0,
+    v_N would rise by ``A P1 / 2`` by then; from ``-A P1 / 2`` it would touch 0 at the jam
+    (a double root: the compression's end then decided by round-off), so the integration
+    starts at ``-A P1`` and passes the jam at ``-A P1 / 2``, an error of that size in v_N
+    (1e-14 to 1e-13 m/s in the drop campaign, against slips of 1e-6 to 0.4 m/s). NaN when
+    A > 0 does not fall, or the slip would turn by more than JAM_TURN on the way."""
+    xn = math.sqrt(x1 * x1 + x2 * x2)
+    if not xn > 0.0:
+        return math.nan
+    u1 = x1 / xn
+    u2 = x2 / xn
+    A = a - mu * (w1 * u1 + w2 * u2)
+    if A <= 0.0:
+        return 0.0
+    g1 = w1 - mu * (c00 * u1 + c01 * u2)
+    g2 = w2 - mu * (c01 * u1 + c11 * u2)
+    gp = -u2 * g1 + u1 * g2             # dx/dP across u
+    turn = gp / xn                      # d(angle of u)/dP (rad per N s)
+    dA = -mu * (-w1 * u2 + w2 * u1) * turn
+    if not dA < 0.0:
+        return math.nan
+    P1 = A / -dA
+    if not abs(turn) * P1 <= JAM_TURN:
+        return math.nan
+    return -A * P1
+
+
+@njit(cache=True)
 def _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t, ev_i, ev_f,
-            cnt):
+            cnt, jam):
     """Impact without collision (Painleve) at body i's one integrated contact, on plane p,
     sliding at v_N = 0 where sliding has no consistent force (its normal force coefficient
     ``W_NN - mu u . W_TN <= 0``, u the slip direction: v_N would fall under any normal
-    force). The impulse is Darboux-Keller's integration in the normal impulse from v_N = 0
-    (``routh_3d_scalar``) with the pair's mu and e (``max(e, 0)``) and Poisson's
-    termination, whatever the pair's law (the laws are functions of an approach velocity,
-    zero here). Genot & Brogliato, Eur. J. Mech. A 18 (1999) 653; Stewart, SIAM Review 42
-    (2000) 3; Nordmark, Dankowicz & Champneys, Int. J. Non-Linear Mech. 44 (2009) 1011.
-    Logged as event "painleve". Returns True when an impulse was applied."""
+    force), or, when ``jam`` is True, just before the point of the slide where that
+    coefficient reaches 0 (``_jam_approach``). The impulse is Darboux-Keller's integration
+    in the normal impulse from v_N = 0 (``routh_3d_scalar``) with the pair's mu and e
+    (``max(e, 0)``) and Poisson's termination, whatever the pair's law (the laws are
+    functions of an approach velocity, zero here). Genot & Brogliato, Eur. J. Mech. A 18
+    (1999) 653; Stewart, SIAM Review 42 (2000) 3; Nordmark, Dankowicz & Champneys, Int. J.
+    Non-Linear Mech. 44 (2009) 1011. Logged as event "painleve". Returns True when an
+    impulse was applied."""
     _pv_frame(c_f, cw, st, i, pv, 0)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
     w00, w01, w02, w11, w12, w22 = _pv_w(st, i, bflt, c_f, cw, Ii)
     row = bp_law[i, p]
-    mode, p0, p1, p2 = routh_3d_scalar(0.0, v1, v2, w00, w01, w02, w11, w12, w22,
-                                       max(law_par[row, P_E], 0.0), law_par[row, P_MU],
+    mu = law_par[row, P_MU]
+    vn0 = _jam_approach(w00, w01, w02, w11, w12, w22, mu, v1, v2) if jam else 0.0
+    if not vn0 <= 0.0:
+        return False
+    mode, p0, p1, p2 = routh_3d_scalar(vn0, v1, v2, w00, w01, w02, w11, w12, w22,
+                                       max(law_par[row, P_E], 0.0), mu,
                                        float(REST_POISSON), law_par[row, P_TOL])
     if mode == MODE_NO_SOLUTION or not p0 > 0.0:
         return False
@@ -1219,6 +1291,46 @@ def _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t, ev_
     _log(ev_t, ev_i, ev_f, cnt, t, EV_IWC, i, -1 - p, int(mode), 0, c_f, cw, 0.0, v1, v2, u0,
          u1, u2, p0, p1, p2, _energy(st, bflt, grav, i) - e0)
     return True
+
+
+@njit(cache=True)
+def _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err):
+    """After an impact without collision at body i's one integrated contact: the body flies
+    off when its contact leaves faster than the accumulation speed (return 2: flight from
+    t), else it is held again, sticking or sliding (``_pv_validate``'s return)."""
+    _pv_frame(c_f, cw, st, i, pv, 0)
+    vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    gn = pv[i, CP_N] * grav[0] + pv[i, CP_N + 1] * grav[1] + pv[i, CP_N + 2] * grav[2]
+    if vn > 0.0 and vn * vn > _vz2(tolf, abs(gn)):
+        pm[i, M_MODE] = PM_FLIGHT
+        for j in range(3):
+            st[i, SA + j] = grav[j]
+            st[i, SAL + j] = 0.0
+        tz[i] = INF
+        ttr[i] = INF
+        return 2
+    _pv_zero_normals(st, i, bflt, pv, Ii)
+    _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii)
+    return _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
+
+
+@njit(cache=True)
+def _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii):
+    """Each held contact of body i slides along its own slip (no stored direction) when
+    that slip exceeds slip_eps, else sticks, its slip removed by ``_pv_unslip``; decided
+    in order (``_pv_unslip`` reads the statuses already set)."""
+    K = int(pv[i, CP_K])
+    eps = pv[i, CP_EPS]
+    for k in range(K):
+        pv[i, CP_S1 + k] = 0.0
+    for k in range(K):
+        _pv_frame(c_f, cw, st, i, pv, k)
+        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+        c = math.sqrt(v1 * v1 + v2 * v2)
+        if c <= eps:
+            pv[i, CP_S1 + k] = 1.0
+            if c > 0.0:
+                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
 
 
 @njit(cache=True)
@@ -1266,44 +1378,14 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
     vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
     # normal velocities to zero: W_NN (K x K) dP = -v_N
     _pv_zero_normals(st, i, bflt, pv, Ii)
-    # stick or slip
-    eps = tolf[TF_SLIP_EPS]
-    for k in range(K):
-        pv[i, CP_S1 + k] = 0.0          # decided in order below (_pv_unslip reads them)
-    for k in range(K):
-        _pv_frame(c_f, cw, st, i, pv, k)
-        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-        c = math.sqrt(v1 * v1 + v2 * v2)
-        if c > eps:
-            pv[i, CP_S1 + k] = 0.0      # slides along its own slip (no stored direction)
-        else:
-            pv[i, CP_S1 + k] = 1.0
-            if c > 0.0:
-                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+    _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii)
     rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
-    if (rc == ERR_PAINLEVE and err[6] == PV_PAINLEVE and K == 1 and pv[i, CP_S1] == 0.0
-            and iwc == PAINLEVE_IMPACT
-            and _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t,
-                        ev_i, ev_f, cnt)):
-        _pv_frame(c_f, cw, st, i, pv, 0)
-        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-        gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
-        if vn > 0.0 and vn * vn > _vz2(tolf, abs(gn)):
-            pm[i, M_MODE] = PM_FLIGHT       # it leaves the plane: flight from t
-            for j in range(3):
-                st[i, SA + j] = grav[j]
-                st[i, SAL + j] = 0.0
-            tz[i] = INF
-            ttr[i] = INF
-            return 2
-        # it leaves slower than the accumulation speed: held again, sticking or sliding
-        _pv_zero_normals(st, i, bflt, pv, Ii)
-        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-        pv[i, CP_S1] = 0.0
-        if v1 * v1 + v2 * v2 <= eps * eps:
-            pv[i, CP_S1] = 1.0
-            _pv_unslip(st, i, bflt, pv, 0, c_f, cw, Ii)
-        rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
+    if (rc == ERR_PAINLEVE and err[6] == PV_PAINLEVE and pv[i, CP_K] == 1.0
+            and pv[i, CP_S1] == 0.0 and iwc == PAINLEVE_IMPACT
+            and _pv_iwc(i, int(pv[i, CP_PLANE]), t, st, bflt, pv, law_par, bp_law, grav, c_f,
+                        cw, Ii, ev_t, ev_i, ev_f, cnt, False)):
+        # (validation may have dropped one of two contacts: the one left is contact 0)
+        rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
     if rc != 0:
         return rc
     pm[i, M_MODE] = PM_PIVOT
@@ -1340,15 +1422,44 @@ def _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, k)
 
 
 @njit(cache=True)
-def _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt, bpl, bft, pk, pv, pw, fw, ws,
-                 tolf, toli, pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
+def _pivot_jam(i, t, st, tref, bflt, grav, law_par, bp_law, pm, ttr, tz, pv, pw, fw, ws, tolf,
+               ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err):
+    """Body i's slide reached a Painleve jam (PE_JAM, painleve="impact"): from the state
+    kept in PW_JAM, the impact without collision of the jam (``_pv_iwc``); the body then
+    flies off or is held again. Returns (rc, recompute) as ``_pivot_event``."""
+    for j in range(13):
+        st[i, j] = pw[i, PW_JAM + j]
+    tref[i] = t
+    ws[i, WS_MODE] = -1.0
+    p = int(pv[i, CP_PLANE])
+    if not _pv_iwc(i, p, t, st, bflt, pv, law_par, bp_law, grav, c_f, cw, Ii, ev_t, ev_i,
+                   ev_f, cnt, True):
+        _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], PV_PAINLEVE,
+                 pv[i, CP_MU], pv[i, CP_K])
+        return ERR_PAINLEVE, False
+    rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
+    if rc < 0:
+        return rc, False
+    if rc == 1:
+        _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, 0)
+    return 0, True
+
+
+@njit(cache=True)
+def _pivot_event(i, t, st, tref, bint, bflt, grav, law_par, bp_law, pm, ttr, tz, bt, bpl, bft,
+                 pk, pv, pw, fw, ws, tolf, toli, pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
+                 err):
     """Handle the scheduled event of body i in integrated contact. Returns (rc, recompute):
     recompute is False when the event is an impact left to the impact step."""
+    kind = pk[i, 0]
+    idx = pk[i, 1]
+    if kind == PE_JAM:
+        ttr[i] = INF
+        return _pivot_jam(i, t, st, tref, bflt, grav, law_par, bp_law, pm, ttr, tz, pv, pw,
+                          fw, ws, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err)
     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
     if rc < 0:
         return rc, False
-    kind = pk[i, 0]
-    idx = pk[i, 1]
     ttr[i] = INF
     if kind == PE_GAP:
         bt[i] = t
@@ -2770,9 +2881,10 @@ def loop_for(law):
                 elif ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
                     if pivot is None:
                         return _not_compiled(err, t, i, FEATURE_PIVOT)
-                    rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, pm, ttr, bt,
-                                                 bpl, bft, pk, pv, pw, fw, ws, tolf, toli,
-                                                 pose, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err)
+                    rc, recompute = _pivot_event(i, t, st, tref, bint, bflt, grav, law_par,
+                                                 bp_law, pm, ttr, tz, bt, bpl, bft, pk, pv,
+                                                 pw, fw, ws, tolf, toli, pose, ev_t, ev_i,
+                                                 ev_f, cnt, c_f, cw, Ii, err)
                     if rc < 0:
                         return rc
                     if (recompute and pm[i, M_MODE] == PM_PIVOT

@@ -313,6 +313,47 @@ def test_2d_painleve_jam_takes_an_impact_without_collision(seed):
     assert row.penetration <= row.pen_tol
 
 
+@pytest.mark.parametrize("seed", [2983676796, 3901860502, 2442379741])
+def test_3d_slide_into_a_painleve_jam_takes_an_impact_without_collision(seed):
+    """Boxes and a capsule (mu = 10) sliding on one corner or cap whose slip swerves until
+    the normal-force coefficient W_NN - mu u . W_TN reaches 0, the normal force growing
+    without bound (a dynamic jam: Genot & Brogliato 1999; Nordmark, Dankowicz & Champneys
+    2009): the integrator gave up within 1e-12 of its step and the run was refused
+    ("Painleve paradox"). painleve="impact" takes the impact without collision there
+    (pivot3d.PE_JAM, stepper3d._jam_approach): event "painleve", an impulse in the
+    friction cone that leaves v_N >= 0 and creates no energy, and the run ends right."""
+    sim, t_end, max_events = build_scene(draw_scene(3, seed))
+    res = sim.run(t_end, max_events=max_events)
+    assert res.status == "done"
+    iwc = res.events[res.events["kind"] == "painleve"]
+    assert len(iwc) >= 1
+    P = iwc["P"]
+    mu = draw_scene(3, seed)["params"]["mu"]
+    assert np.all(P[:, 0] > 0.0)
+    assert np.all(np.hypot(P[:, 1], P[:, 2]) <= mu * P[:, 0] * (1.0 + 1e-9))
+    assert np.all(iwc["v_f"][:, 0] >= -1e-12 * np.abs(iwc["v_i"]).max())
+    row = run_drop(3, seed)        # its checks: nothing below a plane, no energy created
+    assert row.verdict == "OK", row.note
+
+
+def test_3d_two_held_contacts_one_dropped_leaves_a_painleve_slide_that_takes_an_impact():
+    """A capsule (Brach, e = 0.8, mu = 10) whose impacts accumulate at both caps: the
+    validation drops the cap whose normal force would pull, and the one left slides with
+    no consistent force. The impact without collision was tried only when one contact
+    was held from the start; it now follows the contacts left (3:3138490391)."""
+    row = run_drop(3, 3138490391)
+    assert row.verdict == "OK", row.note
+
+
+def test_3d_touching_spheres_after_a_plastic_impact_do_not_stall():
+    """Two touching spheres (Routh, Poisson e = 0, mu = 0.3) in flight: their impact ends
+    at v_N = -2.8e-17 m/s (round-off), which the pair's time of impact read as a new
+    approach at the same instant, every pass, until "the run stalls at t = 0" (3:3811175237).
+    A touching pair's normal rate within TOUCH_RTOL of the centres' speeds is zero."""
+    row = run_drop(3, 3811175237)
+    assert row.verdict == "OK", row.note
+
+
 def test_3d_slip_that_stopped_growing_at_a_phase_start_sticks():
     """A box on an edge (Routh, e = 0.3, mu = 1): its first contact began to slip from
     sticking, then its second contact stuck and a new phase began with the first slip

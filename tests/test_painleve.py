@@ -205,3 +205,64 @@ def test_3d_impact_without_collision_against_closed_form(e):
     t = np.linspace(0.0, res.t_end, 200)
     E = np.asarray(res.energy(t))
     assert np.max(np.diff(E)) <= 1e-12 * MASS * G * L_HALF
+
+
+def _random_jam_contact(rng):
+    """A random SPD contact matrix W (1/kg: a = W_NN, w = W_TN, C = W_TT), mu and a slip x
+    (m/s) whose coefficient A = a - mu w . u is small, positive and falling under Routh's
+    sliding flow dx/dP = w - mu C u (3D: the slip direction swerves)."""
+    from rbimpact.kernels.stepper3d import _jam_approach
+    while True:
+        M = rng.normal(size=(3, 3))
+        W = M @ M.T + 0.1 * np.eye(3)
+        a, w, C = W[0, 0], W[0, 1:], W[1:, 1:]
+        mu = rng.uniform(1.0, 10.0)
+        # directions where A = 0: w . u = a / mu
+        wn = np.linalg.norm(w)
+        if mu * wn <= a:
+            continue
+        phi_w = math.atan2(w[1], w[0])
+        half = math.acos(a / (mu * wn))
+        for sgn in (1.0, -1.0):
+            # start just outside the arc A < 0, on the side the flow turns u into it
+            phi = phi_w + sgn * (half + 1e-6)
+            u = np.array([math.cos(phi), math.sin(phi)])
+            x = rng.uniform(1e-3, 1.0) * u
+            vn0 = _jam_approach(a, w[0], w[1], C[0, 0], C[0, 1], C[1, 1], mu, x[0], x[1])
+            if vn0 <= 0.0:
+                return a, w, C, mu, x, vn0
+
+
+def test_3d_jam_approach_against_routh_sliding_flow():
+    """``stepper3d._jam_approach``: the impulse P1 = -vn0 / A (N s) at which a sliding slip,
+    turned by Routh's flow ``dx/dP = w - mu C x/|x|`` (integrated by scipy, rtol 1e-12),
+    brings A = a - mu w . u to 0 agrees with the closed first-order form to second order
+    (relative error below 1e-4 for a start 1e-6 rad outside the jam arc)."""
+    from scipy.integrate import solve_ivp
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        a, w, C, mu, x, vn0 = _random_jam_contact(rng)
+        u = x / np.linalg.norm(x)
+        A0 = a - mu * w @ u
+        assert A0 > 0.0
+        P1 = -vn0 / A0
+
+        def flow(P, y):
+            return w - mu * C @ (y / np.linalg.norm(y))
+
+        def jam(P, y):
+            return a - mu * w @ (y / np.linalg.norm(y))
+        jam.terminal = True
+        sol = solve_ivp(flow, (0.0, 1e3 * P1), x, events=jam, rtol=1e-12, atol=1e-15)
+        assert sol.t_events[0].size == 1
+        assert P1 == pytest.approx(sol.t_events[0][0], rel=1e-4)
+
+
+def test_3d_jam_approach_refuses_what_is_not_a_jam():
+    """NaN (no impact without collision) when A > 0 does not fall under the flow (a planar
+    slide: the slip cannot swerve), and 0 when A <= 0 already (the jam is here)."""
+    from rbimpact.kernels.stepper3d import _jam_approach
+    # planar: w along x, C diagonal, slip along x: u does not turn, dA/dP = 0
+    assert math.isnan(_jam_approach(1.0, 0.5, 0.0, 2.0, 0.0, 2.0, 1.0, -0.3, 0.0))
+    # A = 1 - 3 * 0.5 < 0 already
+    assert _jam_approach(1.0, 0.5, 0.0, 2.0, 0.0, 2.0, 3.0, 0.3, 0.0) == 0.0
