@@ -592,6 +592,9 @@ _R_X1, _R_X2, _R_S, _R_P, _R_P1, _R_P2, _R_VN, _R_Q = 0, 1, 2, 3, 4, 5, 6, 7
 _ROWS = 8                             # series: v_T1, v_T2, |v_T|, p, P_T1, P_T2, v_N, Q
 _SCRATCH = _ROWS * _NMAX
 _INV = np.array([0.0] + [1.0 / k for k in range(1, _NMAX + 1)])   # 1/k (constants)
+_CFRAC = np.array([TAYLOR_CONT ** (1.0 / (n + 1)) for n in range(_NMAX + 1)])  # TAYLOR_CONT
+_LN_RHO = math.log(TAYLOR_RHO_FRAC / TAYLOR_SAFETY)
+_LN10 = math.log(10.0)
 
 
 @intrinsic
@@ -624,11 +627,17 @@ def _scratch_overload():
 @njit(cache=True, error_model="numpy", inline="always")
 def _taylor_order(tol):
     """Series order N for the relative tolerance tol (TAYLOR_ORDER_*)."""
-    n = int(math.ceil(TAYLOR_ORDER_PER_DIGIT * -math.log10(tol))) + 1
+    return _taylor_order_ln(math.log(tol))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _taylor_order_ln(ltol):
+    """Series order N for the relative tolerance exp(ltol) (TAYLOR_ORDER_*)."""
+    n = int(math.ceil(TAYLOR_ORDER_PER_DIGIT * -ltol / _LN10)) + 1
     return min(max(n, TAYLOR_ORDER_MIN), TAYLOR_ORDER_MAX)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _taylor(T, N, x1, x2, p, P1, P2, Q, w1, w2, m00, m01, m11, mu, c0, kap, z1, z2):
     """Taylor coefficients 0..N (in tau) of the sliding motion from the state (v_T = (x1, x2),
     p, P_T, Q), into the rows of T. With dp = s dtau, s = |v_T|, the sliding ODE
@@ -647,7 +656,9 @@ def _taylor(T, N, x1, x2, p, P1, P2, Q, w1, w2, m00, m01, m11, mu, c0, kap, z1, 
     s_1/(2 s_0) for K = 2), gamma_K = (v_1/s_0 - M u/K) . v_(K-1) + R_K/(2 s_0) (v_1/(2 s_0)
     for K = 2), R_K = sum_(1<j<K-1) (v_j . v_(K-j) - s_j s_(K-j)): one multiply-add on the
     chain per order, the rest computed off it. (s^2)_K = sum_j s_j s_(K-j) gives Q.
-    Requires s_0 > 0."""
+    Requires s_0 > 0. Inlined into the integrator loop (``inline="always"``: the scratch's
+    strides become constants; measured 1.1x per contact). Explicit FMAs in the Cauchy sums
+    were slower (one longer dependency chain instead of two)."""
     T[_R_X1, 0] = x1
     T[_R_X2, 0] = x2
     T[_R_P, 0] = p
@@ -971,13 +982,14 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         m01 = mu * c01
         m11 = mu * c11
         c0 = vN0 - (z1 * x01 + z2 * x02)           # v_N = c0 + kappa p + z . v_T
-        N = _taylor_order(tol)
+        ltol = math.log(tol)
+        N = _taylor_order_ln(ltol)
         invN = 1.0 / N
         invN1 = 1.0 / (N - 1)
         eps = tol * vscale                         # error target per step (m/s)
-        leps = math.log(eps)
-        cfrac = math.exp(math.log(TAYLOR_CONT) / (N + 1))
-        lrho = math.log(TAYLOR_RHO_FRAC / TAYLOR_SAFETY) * N
+        leps = ltol + math.log(vscale)             # ln eps
+        cfrac = _CFRAC[N]
+        lrho = _LN_RHO * N
         wsc = a / vscale                           # Wk (J) -> m/s, with p scale |v0|/W_NN
         dpmax = TAYLOR_P_STEP * vscale / a         # largest impulse increment per step (N s)
         T = _scratch()
