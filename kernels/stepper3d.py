@@ -209,8 +209,9 @@ ROLL_RTOL = 1e-12
 #: sweeps cycle (redundant contacts with friction) and simul_max_iter is reached, the
 #: solve is accepted if the last sweep changed no velocity by more than
 #: simul_tol + SIMUL_ACCEPT_RTOL * V, V the larger of max |v_i| and the speed scale
-#: |v| + |w| L of the bodies in the cluster (a slow landing of a spinning box is judged
-#: against the box's motion, not the landing speed), else the run fails (ERR_PGS)
+#: |v| + |w| L + sqrt(|g| L) of the bodies in the cluster (a slow landing of a spinning box
+#: is judged against the box's motion, not the landing speed; a box coming to rest against
+#: the speed its integrated contact is controlled on, pivot3d), else the run fails (ERR_PGS)
 SIMUL_RTOL = 1e-12
 SIMUL_ACCEPT_RTOL = 1e-9
 #: integrated contact: a slip direction u is consistent when the slip's acceleration along
@@ -2401,18 +2402,21 @@ def _single(law, c, t, cluster, st, bflt, law_ids, law_par, c_i, c_f, v3, W3, P3
 
 
 @njit(cache=True)
-def _speed_scale(st, bflt, j):
-    """Speed scale of body j (m/s): ``|v| + |w| L``, L its bounding radius."""
+def _speed_scale(st, bflt, grav, j):
+    """Speed scale of body j (m/s): ``|v| + |w| L + sqrt(|g| L)``, L its bounding radius
+    (the scale of the integrated contact's error control, pivot3d: a body coming to rest
+    keeps the speed gravity gives it over its own size)."""
     L = math.sqrt(bflt[j, B_HALF] ** 2 + bflt[j, B_HALF + 1] ** 2
                   + bflt[j, B_HALF + 2] ** 2) + bflt[j, B_RADIUS]
     v = math.sqrt(st[j, SV] ** 2 + st[j, SV + 1] ** 2 + st[j, SV + 2] ** 2)
     w = math.sqrt(st[j, SW] ** 2 + st[j, SW + 1] ** 2 + st[j, SW + 2] ** 2)
-    return v + w * L
+    g = math.sqrt(grav[0] ** 2 + grav[1] ** 2 + grav[2] ** 2)
+    return v + w * L + math.sqrt(g * L)
 
 
 @njit(cache=True)
-def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli, ev_t,
-           ev_i, ev_f, cnt, err):
+def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli,
+           ev_t, ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
     K contacts (projected block Gauss-Seidel on the stacked Delassus matrix)."""
     n3 = 3 * K
@@ -2537,7 +2541,7 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf,
             for side in range(2):
                 if side == 1 and c_i[c, CI_TYPE] == 0:
                     continue
-                vsc = max(vsc, _speed_scale(st, bflt, c_i[c, CI_A] if side == 0 else
+                vsc = max(vsc, _speed_scale(st, bflt, grav, c_i[c, CI_A] if side == 0 else
                                             c_i[c, CI_B]))
     if not converged and not dmax <= tolf[TF_SIMUL_TOL] + SIMUL_ACCEPT_RTOL * vsc:
         c = members[0]
@@ -3103,8 +3107,8 @@ def loop_for(law):
                 elif policy == POL_SIMULTANEOUS:
                     if joint is None:
                         return _not_compiled(err, t, c_i[members[0], CI_A], FEATURE_JOINT)
-                    rc = _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
-                                tolf, toli, ev_t, ev_i, ev_f, cnt, err)
+                    rc = _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb,
+                                Ii, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
                     if rc < 0:
                         return rc
                 else:
