@@ -1018,8 +1018,9 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             if lh < np.inf:
                 h = min(h, TAYLOR_SAFETY * math.exp(lh))
             # ---- events inside the step: sign of the event function at its end. The
-            # series is valid on all of [0, h]: after the compression end the step goes on
-            # to the termination check on [t_c, h] (no new expansion at p_c) ----
+            # series is valid on all of [0, h]: after the compression end t_c the step goes
+            # on to the termination check on [t_c, he], he = max(t_c, TAYLOR_CONT^(1/(N+1))
+            # h) (no new expansion at p_c) ----
             t0 = 0.0
             he = h                                 # end of this step
             have_h = False                         # y* below hold the state at he
