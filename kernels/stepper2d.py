@@ -133,6 +133,12 @@ _I1 = int64[::1]
 _I2 = int64[:, ::1]
 _f = float64
 _i = int64
+#: the options of the kernels called only from compiled code, never from Python: those of
+#: ``njit(cache=True, _nrt=False)`` without the CPython and C wrappers Numba builds for calls
+#: from Python (their compile time is saved, issue 14; such a kernel called from Python
+#: would crash, so a kernel a test calls keeps the plain options)
+_INNER = dict(cache=True, _nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+_inner = njit(**_INNER)
 
 from .cache_guard import guard
 
@@ -167,7 +173,8 @@ from .pivot2d import (CP_D, CP_D2, CP_DIR, CP_EA, CP_EB, CP_GN, CP_GT, CP_I, CP_
                       ellipse_support3, pivot_advance, pivot_forces, pivot_reduce, pivot_row,
                       pivot_slip_rate, two_forces, two_slip_signs)
 from .toi2d import (FEAT_ELLIPSE, FEAT_VERTEX, TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK,
-                    disk_disk_toi, ellipse_support, feature_gap, plane_feature_toi)
+                    disk_disk_toi, disk_plane_toi, ellipse_support, feature_gap,
+                    plane_feature_toi)
 from .wedge2d import three_contact_rest, two_contact_rest
 from .pair2d import frame_rel, point_rate
 from .pair2d_shape import body_reach, vertex_at
@@ -220,7 +227,11 @@ TIP_RTOL = 1e-12     # a face corner's normal force below -TIP_RTOL m |g_n| lift
 # ellipse: rest on a face, tipping, held vertex or boundary), ``wedge`` (two or more planes:
 # rest on two contacts), ``pair`` (disk pairs) and ``joint`` (several contacts at one
 # instant), each True or None (``scene_features``), as compile-time constants of the loop:
-# a disk bouncing on a floor compiles no pivot, wedge, pair or joint code.
+# a disk bouncing on a floor compiles no pivot, wedge, pair or joint code. A fifth switch,
+# ``shapes`` (None when every body is a disk), prunes the polygon and ellipse branches of
+# the persistent-contact and time-of-impact code (a disk rests, rolls or slides in closed
+# form); a body other than a disk in such a loop is ERR_NOT_COMPILED (FEATURE_PIVOT, the
+# switch every such body sets).
 SWITCHES_IN_LOOP = True     # ``loop_for(law, *switches)``; run_loop does not take them
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
@@ -279,7 +290,7 @@ def segment_margin(nb):
 
 
 @njit((_A1, _I2, _A2, _I1, _f, _i, _i, _i, _i, _i, _f, _f, _f, _f, _f, _f, _f, _f, _f, _f,
-       _f), cache=True, _nrt=False)
+       _f), **_INNER)
 def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, viN, viT,
          vfN, vfT, PN, PT, dE):
     k = cnt[0]
@@ -323,7 +334,7 @@ def _push_row(seg_t, seg_b, seg_s, cnt, row, t, i):
     cnt[1] = k + 1
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _held_into(src, kind, nx, ny, out):
     """The motion of a body during a pending accumulation (Zeno) jump on the plane with
     normal n: ``out`` = the state row ``src`` with its normal velocity and normal
@@ -347,7 +358,7 @@ def _held_into(src, kind, nx, ny, out):
         out[8] = 0.0
 
 
-@njit((_A1, _f, _i, _i, _f, _f, _f, _f, _f), cache=True, _nrt=False)
+@njit((_A1, _f, _i, _i, _f, _f, _f, _f, _f), **_INNER)
 def _set_err(err, t, a, b, px, py, x1, x2, x3):
     err[0] = t
     err[1] = a
@@ -375,8 +386,9 @@ def _w_body(m, inertia, rx, ry, nx, ny):
     return im + cn * cn * iI, cn * ct * iI, im + ct * ct * iI
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, _nrt=False, inline="always")
 def _energy(st, bflt, grav, i):
+    """Energy (J) of body i: ``flight2d.body_energy`` (inlined: one compiled function less)."""
     return body_energy(st[i], bflt[i, B_MASS], bflt[i, B_INERTIA], grav[0], grav[1])
 
 
@@ -400,11 +412,12 @@ def _finite(st, i):
 # ------------------------------------------------------------------ contact geometry
 
 
-@njit(cache=True, _nrt=False)
-def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny):
+@_inner
+def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny, shapes=True):
     """Contact point and arm (point minus centre of mass) of feature ``feat`` of body i
-    against a plane with normal n, at the body's current state."""
-    if bint[i, B_KIND] == SH_DISK:
+    against a plane with normal n, at the body's current state (``shapes``: the shape
+    switch, None for disks only)."""
+    if shapes is None or bint[i, B_KIND] == SH_DISK:
         rad = bflt[i, B_RADIUS]
         return st[i, X] - rad * nx, st[i, Y] - rad * ny, -rad * nx, -rad * ny
     c = math.cos(st[i, ANGLE])
@@ -480,9 +493,10 @@ def _apply(st, bflt, c_i, c_f, c, PN, PT):
         st[b, OMEGA] -= (c_f[c, CF_RBX] * jy - c_f[c, CF_RBY] * jx) / bflt[b, B_INERTIA]
 
 
-@njit(cache=True, _nrt=False)
-def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
-    """Second time derivative (m/s^2) of the contact's gap in free flight, now."""
+@_inner
+def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes=True):
+    """Second time derivative (m/s^2) of the contact's gap in free flight, now (``shapes``:
+    the shape switch, None for disks only)."""
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
     a = c_i[c, CI_A]
@@ -495,7 +509,7 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
         return nx * (st[a, AX] - st[b, AX]) + ny * (st[a, AY] - st[b, AY]) + vt * vt / dist
     gn = nx * st[a, AX] + ny * st[a, AY]
     w = st[a, OMEGA]
-    if bint[a, B_KIND] == SH_ELLIPSE:
+    if shapes is not None and bint[a, B_KIND] == SH_ELLIPSE:
         ea = bflt[a, B_EA]
         eb = bflt[a, B_EB]
         c = math.cos(st[a, ANGLE])
@@ -514,10 +528,11 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav):
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp, bp_t,
-                      bp_off, tolf, toli, tmp, err):
+def _recompute_planes(pivot, shapes, i, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
+                      bp_t, bp_off, tolf, toli, tmp, err):
     """Next impact time of body i (state at t_now) against every plane (during a pending
-    accumulation jump: of its held motion, see ``_held_into``; ``tmp[0]`` scratch)."""
+    accumulation jump: of its held motion, see ``_held_into``; ``tmp[0]`` scratch).
+    ``shapes`` None (disks only): the closed form of ``toi2d.disk_plane_toi``."""
     S = tolf[TF_T_END] - t_now
     kind = FEAT_ELLIPSE if bint[i, B_KIND] == SH_ELLIPSE else FEAT_VERTEX
     v0 = bint[i, B_FIRST]
@@ -556,6 +571,8 @@ def _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, 
                 else:
                     s, code = _released_toi(row, verts[v0 + k, 0], verts[v0 + k, 1], rad,
                                             nx, ny, d, t_now, S, tolf, toli, tmp[1])
+            elif shapes is None:
+                s, code = disk_plane_toi(row, rad, nx, ny, d, S, tolf[TF_GAP_TOL])
             else:
                 s, code = plane_feature_toi(kind, row, verts[v0 + k, 0], verts[v0 + k, 1],
                                             rad, ea, eb, nx, ny, d, t_now, S,
@@ -575,7 +592,7 @@ def _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, 
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
     """Next impact (s after t0, code) of the vertex p (radius rad) of a body released from
     the plane (n, d) at t0 with its normal force vanishing: its free-flight gap starts at a
@@ -597,7 +614,7 @@ def _released_toi(row, px, py, rad, nx, ny, d, t0, S, tolf, toli, tmp):
                         tolf, toli, tmp)
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _released_toi_ellipse(row, ea, eb, nx, ny, d, t0, S, tolf, toli, tmp):
     """``_released_toi`` for an ellipse released from the plane (n, d) at t0 (its held
     contact's normal force vanished): in flight ``g(s) = n.x(s) - d - h(angle0 + w s)``
@@ -644,7 +661,7 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
     return s0 + s, code
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
                     ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
@@ -677,7 +694,7 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             fly_into(st[i], t_now - tref[i], tmp[j])
     # no search past the next scheduled event of either body after t_now (a plane impact,
     # an accumulation point, a transition): that event marks the body, and its pairs are
-    # searched again from there (_recompute_marked: planes first)
+    # searched again from there (run_loop: planes first, then _recompute_pairs)
     tl = tolf[TF_T_END]
     for j in range(2):
         i = a if j == 0 else b
@@ -732,7 +749,7 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
     """Whether bodies a and b, which had an impact at t_now (states ``tmp[0]``, ``tmp[1]``
     there) stay in contact: persistent body-body contact, not built (issue 16 item 2), so
@@ -771,17 +788,12 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _recompute_marked(pivot, pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                      zp, ttr, bp_t, bp_off, pr_t, pr_off, tolf, toli, bmark, tmp, err):
-    """Recompute the candidates of every marked body (state at t_now) and of its pairs
-    (``pair``, ``pgen``: the pair switches, see ``loop_for``)."""
-    for i in range(st.shape[0]):
-        if bmark[i] == 0:
-            continue
-        rc = _recompute_planes(pivot, i, t_now, st, tref, bint, bflt, verts, planes, pm, tz,
-                               zp, bp_t, bp_off, tolf, toli, tmp, err)
-        if rc < 0:
-            return rc
+def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
+                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err):
+    """Recompute the candidates of the pairs of every marked body (states at t_now), after
+    those of its planes (run_loop: ``_recompute_planes`` of each marked body, then this;
+    each inlined into it on its own, see ``_mark_pairs``). ``pair``, ``pgen``: those
+    switches, see ``loop_for``."""
     for q in range(pairs.shape[0]):
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
             if pair is not None:
@@ -799,8 +811,10 @@ def _recompute_marked(pivot, pair, pgen, t_now, st, tref, bint, bflt, verts, pla
 
 
 @njit(cache=True, _nrt=False)
-def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
-    """Nearest resting configuration of body i on plane p.
+def _rest_config(i, p, st, bint, bflt, verts, planes, grav, shapes=True):
+    """Nearest resting configuration of body i on plane p (``shapes``: the shape switch,
+    None in a loop for disks only, ``scene_features``; last, so that a call without it is
+    the general one).
 
     Returns (stable, face0, face1, h_rest, dangle, E_excess): the face (polygon vertex rows,
     -1 for a disk or an ellipse), the height (m) of the centre of mass above the plane at
@@ -818,7 +832,7 @@ def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
     w = st[i, OMEGA]
     hc = nx * st[i, X] + ny * st[i, Y] - d
     kind = bint[i, B_KIND]
-    if kind == SH_DISK:
+    if shapes is None or kind == SH_DISK:
         return True, -1, -1, rad, 0.0, 0.5 * m * vN * vN + m * g * max(hc - rad, 0.0)
     c = math.cos(st[i, ANGLE])
     s = math.sin(st[i, ANGLE])
@@ -896,12 +910,13 @@ def _rest_config(i, p, st, bint, bflt, verts, planes, grav):
     return stable, f0, f1, hf, dth, erot + m * g * (hc - hf)
 
 
-@njit(cache=True, _nrt=False)
-def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr,
-                   tolf, err):
+@_inner
+def _persist_setup(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                   ttr, tolf, err):
     """Choose the persistent mode of body i on plane p (normal velocity already zero) and
-    set its constant accelerations and next transition time. Returns 0, 1 (the plane does
-    not push: release) or an error code."""
+    set its constant accelerations and next transition time (``shapes``: the shape switch,
+    None for disks only). Returns 0, 1 (the plane does not push: release) or an error
+    code."""
     nx = planes[p, 0]
     ny = planes[p, 1]
     tx = ny
@@ -922,7 +937,7 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
     al = 0.0
     aT = 0.0
     mode = PM_REST
-    if kind == SH_DISK:
+    if shapes is None or kind == SH_DISK:
         vc = vT + w * rad
         kinv = 1.0 / m + rad * rad / inertia
         sig = 0.0
@@ -1020,7 +1035,7 @@ def _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt):
     p = pm[i, M_PLANE]
     nx = planes[p, 0]
@@ -1037,12 +1052,14 @@ def _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt):
          st[i, Y] - hc * ny, nx, ny, vN, vT, vN, vT, 0.0, 0.0, 0.0)
 
 
-@njit(cache=True, _nrt=False)
-def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr, tolf,
-            ev_t, ev_i, ev_f, cnt, err):
-    """Snap body i (state at t) onto its rest on plane p and enter persistent contact.
-    Returns 0, 1 (no stable rest: stays in flight) or an error code."""
-    stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts, planes, grav)
+@_inner
+def _settle(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr,
+            tolf, ev_t, ev_i, ev_f, cnt, err):
+    """Snap body i (state at t) onto its rest on plane p and enter persistent contact
+    (``shapes``: the shape switch, None for disks only). Returns 0, 1 (no stable rest: stays
+    in flight) or an error code."""
+    stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts, planes, grav,
+                                                shapes)
     if not stable:
         return 1
     nx = planes[p, 0]
@@ -1069,7 +1086,7 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
     pm[i, M_FEAT] = f0
     pm[i, M_AUX] = f1
     slip = tx * st[i, VX] + ty * st[i, VY]
-    rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+    rc = _persist_setup(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
     if rc < 0:
         return rc
@@ -1084,7 +1101,8 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
          st[i, X] - hf * nx, st[i, Y] - hf * ny, nx, ny, viN, viT, ux * nx + uy * ny,
          ux * tx + uy * ty, m * (dvx * nx + dvy * ny), m * (dvx * tx + dvy * ty),
          _energy(st, bflt, grav, i) - e0)
-    if rc == 0 and pm[i, M_MODE] == PM_REST and slip != 0.0 and bint[i, B_KIND] == SH_POLY:
+    if (shapes is not None and rc == 0 and pm[i, M_MODE] == PM_REST and slip != 0.0
+            and bint[i, B_KIND] == SH_POLY):
         # its slow slip stuck at once (_persist_setup): it has come to rest
         vfN = ux * nx + uy * ny
         vfT = ux * tx + uy * ty
@@ -1093,7 +1111,7 @@ def _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, t
     return rc
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _log_mode(i, t, st, bflt, planes, pm, ev_t, ev_i, ev_f, cnt, viN, viT):
     p = pm[i, M_PLANE]
     nx = planes[p, 0]
@@ -1105,10 +1123,11 @@ def _log_mode(i, t, st, bflt, planes, pm, ev_t, ev_i, ev_f, cnt, viN, viT):
          ux * ny - uy * nx, 0.0, 0.0, 0.0)
 
 
-@njit(cache=True, _nrt=False)
-def _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr,
-                tolf, ev_t, ev_i, ev_f, cnt, err):
-    """Slip of a persistent contact stops at t: roll, rest or slide the other way."""
+@_inner
+def _transition(shapes, i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                ttr, tolf, ev_t, ev_i, ev_f, cnt, err):
+    """Slip of a persistent contact stops at t: roll, rest or slide the other way
+    (``shapes``: the shape switch, None for disks only)."""
     fly_row(st, i, t - tref[i])
     tref[i] = t
     ttr[i] = INF
@@ -1125,7 +1144,7 @@ def _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
     else:
         st[i, VX] = 0.0
         st[i, VY] = 0.0
-    rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+    rc = _persist_setup(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                         ttr, tolf, err)
     if rc < 0 or rc == RC_TIP:
         return rc
@@ -1133,12 +1152,13 @@ def _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
     return 0
 
 
-@njit(cache=True, _nrt=False)
-def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr, tolf,
-                ev_t, ev_i, ev_f, cnt, err):
+@_inner
+def _reevaluate(shapes, i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ttr,
+                tolf, ev_t, ev_i, ev_f, cnt, err):
     """A body in persistent contact received an impulse: keep the contact (zeroing the
     normal velocity, and the rotation of a non-disk) when that motion carries less energy
-    than the accumulation threshold, else release it to free flight."""
+    than the accumulation threshold, else release it to free flight (``shapes``: the shape
+    switch, None for disks only)."""
     p = pm[i, M_PLANE]
     if pm[i, M_MODE] == PM_WEDGED:
         # struck while wedged: free flight from here (its contacts are impacts again)
@@ -1160,7 +1180,7 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
         if bint[i, B_KIND] != SH_DISK:
             st[i, OMEGA] = 0.0
         old = pm[i, M_MODE]
-        rc = _persist_setup(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+        rc = _persist_setup(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                             pm, ttr, tolf, err)
         if rc < 0 or rc == RC_TIP:
             return rc
@@ -1176,7 +1196,7 @@ def _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, 
 # ------------------------------------------------------------------ integrated pivot contact
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
     """Contact parameters (``pivot2d.CP_*``) of body i held by vertex pm[i, M_FEAT] on plane
     pm[i, M_PLANE] with contact status pm[i, M_AUX], into w."""
@@ -1230,7 +1250,7 @@ def _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm):
     w[CP_L] = L + rad
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_state(i, st, w):
     """Contact force and accelerations of body i (held, parameters in w) at its state:
     (code, lam (N), f (N), slip acceleration (m/s^2))."""
@@ -1240,7 +1260,7 @@ def _pv_state(i, st, w):
     return code, lam, f, pivot_slip_rate(w, y[1], y[3], ud, wd)
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_contact(i, st, bint, bflt, verts, planes, pm):
     """Held contact of body i (its first, ``_two_contact``): (px, py, rx, ry, v_N, v_T) at
     its current state."""
@@ -1248,7 +1268,7 @@ def _pv_contact(i, st, bint, bflt, verts, planes, pm):
     return px, py, rx, ry, vN, vT
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
     """Impulse at the contact arm r (normal n) removing the contact velocity (vN, vT)
     (``W P = -v``; ``with_t`` False: only vN, ``P_N = -vN / W_NN``). Never adds energy:
@@ -1269,7 +1289,7 @@ def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
     return PN, PT
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_choose(i, st, w, pm):
     """Stick or slide for a held contact of body i with no slip (pm[i, M_AUX] == 0 on entry):
     stick when the sticking force is in the friction cone with lam >= 0, else slide
@@ -1299,7 +1319,7 @@ def _pv_choose(i, st, w, pm):
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_follow_slip(i, st, w, pm, vT):
     """Status of body i's held contact (parameters in w) from its slip vT (m/s): sliding
     along it when vT != 0, else stick or slide as ``_pv_choose`` decides (pm[i, M_AUX]
@@ -1313,7 +1333,7 @@ def _pv_follow_slip(i, st, w, pm, vT):
     return ERR_PAINLEVE if code != PV_OK else (1 if lam < 0.0 else 0)
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, ev_t, ev_i,
             ev_f, cnt):
     """Impact without collision (Painleve): the held contact of body i on plane p slides at
@@ -1348,7 +1368,7 @@ def _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, e
     return True
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz,
                  zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Body i (in flight at t) keeps vertex k (body-relative) on plane p: remove its tiny
@@ -1420,7 +1440,7 @@ def _pivot_enter(i, p, k, t, st, bint, bflt, verts, planes, grav, law_par, bp_la
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp, ttr, tolf,
          w, ev_t, ev_i, ev_f, cnt, err):
     """Body i resting or sliding on a face tips over (``_persist_setup`` returned RC_TIP,
@@ -1445,7 +1465,7 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
     return rc
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
                 pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err):
     """One integration pass of body i held from t (``pivot2d.pivot_advance``): records its
@@ -1467,7 +1487,7 @@ def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
                  bp_t, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
                  err):
@@ -1537,7 +1557,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
 # ------------------------------------------------------------------ two held contacts
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _two_contact(i, j, st, bint, bflt, verts, planes, pm):
     """Held contact j of body i on two planes (0: ``pm[i, M_PLANE]``, ``M_FEAT``; 1:
     ``M_PLANE2``, ``M_FEAT2``): (plane, px, py, rx, ry, v_N, v_T) at its current state."""
@@ -1550,7 +1570,7 @@ def _two_contact(i, j, st, bint, bflt, verts, planes, pm):
     return p, px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _two_choose(i, st, w, pm):
     """Direction in which body i (on two planes, parameters in w, w = 0) starts to slide:
     ``s = +1`` or ``-1`` with ``s dw/dt > 0`` and both normal forces >= 0 (consistent), set
@@ -1572,7 +1592,7 @@ def _two_choose(i, st, w, pm):
     return ERR_PAINLEVE if painleve else 1
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _two_enter(i, p1, k1, p2, k2, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
                pm, tz, zp, ttr, w, ev_t, ev_i, ev_f, cnt):
     """Body i (in flight at t) whose impacts accumulate at vertex k1 on plane p1 and at k2
@@ -1653,7 +1673,7 @@ def _two_enter(i, p1, k1, p2, k2, t, st, bint, bflt, verts, planes, grav, law_pa
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _two_drop(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, w, ev_t, ev_i,
               ev_f, cnt):
     """Body i at rest (w = 0) on two planes that can neither rest nor slide on both: it
@@ -1696,7 +1716,7 @@ def _two_drop(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, w,
     return 1
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
                bp_off, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
                err):
@@ -1806,7 +1826,7 @@ def _bcode(c_i, c):
     return c_i[c, CI_B]
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _jblock(c, d, bflt, c_i, c_f):
     """2x2 block of the stacked Delassus matrix coupling contacts c and d."""
     w00 = 0.0
@@ -1856,7 +1876,7 @@ def _jblock(c, d, bflt, c_i, c_f):
 SIMUL_ACCEPT_RTOL = 1e-9
 
 
-@njit(cache=True, _nrt=False)     # compiled on first use: only scenes with clusters
+@_inner     # compiled on first use: only scenes with clusters
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, toli, ev_t,
            ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
@@ -1987,11 +2007,13 @@ def _sequential(law, members, K, vtol, t, st, bflt, law_ids, law_par, c_i, c_f, 
 # ------------------------------------------------------------------ the event loop
 
 
-@njit(cache=True, _nrt=False)
-def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
-          ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
+@_inner
+def _init(pivot, shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+          tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Start of a run: settle the bodies that start at rest on a plane (or pivot those
-    that start on a face that cannot hold them: tipping)."""
+    that start on a face that cannot hold them: tipping). ``pivot``, ``shapes``: those
+    feature switches (``scene_features``); a body other than a disk in a loop compiled for
+    disks only is ``ERR_NOT_COMPILED`` (the pivot feature, which such a body sets)."""
     nb = st.shape[0]
     for i in range(nb):
         tref[i] = t
@@ -2001,6 +2023,8 @@ def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, 
         if not _finite(st, i):
             _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
             return ERR_NONFINITE
+        if shapes is None and bint[i, B_KIND] != SH_DISK:
+            return _not_compiled(err, t, i, FEATURE_PIVOT)
     for i in range(nb):
         for p in range(planes.shape[0]):
             if pm[i, M_MODE] != PM_FLIGHT:
@@ -2011,14 +2035,14 @@ def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, 
             if not gn < 0.0:
                 continue
             stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts, planes,
-                                                        grav)
+                                                        grav, shapes)
             hc = nx * st[i, X] + ny * st[i, Y] - planes[p, 2]
             if not stable or hc - hf > tolf[TF_GAP_TOL]:
                 continue
             if (eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
                     and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
-                rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                             ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                rc = _settle(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par,
+                             bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 if rc == RC_TIP:
                     rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par,
                                  bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
@@ -2027,7 +2051,7 @@ def _init(pivot, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, 
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _vertex_in_instant(kind, row, px, py, bf, plane, t, t0, tw, tolf, toli):
     """Whether the vertex ``(px, py)`` of a body of several contact points (state ``row`` at
     ``t0``, ``bflt`` row ``bf``) belongs to the instant ``[t, tw]`` on ``plane``: it touches
@@ -2046,13 +2070,13 @@ def _vertex_in_instant(kind, row, px, py, bf, plane, t, t0, tw, tolf, toli):
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli,
-            tz, zp, bp_t, pr_t, c_i, c_f, bmark, err):
+def _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf, toli,
+            tref, bp_t, pr_t, c_i, bmark, err):
     """Gather the contacts touching in [t, t + simul_time] (and closing corners within
-    simul_gap; and the held vertex of a body in pivot contact), bring their bodies to t and
-    build their contact frames; a body in pivot contact is in flight from t. Returns the
-    number of contacts or an error code. ``pivot``, ``pgen``: those feature switches (True
-    or None; ``pgen`` the pairs of other shapes than two disks, ``loop_for``)."""
+    simul_gap; and the held vertex of a body in pivot contact) and mark their bodies; a
+    body in pivot contact is in flight from t. Returns the number of contacts or an error
+    code. ``pivot``: that feature switch (True or None). Then ``_bring_to_t`` and
+    ``_frames`` (flat steps inlined into run_loop on their own, see ``_mark_pairs``)."""
     nb = st.shape[0]
     npl = planes.shape[0]
     npr = pairs.shape[0]
@@ -2096,7 +2120,7 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
                 nc += 1
         if piv:
             # the integrated contact ends with the impact: in flight at t (after the
-            # impacts, _after_impacts decides what persists)
+            # impacts, _persisting and the steps after it decide what persists)
             pm[i, M_MODE] = PM_FLIGHT
             pm[i, M_PLANE2] = -1
             st[i, AX] = grav[0]
@@ -2118,11 +2142,16 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
         c_i[nc, CI_LAW] = pairs[q, 2]
         c_i[nc, CI_OFF] = 0
         nc += 1
-    # bring the bodies involved to t; a pending accumulation point is cancelled: the body
-    # continues from its held motion (on the plane, normal velocity zero; the normal
-    # energy of the unfinished accumulation, below the accumulation threshold
-    # m zeno_speed^2 / 2, is dropped without an event)
-    for i in range(nb):
+    return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _bring_to_t(t, st, tref, bint, planes, grav, tz, zp, bmark):
+    """Bring the bodies marked by ``_gather`` to t; a pending accumulation point is
+    cancelled: the body continues from its held motion (on the plane, normal velocity zero;
+    the normal energy of the unfinished accumulation, below the accumulation threshold
+    m zeno_speed^2 / 2, is dropped without an event)."""
+    for i in range(st.shape[0]):
         if bmark[i] != 0:
             held = tz[i] < INF
             if held:
@@ -2136,7 +2165,14 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
                 # and the next accumulation gained 1e-9 J, 'done')
                 st[i, AX] = grav[0]
                 st[i, AY] = grav[1]
-    # contact frames
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _frames(pgen, shapes, nc, t, st, bint, bflt, verts, planes, tolf, c_i, c_f, err):
+    """The contact frames of the ``nc`` gathered contacts (bodies at t). Returns the number
+    of contacts (a face on face pair contact adds one: ``_pair_rows``) or an error code.
+    ``pgen``, ``shapes``: the switches of the pairs of other shapes than two disks and of
+    the shapes (True or None, ``loop_for``)."""
     nc0 = nc
     for c in range(nc0):
         a = c_i[c, CI_A]
@@ -2154,7 +2190,7 @@ def _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, p
             nx = planes[p, 0]
             ny = planes[p, 1]
             px, py, rx, ry = _plane_contact(st, a, bint, bflt, verts, c_i[c, CI_FEAT],
-                                            nx, ny)
+                                            nx, ny, shapes)
             c_f[c, CF_RBX] = 0.0
             c_f[c, CF_RBY] = 0.0
         else:
@@ -2210,7 +2246,7 @@ def _face_support(V, v0, nv, c, s, ox, oy, nx, ny, sg, tol):
     return sg * best, cnt, lo, hi
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _pair_rows(c, nc, t, st, bint, bflt, verts, tolf, c_i, c_f, err):
     """Contact frame of the pair contact c (bodies at t; not two disks): the gap's normal
     from B into A and witness points of ``pair2d.frame_rel``, the arms from each centre
@@ -2328,31 +2364,25 @@ def _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb, vb
 
 
 @njit(cache=True, _nrt=False, inline="always")
-def _resolve_singles(law, nc, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2, ev_t,
-                     ev_i, ev_f, cnt, err):
+def _single_ready(c, t, st, c_i, c_f, err):
     """``_resolve`` for a loop compiled without the joint switch (``scene_features``: no
     polygon, one plane at most, no pairs), where no two contacts of an instant share a body:
     every contact is its own cluster, resolved once if it approaches (``_sequential`` with
-    K = 1, the same events), without the cluster search. Two contacts of one body are a bug
-    of ``scene_features``: ``ERR_NOT_COMPILED``."""
-    for c in range(nc):
-        for d in range(c):
-            if c_i[d, CI_A] == c_i[c, CI_A]:
-                return _not_compiled(err, t, c_i[c, CI_A], FEATURE_JOINT)
-        if c_i[c, CI_OFF] != 0:
-            continue
-        vN, vT = _contact_velocity(st, c_i, c_f, c)
-        if vN < 0.0:
-            rc, vfN = _single(law, c, t, 1, st, bflt, law_ids, law_par, c_i, c_f, v2, W2, P2,
-                              ev_t, ev_i, ev_f, cnt, err)
-            if rc < 0:
-                return rc
-            if perforates(law_par[c_i[c, CI_LAW]], vfN):
-                c_i[c, CI_OFF] = 1
-    return 0
+    K = 1, the same events), without the cluster search; run_loop calls this, then
+    ``_single`` (each inlined into it on its own, see ``_mark_pairs``), for each contact c
+    in order. Returns 1 when contact c approaches (to resolve), 0 when not (or switched
+    off), or ``ERR_NOT_COMPILED`` when it shares its body with an earlier contact (a bug of
+    ``scene_features``)."""
+    for d in range(c):
+        if c_i[d, CI_A] == c_i[c, CI_A]:
+            return _not_compiled(err, t, c_i[c, CI_A], FEATURE_JOINT)
+    if c_i[c, CI_OFF] != 0:
+        return 0
+    vN, vT = _contact_velocity(st, c_i, c_f, c)
+    return 1 if vN < 0.0 else 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
                c_i, c_f, ev_t, ev_i, ev_f, cnt):
     """Rest on several points (mode table): after the impacts of an instant, body i whose
@@ -2456,7 +2486,7 @@ def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, p
     return True
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, px, py, viN, viT, planes, ev_t, ev_i, ev_f,
            cnt):
     """Body i comes to rest on two planes (PM_WEDGED, logged on plane p at the contact
@@ -2473,7 +2503,7 @@ def _wedge(i, p, t, st, bflt, grav, pm, tz, ttr, px, py, viN, viT, planes, ev_t,
          planes[p, 1], viN, viT, 0.0, 0.0, 0.0, 0.0, _energy(st, bflt, grav, i) - e0)
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz, ttr, tolf,
                        ev_t, ev_i, ev_f, cnt, err):
     """Disk i's impacts accumulate on plane p: if it also touches another plane q (gap
@@ -2516,11 +2546,12 @@ def _disk_second_plane(i, p, t, st, bflt, planes, grav, law_par, bp_law, pm, tz,
     return 0
 
 
-# ---- wedge handlers of _after_impacts (compiled only with the wedge switch: not inlined, so
-# that a loop without it never copies their code; ``pivot``: that switch, True or None)
+# ---- wedge handlers after the impacts (_persisting, _accumulating, _holding; compiled
+# only with the wedge switch: not inlined, so that a loop without it never copies their
+# code; ``pivot``: that switch, True or None)
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                    tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f, cnt):
     """After the impacts of an instant, body i rests on two planes (``_try_wedge``), or, a
@@ -2547,7 +2578,7 @@ def _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par
     return False
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
                  tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err):
     """Disk i whose impacts accumulate on plane p and that touches a second plane q
@@ -2574,7 +2605,7 @@ def _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav, law_par, b
     return 0
 
 
-@njit(cache=True, _nrt=False)
+@_inner
 def _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes, grav, law_par,
               bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f, cnt):
     """Impacts of body i accumulate at contact ``hold`` (gap acceleration ``amin``): a
@@ -2600,22 +2631,19 @@ def _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes, grav, 
     return False
 
 
+# After the impacts of an instant (run_loop, per marked body: _persisting, then
+# _accumulating, then _holding). Flat steps, each inlined into run_loop on its own: Numba
+# copies an inlined function's whole variable table once per block of it, so one large
+# helper costs its blocks times its variables (issue 14: the single _after_impacts of
+# before took 1.6 s of a cold compile to copy).
+
+
 @njit(cache=True, _nrt=False, inline="always")
-def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                   bp_law, pairs, pm, sched, bp_off, pr_off, tolf, toli, c_i, c_f, bmark, ev,
-                   seg, cnt, tmp, w, err):
-    """After the impacts of an instant: disable perforated pairs, re-evaluate persistent
-    contacts, schedule accumulation points, hold a vertex whose impacts accumulate
-    (integrated pivot contact; other single-point chatter is an error), log segments.
-    ``pivot``, ``wedge``: feature switches (see ``scene_features``). ``sched`` = (tz, zp,
-    ttr), ``ev`` = (ev_t, ev_i, ev_f), ``seg`` = (seg_t, seg_b, seg_s) (bundled: a call of
-    more than 30 arguments cannot be inlined)."""
-    ev_t, ev_i, ev_f = ev
-    seg_t, seg_b, seg_s = seg
-    tz, zp, ttr = sched
-    nb = st.shape[0]
+def _mark_pairs(nc, pairs, bp_off, pr_off, c_i):
+    """After the impacts of an instant: perforating impacts disable their pair for good; the
+    pairs in an impact now are marked ``PR_HIT`` (their next search checks whether they stay
+    in contact: ``_pair_persists``; two disks: ``_recompute_pair``)."""
     npr = pairs.shape[0]
-    # perforating impacts disable their pair for good
     for c in range(nc):
         if c_i[c, CI_OFF] == 0:
             continue
@@ -2626,139 +2654,172 @@ def _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes, gra
                 if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
                         or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
                     pr_off[q] = PR_OFF
-    # the pairs in an impact now: their next search checks whether they stay in contact
-    # (_pair_persists; two disks: _recompute_pair)
     for c in range(nc):
         if c_i[c, CI_TYPE] == 1:
             q = -2 - c_i[c, CI_FEAT]
             if pr_off[q] == PR_ON:
                 pr_off[q] = PR_HIT
-    # persistent contacts, accumulation (Zeno) points, chatter
-    for i in range(nb):
-        if bmark[i] == 0:
-            continue
-        if wedge is not None:
-            if _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
-                              bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f,
-                              cnt):
-                continue
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _persisting(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
+                bp_law, pm, sched, tolf, c_i, c_f, w, ev, cnt, err):
+    """Body i (marked at this instant) after its impacts: at rest or spinning on two planes
+    (``_wedge_or_spin``), or its persistent contact re-evaluated (``_reevaluate``; tipping:
+    ``_tip_if``). Returns 1 when that settles its state, 0 when it is in flight (released by
+    this instant's impact on another plane: its impacts there may accumulate, as for a body
+    in flight: ``_accumulating``), or an error code. ``sched`` = (tz, zp, ttr), ``ev`` =
+    (ev_t, ev_i, ev_f)."""
+    ev_t, ev_i, ev_f = ev
+    tz, zp, ttr = sched
+    if wedge is not None:
+        if _wedge_or_spin(pivot, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
+                          bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i, ev_f, cnt):
+            return 1
+    if pm[i, M_MODE] != PM_FLIGHT:
+        rc = _reevaluate(shapes, i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                         pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+        if rc == RC_TIP:
+            rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
+                         pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+        if rc < 0:
+            return rc
         if pm[i, M_MODE] != PM_FLIGHT:
-            rc = _reevaluate(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                             pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
-            if rc == RC_TIP:
-                rc = _tip_if(pivot, i, t, st, bint, bflt, verts, planes, grav, law_par,
-                             bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+            return 1
+    return 0
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _accumulating(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav,
+                  law_par, bp_law, bp_off, pm, sched, tolf, toli, c_i, c_f, w, ev, cnt, err):
+    """Body i in flight after its impacts on planes pushing it: its first impact whose
+    rest is consistent (the centre of mass over the face, the motion left below the
+    accumulation threshold, a snap that does not lift it) schedules the accumulation (Zeno)
+    point ``tz[i]`` on that plane (a disk in a groove: ``_disk_groove``). Returns 1 when
+    scheduled (or settled), 0 when not, or an error code (``ERR_FAR_ACCUMULATION``: a disk's
+    near-elastic bounces too many to step). ``sched``, ``ev``: as ``_persisting``."""
+    ev_t, ev_i, ev_f = ev
+    tz, zp, ttr = sched
+    for c in range(nc):
+        if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
+            continue
+        p = c_i[c, CI_B]
+        if bp_off[i, p] != 0:
+            continue
+        nx = planes[p, 0]
+        ny = planes[p, 1]
+        gn = nx * grav[0] + ny * grav[1]
+        if not gn < 0.0:
+            continue
+        stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts, planes,
+                                                    grav, shapes)
+        # accumulation on that rest only when consistent: the centre of mass is over
+        # the face (stable), the motion left is below the threshold, and the snap
+        # onto the face does not lift the body (create energy)
+        thr = 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+        if not (stable and eex < thr and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
+            if bint[i, B_KIND] == SH_DISK:
+                # near-elastic bounces: stop before stepping through millions of them
+                vn = nx * st[i, VX] + ny * st[i, VY]
+                n = impacts_before_rest(vn, c_f[c, CF_VCMN], gn, t, tolf[TF_T_END], eex,
+                                        thr)
+                if n > toli[TI_ACC_MAX]:
+                    _set_err(err, t, i, -1 - p, st[i, X], st[i, Y],
+                             -vn / c_f[c, CF_VCMN], n, 0.0)
+                    return ERR_FAR_ACCUMULATION
+            continue
+        if wedge is not None and bint[i, B_KIND] == SH_DISK:
+            rc = _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav,
+                              law_par, bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f,
+                              cnt, err)
             if rc < 0:
                 return rc
-            if pm[i, M_MODE] != PM_FLIGHT:
-                continue
-            # released by this instant's impact on another plane: its impacts there may
-            # accumulate (below), as for a body in flight
-        settled = False
-        for c in range(nc):
-            if c_i[c, CI_TYPE] != 0 or c_i[c, CI_A] != i:
-                continue
-            p = c_i[c, CI_B]
-            if bp_off[i, p] != 0:
-                continue
-            nx = planes[p, 0]
-            ny = planes[p, 1]
-            gn = nx * grav[0] + ny * grav[1]
-            if not gn < 0.0:
-                continue
-            stable, f0, f1, hf, dth, eex = _rest_config(i, p, st, bint, bflt, verts,
-                                                        planes, grav)
-            # accumulation on that rest only when consistent: the centre of mass is over
-            # the face (stable), the motion left is below the threshold, and the snap
-            # onto the face does not lift the body (create energy)
-            thr = 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
-            if not (stable and eex < thr and eex >= -bflt[i, B_MASS] * (-gn) * SNAP_RTOL * hf):
-                if bint[i, B_KIND] == SH_DISK:
-                    # near-elastic bounces: stop before stepping through millions of them
-                    vn = nx * st[i, VX] + ny * st[i, VY]
-                    n = impacts_before_rest(vn, c_f[c, CF_VCMN], gn, t, tolf[TF_T_END], eex,
-                                            thr)
-                    if n > toli[TI_ACC_MAX]:
-                        _set_err(err, t, i, -1 - p, st[i, X], st[i, Y],
-                                 -vn / c_f[c, CF_VCMN], n, 0.0)
-                        return ERR_FAR_ACCUMULATION
-                continue
-            if wedge is not None and bint[i, B_KIND] == SH_DISK:
-                rc = _disk_groove(pivot, i, p, t, st, bint, bflt, verts, planes, grav,
-                                  law_par, bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f,
-                                  cnt, err)
-                if rc < 0:
-                    return rc
-                if rc == 1:
-                    settled = True
-                    break
-            after = nx * st[i, VX] + ny * st[i, VY]
-            before = c_f[c, CF_VCMN]
-            dt = 0.0
-            if after > 0.0:
-                dt = 2.0 * after / (-gn)
-                if before < 0.0:
-                    ek = -after / before
-                    if ek < 1.0:
-                        dt = dt / (1.0 - ek)
-            tz[i] = t + dt
-            zp[i] = p
-            settled = True
-            break
-        if not settled:
-            # impacts accumulating at one point: a polygon (or rod) vertex, or an ellipse's
-            # boundary, on a plane is held there (integrated pivot contact); the most
-            # strongly pushed one if several; at points on two planes: held on both
-            hold = -1
-            amin = 0.0
-            for c in range(nc):
-                if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
-                    continue
-                if c_i[c, CI_OFF] != 0:
-                    continue
-                if c_i[c, CI_TYPE] == 1 and not (bint[c_i[c, CI_A], B_KIND] == SH_DISK
-                                                 and bint[c_i[c, CI_B], B_KIND] == SH_DISK):
-                    continue    # not two disks: checked by its next search (_pair_persists)
-                vN, vT = _contact_velocity(st, c_i, c_f, c)
-                acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
-                if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
-                    if c_i[c, CI_TYPE] != 0:
-                        _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
-                                 c_f[c, CF_PY], vN, acc, 0.0)
-                        return ERR_CHATTER
-                    if acc < amin:
-                        amin = acc
-                        hold = c
-            # ... and a contact on a second plane, as slow on the scale of the first (its
-            # free gap need not accelerate into its plane: a ladder's top is pushed into the
-            # wall by the floor): held on both when that is consistent (_two_enter)
-            if (hold >= 0 and wedge is not None
-                    and _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes,
-                                  grav, law_par, bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w,
-                                  ev_t, ev_i, ev_f, cnt)):
-                continue    # its first pass (at t) records its motion
-            if hold >= 0 and bint[i, B_KIND] == SH_DISK:
-                c = hold
-                vN, vT = _contact_velocity(st, c_i, c_f, c)
-                _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN, amin,
-                         0.0)
+            if rc == 1:
+                return 1
+        after = nx * st[i, VX] + ny * st[i, VY]
+        before = c_f[c, CF_VCMN]
+        dt = 0.0
+        if after > 0.0:
+            dt = 2.0 * after / (-gn)
+            if before < 0.0:
+                ek = -after / before
+                if ek < 1.0:
+                    dt = dt / (1.0 - ek)
+        tz[i] = t + dt
+        zp[i] = p
+        return 1
+    return 0
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
+             bp_law, pm, sched, tolf, c_i, c_f, w, ev, cnt, err):
+    """Body i in flight whose impacts did not schedule an accumulation point: impacts
+    accumulating at one point, a polygon (or rod) vertex, or an ellipse's boundary, on a
+    plane, are held there (integrated pivot contact, ``_pivot_enter``); the most strongly
+    pushed one if several; at points on two planes: held on both (``_hold_two``). A disk's
+    (or a pair's) accumulating point is ``ERR_CHATTER``. Returns 0 or an error code.
+    ``sched``, ``ev``: as ``_persisting``."""
+    ev_t, ev_i, ev_f = ev
+    tz, zp, ttr = sched
+    hold = -1
+    amin = 0.0
+    for c in range(nc):
+        if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
+            continue
+        if c_i[c, CI_OFF] != 0:
+            continue
+        if c_i[c, CI_TYPE] == 1 and not (bint[c_i[c, CI_A], B_KIND] == SH_DISK
+                                         and bint[c_i[c, CI_B], B_KIND] == SH_DISK):
+            continue    # not two disks: checked by its next search (_pair_persists)
+        vN, vT = _contact_velocity(st, c_i, c_f, c)
+        acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes)
+        if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+            if c_i[c, CI_TYPE] != 0:
+                _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
+                         c_f[c, CF_PY], vN, acc, 0.0)
                 return ERR_CHATTER
-            if hold >= 0:
-                c = hold
-                if pivot is not None:
-                    rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, B_FIRST], t,
-                                      st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                                      pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
-                else:
-                    rc = _not_compiled(err, t, i, FEATURE_PIVOT)
-                if rc == 1:
-                    vN, vT = _contact_velocity(st, c_i, c_f, c)
-                    _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN,
-                             amin, 0.0)
-                    return ERR_CHATTER
-                if rc < 0:
-                    return rc
-    for i in range(nb):
+            if acc < amin:
+                amin = acc
+                hold = c
+    # ... and a contact on a second plane, as slow on the scale of the first (its free gap
+    # need not accelerate into its plane: a ladder's top is pushed into the wall by the
+    # floor): held on both when that is consistent (_two_enter)
+    if (hold >= 0 and wedge is not None
+            and _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes, grav,
+                          law_par, bp_law, pm, tz, zp, ttr, tolf, c_i, c_f, w, ev_t, ev_i,
+                          ev_f, cnt)):
+        return 0    # its first pass (at t) records its motion
+    if hold >= 0 and bint[i, B_KIND] == SH_DISK:
+        c = hold
+        vN, vT = _contact_velocity(st, c_i, c_f, c)
+        _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN, amin, 0.0)
+        return ERR_CHATTER
+    if hold >= 0:
+        c = hold
+        if pivot is not None:
+            rc = _pivot_enter(i, c_i[c, CI_B], c_i[c, CI_FEAT] - bint[i, B_FIRST], t, st,
+                              bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
+                              ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+        else:
+            rc = _not_compiled(err, t, i, FEATURE_PIVOT)
+        if rc == 1:
+            vN, vT = _contact_velocity(st, c_i, c_f, c)
+            _set_err(err, t, i, _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], vN, amin,
+                     0.0)
+            return ERR_CHATTER
+        if rc < 0:
+            return rc
+    return 0
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark, seg, cnt, tmp, err):
+    """The segments of the bodies marked at this instant, from t (a body held for a pending
+    accumulation jump: its held motion; a body in pivot contact records its own motion in
+    its first pass). Returns 0 or ``ERR_NONFINITE``. ``seg`` = (seg_t, seg_b, seg_s)."""
+    seg_t, seg_b, seg_s = seg
+    for i in range(st.shape[0]):
         if bmark[i] == 0:
             continue
         if not _finite(st, i):
@@ -2780,11 +2841,13 @@ PAIR_ALL = "all"       # ... of a scene with a pair of other shapes (pair2d, pai
 
 
 def scene_features(bint, planes, grav, n_pairs):
-    """The feature switches ``(pivot, wedge, pair, joint)`` of a scene (True, or None when
-    the scene cannot reach that mode; ``pair`` says which pair kinds: None, ``PAIR_DISKS``
-    when every body is a disk, else ``PAIR_ALL``), from its shape kinds (``bint[:, 0]``),
-    its planes (float64[np, 3]) and its number of body pairs. ``grav`` (m/s^2; the
-    signature of ``stepper3d.scene_features``): no 2D mode depends on it."""
+    """The feature switches ``(pivot, wedge, pair, joint, shapes)`` of a scene (True, or
+    None when the scene cannot reach that mode; ``pair`` says which pair kinds: None,
+    ``PAIR_DISKS`` when every body is a disk, else ``PAIR_ALL``; ``shapes`` None when every
+    body is a disk: the persistent-contact and time-of-impact code of polygons and ellipses
+    is not compiled), from its shape kinds (``bint[:, 0]``), its planes (float64[np, 3])
+    and its number of body pairs. ``grav`` (m/s^2; the signature of
+    ``stepper3d.scene_features``): no 2D mode depends on it."""
     kinds = {int(k) for k in bint[:, 0]}
     n_planes = len(planes)
     wedge = n_planes >= 2
@@ -2795,15 +2858,16 @@ def scene_features(bint, planes, grav, n_pairs):
         pair = PAIR_DISKS if kinds == {SH_DISK} else PAIR_ALL
     # several vertices of a polygon, several planes or a pair can touch at one instant
     joint = SH_POLY in kinds or wedge or pair is not None
+    shapes = not kinds <= {SH_DISK}
     return (True if pivot else None, True if wedge else None, pair,
-            True if joint else None)
+            True if joint else None, True if shapes else None)
 
 
-def loop_for(law, pivot=True, wedge=True, pair=True, joint=True):
+def loop_for(law, pivot=True, wedge=True, pair=True, joint=True, shapes=True):
     """The event loop compiled for one law (a ``LAW_*`` of ``common``, or ``LAW_ANY`` for a
     scene with several laws: dispatched per contact) and one pattern of the feature switches
-    ``pivot``, ``wedge``, ``pair``, ``joint`` (truthy when the scene can reach that mode,
-    ``scene_features``). Law and switches are compile-time constants of the loop (issue 14):
+    ``pivot``, ``wedge``, ``pair``, ``joint``, ``shapes`` (truthy when the scene can reach
+    that mode, ``shapes`` when it has a body other than a disk; ``scene_features``). Law and switches are compile-time constants of the loop (issue 14):
     plain values closed over, so Numba prunes the other laws and the switched-off modes
     before inlining and typing, and caches each variant on disk under its own key (the cache
     key of a closure holds its cell values). ``pair``: None, ``PAIR_DISKS`` (only the disk
@@ -2811,11 +2875,11 @@ def loop_for(law, pivot=True, wedge=True, pair=True, joint=True):
     every shape; any other truthy value means ``PAIR_ALL``)."""
     pair = None if not pair else (PAIR_DISKS if pair == PAIR_DISKS else PAIR_ALL)
     return _loop_for(int(law), *(True if on else None for on in (pivot, wedge)), pair,
-                     True if joint else None)
+                     *(True if on else None for on in (joint, shapes)))
 
 
 @functools.lru_cache(maxsize=None)
-def _loop_for(law, pivot, wedge, pair, joint):
+def _loop_for(law, pivot, wedge, pair, joint, shapes):
     """``loop_for`` with its switches normalised to True or None (``pair``: None,
     ``PAIR_DISKS`` or ``PAIR_ALL``, split here into ``pair`` and ``pgen``, the pairs of
     other shapes than two disks; each handler takes its switch as an argument: None prunes
@@ -2830,7 +2894,8 @@ def _loop_for(law, pivot, wedge, pair, joint):
                  bmark, v2, W2, P2, tmp, err):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
         contract. The first call (cnt[3] == 0) initialises the run at glob[0]. Compile-time
-        constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint`` (``loop_for``)."""
+        constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint``, ``shapes``
+        (``loop_for``)."""
         nb = st.shape[0]
         npl = planes.shape[0]
         npr = pairs.shape[0]
@@ -2849,9 +2914,16 @@ def _loop_for(law, pivot, wedge, pair, joint):
         while True:
             if pend:
                 pend = False
-                rc = _recompute_marked(pivot, pair, pgen, glob[0], st, tref, bint, bflt, verts,
-                                       planes, pairs, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
-                                       tolf, toli, bmark, tmp, err)
+                for i in range(nb):
+                    if bmark[i] != 0:
+                        rc = _recompute_planes(pivot, shapes, i, glob[0], st, tref, bint, bflt,
+                                               verts, planes, pm, tz, zp, bp_t, bp_off, tolf,
+                                               toli, tmp, err)
+                        if rc < 0:
+                            return rc
+                rc = _recompute_pairs(pair, pgen, glob[0], st, tref, bint, bflt, verts, planes,
+                                      pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
+                                      bmark, tmp, err)
                 if rc < 0:
                     return rc
             t_now = glob[0]
@@ -2859,8 +2931,9 @@ def _loop_for(law, pivot, wedge, pair, joint):
                 # ---- start of the run
                 if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
                     return RC_BUFFER_FULL
-                rc = _init(pivot, t_now, st, tref, bint, bflt, verts, planes, grav, law_par,
-                           bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt, err)
+                rc = _init(pivot, shapes, t_now, st, tref, bint, bflt, verts, planes, grav,
+                           law_par, bp_law, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, cnt,
+                           err)
                 if rc < 0:
                     return rc
                 cnt[3] = 1
@@ -2932,11 +3005,11 @@ def _loop_for(law, pivot, wedge, pair, joint):
                     tz[i] = INF
                     fly_row(st, i, t - tref[i])
                     tref[i] = t
-                    rc = _settle(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law,
-                                 pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                    rc = _settle(shapes, i, p, t, st, bint, bflt, verts, planes, grav, law_par,
+                                 bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 elif ttr[i] <= t:
-                    rc = _transition(i, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                                     bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                    rc = _transition(shapes, i, t, st, tref, bint, bflt, verts, planes, grav,
+                                     law_par, bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                 else:
                     continue
                 if rc == RC_TIP:
@@ -2960,29 +3033,63 @@ def _loop_for(law, pivot, wedge, pair, joint):
                 pend = True
                 continue
 
-            nc = _gather(pivot, pgen, t, st, tref, bint, bflt, verts, planes, grav, bp_law, pairs, pm,
-                         tolf, toli, tz, zp, bp_t, pr_t, c_i, c_f, bmark, err)
+            nc = _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, tolf,
+                         toli, tref, bp_t, pr_t, c_i, bmark, err)
+            if nc < 0:
+                return nc
+            _bring_to_t(t, st, tref, bint, planes, grav, tz, zp, bmark)
+            nc = _frames(pgen, shapes, nc, t, st, bint, bflt, verts, planes, tolf, c_i, c_f,
+                         err)
             if nc < 0:
                 return nc
             if joint is not None:
                 rc = _resolve(law, joint, nc, t, st, bflt, law_ids, law_par, c_i, c_f, Wb, Pb,
                               vb, tb, comp, v2, W2, P2, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
             else:
-                rc = _resolve_singles(law, nc, t, st, bflt, law_ids, law_par, c_i, c_f, v2, W2,
-                                      P2, ev_t, ev_i, ev_f, cnt, err)
+                # no joint switch: each contact its own cluster (_single_ready)
+                rc = 0
+                for c in range(nc):
+                    rc = _single_ready(c, t, st, c_i, c_f, err)
+                    if rc == 1:
+                        rc, vfN = _single(law, c, t, 1, st, bflt, law_ids, law_par, c_i, c_f,
+                                          v2, W2, P2, ev_t, ev_i, ev_f, cnt, err)
+                        if rc == 0 and perforates(law_par[c_i[c, CI_LAW]], vfN):
+                            c_i[c, CI_OFF] = 1
+                    if rc < 0:
+                        break
             if rc < 0:
                 return rc
-            rc = _after_impacts(pivot, wedge, nc, t, st, tref, bint, bflt, verts, planes,
-                                grav, law_par, bp_law, pairs, pm, (tz, zp, ttr), bp_off,
-                                pr_off, tolf, toli, c_i, c_f, bmark, (ev_t, ev_i, ev_f),
-                                (seg_t, seg_b, seg_s), cnt, tmp, w, err)
+            # ---- after the impacts: disable perforated pairs, re-evaluate persistent
+            # contacts, schedule accumulation points, hold a vertex whose impacts accumulate
+            # (integrated pivot contact; other single-point chatter is an error), log
+            # segments (flat steps, see _mark_pairs)
+            _mark_pairs(nc, pairs, bp_off, pr_off, c_i)
+            for i in range(nb):
+                if bmark[i] == 0:
+                    continue
+                rc = _persisting(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes,
+                                 grav, law_par, bp_law, pm, (tz, zp, ttr), tolf, c_i, c_f, w,
+                                 (ev_t, ev_i, ev_f), cnt, err)
+                if rc == 0:
+                    rc = _accumulating(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts,
+                                       planes, grav, law_par, bp_law, bp_off, pm,
+                                       (tz, zp, ttr), tolf, toli, c_i, c_f, w,
+                                       (ev_t, ev_i, ev_f), cnt, err)
+                    if rc == 0:
+                        rc = _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts,
+                                      planes, grav, law_par, bp_law, pm, (tz, zp, ttr), tolf,
+                                      c_i, c_f, w, (ev_t, ev_i, ev_f), cnt, err)
+                if rc < 0:
+                    return rc
+            rc = _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark,
+                              (seg_t, seg_b, seg_s), cnt, tmp, err)
             if rc < 0:
                 return rc
             pend = True
     return run_loop
 
 
-@njit(cache=True, _nrt=False)
+@njit((_A1, _f, _i, _i), **_INNER)   # one signature: each FEATURE_* literal compiled it again
 def _not_compiled(err, t, i, feature):
     """A handler of ``feature`` reached in a loop compiled without it (``scene_features``
     is wrong: a bug, reported, never skipped)."""

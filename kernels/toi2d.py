@@ -267,6 +267,17 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
 
 
 @njit(cache=True, _nrt=False)
+def disk_plane_toi(st, rad, nx, ny, d, S, gap_tol):
+    """Earliest impact ``s`` in ``[0, S]`` (s) of a disk of radius ``rad`` (m; state row
+    ``st`` of its centre) with the plane ``(n, d)``: its gap is an exact quadratic (closed
+    form), the same arithmetic as ``plane_feature_toi`` for ``FEAT_VERTEX`` with ``p = 0``
+    (the loops compiled for disks only call this, not the general search). Returns
+    ``(s, code)``."""
+    g0, g1 = vertex_gap(st, 0.0, 0.0, rad, nx, ny, d, 0.0)
+    return quadratic_descending_root(g0, g1, nx * st[6] + ny * st[7], S, gap_tol)
+
+
+@njit(cache=True, _nrt=False)
 def disk_disk_toi(dx, dy, dvx, dvy, dax, day, R, t0, S, rtol, atol, gap_tol, maxit):
     """Earliest ``s`` in ``[0, S]`` at which two disks (radii summing to ``R``) touch while
     approaching, given their relative position, velocity and acceleration (A minus B) at

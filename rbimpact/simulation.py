@@ -137,6 +137,8 @@ trajectory buffers are preallocated and grown by doubling between compiled chunk
 runs only what it uses: no pair search without disk pairs, no rotation bound for
 non-rotating bodies (exact quadratics), the law kernel's own mu = 0 fast path.
 """
+import contextlib
+import gc
 import math
 import warnings
 
@@ -151,6 +153,27 @@ from .result import Result, _build_events
 from .scene import Plane, Scene2D
 
 __all__ = ["Simulation", "TOLERANCES"]
+
+#: Python's generation-2 collection threshold while Numba compiles (or loads from its disk
+#: cache) the event loop, on its first call in a process: full collections are deferred
+#: (each one walks the compiler's whole heap: about 3 s, a fifth, of the 15 s cold compile
+#: of ``rbimpact run bouncing_ball``, issue 14). Generations 0 and 1 are still collected;
+#: the heap grows by about 100 MB during that compile. The thresholds are restored after.
+GC_GEN2_WHILE_COMPILING = 1_000_000
+
+
+@contextlib.contextmanager
+def _full_gc_deferred(on):
+    """While ``on``: no full garbage collection (``GC_GEN2_WHILE_COMPILING``)."""
+    if not on:
+        yield
+        return
+    old = gc.get_threshold()
+    gc.set_threshold(old[0], old[1], GC_GEN2_WHILE_COMPILING)
+    try:
+        yield
+    finally:
+        gc.set_threshold(*old)
 
 #: keyword -> (default, unit, meaning)
 TOLERANCES = {
@@ -457,9 +480,10 @@ class Simulation:
         run_loop, switches = compiled_loop(self, k)
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
-        rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off,
-                      glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2,
-                      tmp, err, *switches)
+        with _full_gc_deferred(not run_loop.signatures):     # its first call compiles it
+            rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
+                          pr_off, glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2,
+                          W2, P2, tmp, err, *switches)
         while rc == k.RC_BUFFER_FULL:
             bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_all)
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
