@@ -163,11 +163,8 @@ GC_GEN2_WHILE_COMPILING = 1_000_000
 
 
 @contextlib.contextmanager
-def _full_gc_deferred(on):
-    """While ``on``: no full garbage collection (``GC_GEN2_WHILE_COMPILING``)."""
-    if not on:
-        yield
-        return
+def _full_gc_deferred():
+    """No full garbage collection within (``GC_GEN2_WHILE_COMPILING``)."""
     old = gc.get_threshold()
     gc.set_threshold(old[0], old[1], GC_GEN2_WHILE_COMPILING)
     try:
@@ -480,10 +477,14 @@ class Simulation:
         run_loop, switches = compiled_loop(self, k)
         scene_arrays = (self._bint, self._bflt, self._verts, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
-        with _full_gc_deferred(not run_loop.signatures):     # its first call compiles it
-            rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
-                          pr_off, glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2,
-                          W2, P2, tmp, err, *switches)
+        args = (*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob,
+                cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err,
+                *switches)
+        if run_loop.overloads:
+            rc = run_loop(*args)
+        else:
+            with _full_gc_deferred():       # its first call compiles it
+                rc = run_loop(*args)
         while rc == k.RC_BUFFER_FULL:
             bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_all)
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
