@@ -51,3 +51,20 @@ def impacts_before_rest(after, before, gn, t, t_end, eex, thr):
     if x > 0.0:
         return min(n_thr, math.log(x) / math.log(e))
     return n_thr
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def accumulation_time(after, before, gn):
+    """Time (s) from an impact of a body bouncing on a plane to the accumulation point of
+    its bounces: the flight times ``2 after / |g_n|`` (s) shrink by ``e = -after / before``
+    per bounce (centre's normal velocity after / before the impact, m/s; ``gn < 0`` the
+    normal gravity, m/s^2) and sum to ``2 after / (|g_n| (1 - e))``; 0 for a body not
+    bouncing back (``after <= 0``), a single flight when e is not below 1."""
+    dt = 0.0
+    if after > 0.0:
+        dt = 2.0 * after / (-gn)
+        if before < 0.0:
+            ek = -after / before
+            if ek < 1.0:
+                dt = dt / (1.0 - ek)
+    return dt

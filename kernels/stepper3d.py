@@ -123,7 +123,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
-from .decisions import impacts_before_rest, perforates
+from .decisions import accumulation_time, impacts_before_rest, perforates
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
@@ -720,7 +720,7 @@ def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_of
     R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
     dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
     un = (d0 * u0 + d1 * u1 + d2 * u2) / dist
-    if dist <= R and un < 0.0 and -un <= TOUCH_RTOL * (
+    if dist - R <= tolf[TF_GAP_TOL] and un < 0.0 and -un <= TOUCH_RTOL * (
             math.sqrt(ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)):
         # touching at a normal rate that is round-off: zero (TOUCH_RTOL)
         u0 -= un * d0 / dist
@@ -1439,6 +1439,13 @@ def _pivot_jam(i, t, st, tref, bflt, grav, law_par, bp_law, pm, ttr, tz, pv, pw,
                  pv[i, CP_MU], pv[i, CP_K])
         return ERR_PAINLEVE, False
     rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
+    return _pivot_settled(rc, i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw)
+
+
+@njit(cache=True, inline="always")
+def _pivot_settled(rc, i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
+    """The end of a pivot event: an error code passes on, 1 (no contact left) releases the
+    body into flight; returns (rc, recompute) as ``_pivot_event``."""
     if rc < 0:
         return rc, False
     if rc == 1:
@@ -1505,11 +1512,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, law_par, bp_law, pm, ttr, tz,
         _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK, i, -1 - p, 2, 0, c_f, cw, v0, v1, v2, u0, u1,
              u2, 0.0, 0.0, 0.0, 0.0)
     rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
-    if rc < 0:
-        return rc, False
-    if rc == 1:
-        _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, 0)
-    return 0, True
+    return _pivot_settled(rc, i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw)
 
 
 @njit(cache=True)
@@ -2724,15 +2727,7 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                 return ERR_UNSUPPORTED
         after = (planes[p, 0] * st[i, SV] + planes[p, 1] * st[i, SV + 1]
                  + planes[p, 2] * st[i, SV + 2])
-        before = c_f[c, CF_VCMN]
-        dt = 0.0
-        if after > 0.0:
-            dt = 2.0 * after / (-gn)
-            if before < 0.0:
-                ek = -after / before
-                if ek < 1.0:
-                    dt = dt / (1.0 - ek)
-        tz[i] = t + dt
+        tz[i] = t + accumulation_time(after, c_f[c, CF_VCMN], gn)
         zp[i] = p
         return 0
     # impacts accumulating at one or two features (a corner, an edge, a cap; or a face)
