@@ -378,6 +378,14 @@ def test_energetic_and_poisson_never_create_energy(d, Ls, vs, e, mu, rest):
     v = np.array(vs[:d])
     v[0] = -abs(v[0]) - 1e-3
     mode, P, vf, dE = run(v, W, e, mu, rest)
+    if mode == MODE_NO_SOLUTION:
+        # the documented refusal (README, "documented errors"): only under Painleve-type
+        # coupling, where some slip direction has a normal slope W_NN - mu u . W_TN <= 0
+        # and v_N can return to 0 during restitution (d = 3, e = 1, mu = 2, energetic:
+        # hypothesis seed 3); nothing is applied
+        assert mu * np.linalg.norm(W[0, 1:]) >= W[0, 0]
+        assert not P.any()
+        return
     assert mode > 0
     E0 = 0.5 * v @ np.linalg.solve(W, v)
     assert dE <= 1e-9 * E0
