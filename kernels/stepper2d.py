@@ -413,10 +413,11 @@ def _finite(st, i):
 
 
 @_inner
-def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny, shapes=True):
+def _plane_contact(st, i, bint, bflt, verts, feat, nx, ny, shapes):
     """Contact point and arm (point minus centre of mass) of feature ``feat`` of body i
     against a plane with normal n, at the body's current state (``shapes``: the shape
-    switch, None for disks only)."""
+    switch, None for disks only; the pivot and wedge handlers pass True, the type of the
+    loop's True: one compiled function)."""
     if shapes is None or bint[i, B_KIND] == SH_DISK:
         rad = bflt[i, B_RADIUS]
         return st[i, X] - rad * nx, st[i, Y] - rad * ny, -rad * nx, -rad * ny
@@ -494,9 +495,9 @@ def _apply(st, bflt, c_i, c_f, c, PN, PT):
 
 
 @_inner
-def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes=True):
+def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes):
     """Second time derivative (m/s^2) of the contact's gap in free flight, now (``shapes``:
-    the shape switch, None for disks only)."""
+    the shape switch, None for disks only; True from ``_hold_two``, as ``_plane_contact``)."""
     nx = c_f[c, CF_NX]
     ny = c_f[c, CF_NY]
     a = c_i[c, CI_A]
@@ -655,8 +656,10 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
             return INF, TOI_OK
         fly_into(row, s0, tmp)
         src = tmp
-    s, code = plane_feature_toi(kind, src, px, py, rad, ea, eb, nx, ny, d, t0 + s0, S - s0,
-                                tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+    # int64(kind): not the literal FEAT_* of the caller (one compiled plane_feature_toi, not
+    # one per literal)
+    s, code = plane_feature_toi(int64(kind), src, px, py, rad, ea, eb, nx, ny, d, t0 + s0,
+                                S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
                                 toli[TI_TOI_MAXIT])
     return s0 + s, code
 
@@ -1264,7 +1267,7 @@ def _pv_state(i, st, w):
 def _pv_contact(i, st, bint, bflt, verts, planes, pm):
     """Held contact of body i (its first, ``_two_contact``): (px, py, rx, ry, v_N, v_T) at
     its current state."""
-    p, px, py, rx, ry, vN, vT = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
+    p, px, py, rx, ry, vN, vT = _two_contact(i, int64(0), st, bint, bflt, verts, planes, pm)
     return px, py, rx, ry, vN, vT
 
 
@@ -1560,12 +1563,14 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
 @_inner
 def _two_contact(i, j, st, bint, bflt, verts, planes, pm):
     """Held contact j of body i on two planes (0: ``pm[i, M_PLANE]``, ``M_FEAT``; 1:
-    ``M_PLANE2``, ``M_FEAT2``): (plane, px, py, rx, ry, v_N, v_T) at its current state."""
+    ``M_PLANE2``, ``M_FEAT2``): (plane, px, py, rx, ry, v_N, v_T) at its current state
+    (callers pass ``int64(0)``, ``int64(1)``: a literal j would compile it once per value)."""
     p = pm[i, M_PLANE] if j == 0 else pm[i, M_PLANE2]
     k = pm[i, M_FEAT] if j == 0 else pm[i, M_FEAT2]
     nx = planes[p, 0]
     ny = planes[p, 1]
-    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + k, nx, ny)
+    px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + k, nx, ny,
+                                    True)
     ux, uy = _point_vel(st, i, rx, ry)
     return p, px, py, rx, ry, ux * nx + uy * ny, ux * ny - uy * nx
 
@@ -1619,8 +1624,8 @@ def _two_enter(i, p1, k1, p2, k2, t, st, bint, bflt, verts, planes, grav, law_pa
     pm[i, M_FEAT2] = k2
     pm[i, M_AUX] = 1
     e0 = _energy(st, bflt, grav, i)
-    q1, px1, py1, r1x, r1y, v1n, v1t = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
-    q2, px2, py2, r2x, r2y, v2n, v2t = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+    q1, px1, py1, r1x, r1y, v1n, v1t = _two_contact(i, int64(0), st, bint, bflt, verts, planes, pm)
+    q2, px2, py2, r2x, r2y, v2n, v2t = _two_contact(i, int64(1), st, bint, bflt, verts, planes, pm)
     n1x = planes[p1, 0]
     n1y = planes[p1, 1]
     n2x = planes[p2, 0]
@@ -1664,8 +1669,8 @@ def _two_enter(i, p1, k1, p2, k2, t, st, bint, bflt, verts, planes, grav, law_pa
     ttr[i] = t
     zp[i] = PE_NONE
     dE = _energy(st, bflt, grav, i) - e0
-    q1, px1, py1, r1x, r1y, f1n, f1t = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
-    q2, px2, py2, r2x, r2y, f2n, f2t = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+    q1, px1, py1, r1x, r1y, f1n, f1t = _two_contact(i, int64(0), st, bint, bflt, verts, planes, pm)
+    q2, px2, py2, r2x, r2y, f2n, f2t = _two_contact(i, int64(1), st, bint, bflt, verts, planes, pm)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p1, 1, 0, px1, py1, n1x, n1y, v1n, v1t,
          f1n, f1t, P1, 0.0, dE)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p2, 1, 0, px2, py2, n2x, n2y, v2n, v2t,
@@ -1702,7 +1707,7 @@ def _two_drop(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, w,
         nx = planes[pd, 0]
         ny = planes[pd, 1]
         px, py, rx, ry = _plane_contact(st, i, bint, bflt, verts, bint[i, B_FIRST] + kd,
-                                        nx, ny)
+                                        nx, ny, True)
         if nx * (row[6] - row[8] * ry) + ny * (row[7] + row[8] * rx) < 0.0:
             continue
         _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, i, -1 - pd, 0, 0, px, py, nx, ny, 0.0, 0.0,
@@ -1761,8 +1766,9 @@ def _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_p
     elif kind == PE_TURN:
         p1 = pm[i, M_PLANE]
         p2 = pm[i, M_PLANE2]
-        q1, px, py, r1x, r1y, vN, vT = _two_contact(i, 0, st, bint, bflt, verts, planes, pm)
-        q2, px2, py2, r2x, r2y, vN2, vT2 = _two_contact(i, 1, st, bint, bflt, verts, planes, pm)
+        q1, px, py, r1x, r1y, vN, vT = _two_contact(i, int64(0), st, bint, bflt, verts, planes, pm)
+        q2, px2, py2, r2x, r2y, vN2, vT2 = _two_contact(i, int64(1), st, bint, bflt, verts,
+                                                        planes, pm)
         if two_contact_rest(bflt[i, B_MASS], grav[0], grav[1], r1x, r1y, planes[p1, 0],
                             planes[p1, 1], w[CP_MU], r2x, r2y, planes[p2, 0], planes[p2, 1],
                             w[CP_MU2]):
@@ -2430,9 +2436,9 @@ def _try_wedge(i, nc, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, p
             mu_q = law_par[bp_law[i, q], P_MU]
             v0 = bint[i, B_FIRST]
             a0x, a0y, r0x, r0y = _plane_contact(st, i, bint, bflt, verts, v0 + pm[i, M_FEAT],
-                                                nqx, nqy)
+                                                nqx, nqy, True)
             a1x, a1y, r1x, r1y = _plane_contact(st, i, bint, bflt, verts, v0 + pm[i, M_AUX],
-                                                nqx, nqy)
+                                                nqx, nqy, True)
             if three_contact_rest(m, grav[0], grav[1],
                                   ((r0x, r0y, nqx, nqy, mu_q), (r1x, r1y, nqx, nqy, mu_q),
                                    (c_f[c, CF_RAX], c_f[c, CF_RAY], c_f[c, CF_NX],
@@ -2619,7 +2625,7 @@ def _hold_two(pivot, i, hold, amin, nc, t, st, bint, bflt, verts, planes, grav, 
                 or c_i[c, CI_B] == c_i[hold, CI_B]):
             continue
         vN, vT = _contact_velocity(st, c_i, c_f, c)
-        acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav)
+        acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, True)
         if vN * vN < _vz2(tolf, -amin) and (hold2 < 0 or acc < amin2):
             amin2 = acc
             hold2 = c
