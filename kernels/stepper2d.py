@@ -160,7 +160,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
-from .decisions import impacts_before_rest, perforates
+from .decisions import accumulation_time, impacts_before_rest, perforates
 from .dispatch import resolve_2d_as
 from .routh import routh_2d_scalar
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
@@ -2742,16 +2742,7 @@ def _accumulating(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes,
                 return rc
             if rc == 1:
                 return 1
-        after = nx * st[i, VX] + ny * st[i, VY]
-        before = c_f[c, CF_VCMN]
-        dt = 0.0
-        if after > 0.0:
-            dt = 2.0 * after / (-gn)
-            if before < 0.0:
-                ek = -after / before
-                if ek < 1.0:
-                    dt = dt / (1.0 - ek)
-        tz[i] = t + dt
+        tz[i] = t + accumulation_time(nx * st[i, VX] + ny * st[i, VY], c_f[c, CF_VCMN], gn)
         zp[i] = p
         return 1
     return 0

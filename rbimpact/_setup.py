@@ -4,6 +4,8 @@ of ``run``'s arguments, and the packing of the law table (default law, ``pair_la
 Every function takes ``who`` ("Simulation" or "Simulation3D"), the prefix of its error
 messages, so both front ends raise the same errors with their own name.
 """
+import contextlib
+import gc
 import math
 
 import numpy as np
@@ -11,7 +13,7 @@ import numpy as np
 from ._validate import choice, scene_energy_check, validate_run_args, validate_tolerances
 from .laws import N_PARAMS
 
-__all__ = ["compiled_loop", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
+__all__ = ["call_loop", "compiled_loop", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
 
 
 def check_tolerances(who, table, tolerances):
@@ -220,3 +222,32 @@ def compiled_loop(sim, k):
             loop = (k.loop_for(law), switches)
         sim._loop_switches = loop
     return loop
+
+
+#: Python's generation-2 collection threshold while Numba compiles (or loads from its disk
+#: cache) an event loop, on its first call in a process: full collections are deferred
+#: (each one walks the compiler's whole heap: about 3 s, a fifth, of the 15 s cold compile
+#: of ``rbimpact run bouncing_ball``, issue 14). Generations 0 and 1 are still collected;
+#: the heap grows by about 100 MB during that compile. The thresholds are restored after.
+GC_GEN2_WHILE_COMPILING = 1_000_000
+
+
+@contextlib.contextmanager
+def _full_gc_deferred():
+    """No full garbage collection within (``GC_GEN2_WHILE_COMPILING``)."""
+    old = gc.get_threshold()
+    gc.set_threshold(old[0], old[1], GC_GEN2_WHILE_COMPILING)
+    try:
+        yield
+    finally:
+        gc.set_threshold(*old)
+
+
+def call_loop(loop, args):
+    """``loop(*args)`` for a Numba dispatcher; its first call in a process (which compiles
+    it, or loads it from the cache) with full garbage collections deferred. Checking
+    ``overloads`` costs well under a microsecond (``signatures`` cost 13 us per run)."""
+    if loop.overloads:
+        return loop(*args)
+    with _full_gc_deferred():
+        return loop(*args)

@@ -137,14 +137,12 @@ trajectory buffers are preallocated and grown by doubling between compiled chunk
 runs only what it uses: no pair search without disk pairs, no rotation bound for
 non-rotating bodies (exact quadratics), the law kernel's own mu = 0 fast path.
 """
-import contextlib
-import gc
 import math
 import warnings
 
 import numpy as np
 
-from ._setup import (Arena, check_law, check_painleve, check_run_args, check_scene,
+from ._setup import (Arena, call_loop, check_law, check_painleve, check_run_args, check_scene,
                      check_tolerances, compiled_loop, pack_laws, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
@@ -153,24 +151,6 @@ from .result import Result, _build_events
 from .scene import Plane, Scene2D
 
 __all__ = ["Simulation", "TOLERANCES"]
-
-#: Python's generation-2 collection threshold while Numba compiles (or loads from its disk
-#: cache) the event loop, on its first call in a process: full collections are deferred
-#: (each one walks the compiler's whole heap: about 3 s, a fifth, of the 15 s cold compile
-#: of ``rbimpact run bouncing_ball``, issue 14). Generations 0 and 1 are still collected;
-#: the heap grows by about 100 MB during that compile. The thresholds are restored after.
-GC_GEN2_WHILE_COMPILING = 1_000_000
-
-
-@contextlib.contextmanager
-def _full_gc_deferred():
-    """No full garbage collection within (``GC_GEN2_WHILE_COMPILING``)."""
-    old = gc.get_threshold()
-    gc.set_threshold(old[0], old[1], GC_GEN2_WHILE_COMPILING)
-    try:
-        yield
-    finally:
-        gc.set_threshold(*old)
 
 #: keyword -> (default, unit, meaning)
 TOLERANCES = {
@@ -480,11 +460,7 @@ class Simulation:
         args = (*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob,
                 cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err,
                 *switches)
-        if run_loop.overloads:
-            rc = run_loop(*args)
-        else:
-            with _full_gc_deferred():       # its first call compiles it
-                rc = run_loop(*args)
+        rc = call_loop(run_loop, args)
         while rc == k.RC_BUFFER_FULL:
             bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_all)
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,

@@ -49,8 +49,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import (check_law, check_painleve, check_run_args, check_scene, check_tolerances,
-                     compiled_loop, pack_laws, run_status)
+from ._setup import (call_loop, check_law, check_painleve, check_run_args, check_scene,
+                     check_tolerances, compiled_loop, pack_laws, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -347,12 +347,12 @@ class Simulation3D:
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
         run_loop, (pivot, pair, joint) = compiled_loop(self, k)
-        rc = k.init_run(*scene_arrays, *state, *bufs, c_f, skip, pose, fw, ybuf, vals, vals0,
-                        vfl, err, pair)
+        rc = call_loop(k.init_run, (*scene_arrays, *state, *bufs, c_f, skip, pose, fw, ybuf,
+                                    vals, vals0, vfl, err, pair))
         if rc == 0:
-            rc = run_loop(*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark,
-                          v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl, err, pivot,
-                          pair, joint)
+            rc = call_loop(run_loop, (*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb,
+                                      comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals,
+                                      vals0, vfl, err, pivot, pair, joint))
             while rc == k.RC_BUFFER_FULL:
                 bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_doubling)
                 rc = run_loop(*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp,
