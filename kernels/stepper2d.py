@@ -1284,12 +1284,19 @@ def _pv_impulse(i, st, bflt, rx, ry, nx, ny, vN, vT, with_t):
     else:
         PN = -vN / wnn
         PT = 0.0
+    _pv_apply(i, st, bflt, rx, ry, nx, ny, PN, PT)
+    return PN, PT
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _pv_apply(i, st, bflt, rx, ry, nx, ny, PN, PT):
+    """Apply the contact impulse (P_N, P_T) (N s; tangent ``(n_y, -n_x)``) at arm r to body
+    i's velocity and spin."""
     jx = PN * nx + PT * ny
     jy = PN * ny - PT * nx
     st[i, VX] += jx / bflt[i, B_MASS]
     st[i, VY] += jy / bflt[i, B_MASS]
     st[i, OMEGA] += (rx * jy - ry * jx) / bflt[i, B_INERTIA]
-    return PN, PT
 
 
 @_inner
@@ -1360,11 +1367,7 @@ def _pv_iwc(i, p, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, e
     if mode == MODE_NO_SOLUTION or not PN > 0.0:
         return False
     e0 = _energy(st, bflt, grav, i)
-    jx = PN * nx + PT * ny
-    jy = PN * ny - PT * nx
-    st[i, VX] += jx / bflt[i, B_MASS]
-    st[i, VY] += jy / bflt[i, B_MASS]
-    st[i, OMEGA] += (rx * jy - ry * jx) / bflt[i, B_INERTIA]
+    _pv_apply(i, st, bflt, rx, ry, nx, ny, PN, PT)
     px, py, rx, ry, vfN, vfT = _pv_contact(i, st, bint, bflt, verts, planes, pm)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_IWC, i, -1 - p, int(mode), 0, px, py, nx, ny, 0.0, vT,
          vfN, vfT, PN, PT, _energy(st, bflt, grav, i) - e0)
