@@ -123,7 +123,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
-from .decisions import accumulation_time, impacts_before_rest, perforates
+from .decisions import accumulation_time, impacts_before_rest, perforates, touching_rate
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
@@ -240,11 +240,6 @@ FACE_RTOL = 1e-12
 #: most SNAP_RTOL times the rest height (dimensionless round-off allowance), i.e. if
 #: E_ex >= -m |g_n| SNAP_RTOL h_rest: a rest above the body would create energy
 SNAP_RTOL = 1e-12
-#: two spheres touching (gap <= 0, within gap_tol) approach only when their centres' normal
-#: rate is below -TOUCH_RTOL (|v_a| + |v_b|) (m/s, the centres' speeds): a plastic impact
-#: between them ends at v_N = 0 up to the round-off of those speeds (-2.8e-17 m/s at
-#: 0.5 m/s, 3:3811175237), which is zero here, not a new approach at the same instant
-TOUCH_RTOL = 1e-12
 #: Painleve jam inside an integrated slide (pivot3d.PE_JAM): the phase stops within
 #: pivot3d.STAGE_HMIN of its largest step before the point where the sliding contact's
 #: normal-force coefficient A = W_NN - mu u . W_TN reaches 0. The impact without collision
@@ -720,9 +715,9 @@ def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_of
     R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
     dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
     un = (d0 * u0 + d1 * u1 + d2 * u2) / dist
-    if dist - R <= tolf[TF_GAP_TOL] and un < 0.0 and -un <= TOUCH_RTOL * (
-            math.sqrt(ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)):
-        # touching at a normal rate that is round-off: zero (TOUCH_RTOL)
+    if dist - R <= tolf[TF_GAP_TOL] and un != 0.0 and touching_rate(un, math.sqrt(
+            ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)) == 0.0:
+        # touching at a normal rate that is round-off: zero (decisions.TOUCH_RTOL)
         u0 -= un * d0 / dist
         u1 -= un * d1 / dist
         u2 -= un * d2 / dist

@@ -36,6 +36,7 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
+from .decisions import touching_rate
 from .flight3d import RK_OK, ROT_GENERAL, pose_at, rotation_bounds
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK, _safe_step, \
     centres_quadratic_toi, quadratic_descending_root, window_step
@@ -111,7 +112,11 @@ def body_planes_toi(st, rk, axis, I1, I2, I3, ws, feats, f0, nf, rad, planes, sk
                 # R p with R from q
                 wx, wy, wz = _rotp(st, px, py, pz)
                 g0 = gc + nx * wx + ny * wy + nz * wz
-                s, code = quadratic_descending_root(g0, g1, na, S, gap_tol)
+                gd0 = g1
+                if g0 <= 0.0:
+                    # touching: a rate at the round-off of the speed is zero (TOUCH_RTOL)
+                    gd0 = touching_rate(g1, math.sqrt(st[7] ** 2 + st[8] ** 2 + st[9] ** 2))
+                s, code = quadratic_descending_root(g0, gd0, na, S, gap_tol)
                 if code == TOI_MISSED:
                     return 0.0, p, k, TOI_MISSED
                 if s < best:
@@ -153,6 +158,9 @@ def body_planes_toi(st, rk, axis, I1, I2, I3, ws, feats, f0, nf, rad, planes, sk
                 if g <= 0.0:
                     if g < -gap_tol:
                         return s, p, k, TOI_MISSED
+                    # a rate at the round-off of the point's speed is zero (TOUCH_RTOL)
+                    gd = touching_rate(gd, math.sqrt(pose[7] ** 2 + pose[8] ** 2 + pose[9] ** 2)
+                                       + math.sqrt(ux * ux + uy * uy + uz * uz))
                     if gd < 0.0:
                         return s, p, k, TOI_OK
                     g = 0.0

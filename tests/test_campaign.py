@@ -354,6 +354,16 @@ def test_3d_touching_spheres_after_a_plastic_impact_do_not_stall():
     assert row.verdict == "OK", row.note
 
 
+def test_3d_corner_left_on_a_wall_at_zero_normal_speed_does_not_stall():
+    """A box (Routh, Poisson e = 0, mu = 0.3) whose corner a plastic impact leaves on a
+    wall at v_N = 0: the wall does not push against gravity, so the box flies on with the
+    corner touching, and the plane's time of impact read the round-off of the corner's
+    rate as an approach at the same instant: "the run stalls" (3:2310587818). A touching
+    contact's rate within decisions.TOUCH_RTOL of its speed is zero."""
+    row = run_drop(3, 2310587818)
+    assert row.verdict == "OK", row.note
+
+
 def test_3d_slip_that_stopped_growing_at_a_phase_start_sticks():
     """A box on an edge (Routh, e = 0.3, mu = 1): its first contact began to slip from
     sticking, then its second contact stuck and a new phase began with the first slip
