@@ -814,6 +814,26 @@ def _root_start(g0, d1, d2, lo, hi, g_hi):
     return lo + (hi - lo) * (g0 / (g0 - g_hi))
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _newton_safe(t, g, dy, lo, hi, h):
+    """One safeguarded Newton step of the event roots on [lo, hi] (step h): the bracket
+    shrunk by the sign of g, then Newton ``t - g / dy``, or the bisection when it leaves the
+    bracket. Returns ``(t_next, lo, hi, done)``: done when the step converged
+    quadratically (ROOT_QUAD h) or to ROOT_XTOL h."""
+    if g < 0.0:
+        lo = t
+    else:
+        hi = t
+    tn = t - g / dy if dy != 0.0 else -1.0
+    if not (tn > lo and tn < hi):
+        tn = 0.5 * (lo + hi)
+    elif abs(tn - t) <= ROOT_QUAD * h:
+        return tn, lo, hi, True                    # quadratic convergence
+    if abs(tn - t) <= ROOT_XTOL * h or hi - lo <= ROOT_XTOL * h:
+        return tn, lo, hi, True
+    return tn, lo, hi, False
+
+
 @njit(cache=True, error_model="numpy")
 def _poly_root(T, r, N, target, t0, h, g_h):
     """Root t in [t0, h] of poly_r(t) = target, given poly_r(t0) < target <= poly_r(h)
@@ -838,18 +858,9 @@ def _poly_root(T, r, N, target, t0, h, g_h):
         g = y - target
         if abs(g) <= noise * (ya + abs(target)):
             return t                               # g is zero to rounding
-        if g < 0.0:
-            lo = t
-        else:
-            hi = t
-        tn = t - g / dy if dy != 0.0 else -1.0
-        if not (tn > lo and tn < hi):
-            tn = 0.5 * (lo + hi)
-        elif abs(tn - t) <= ROOT_QUAD * h:
-            return tn                              # quadratic convergence
-        if abs(tn - t) <= ROOT_XTOL * h or hi - lo <= ROOT_XTOL * h:
-            return tn
-        t = tn
+        t, lo, hi, done = _newton_safe(t, g, dy, lo, hi, h)
+        if done:
+            return t
     return t
 
 
@@ -878,19 +889,10 @@ def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2):
                       + abs((x02 + y2) * q2)) + mu * abs(yq) + abs(target))
         if abs(g) <= noise * mag:
             return t                               # g is zero to rounding
-        if g < 0.0:
-            lo = t
-        else:
-            hi = t
         dy = vN * _poly(T, _R_S, N, t)
-        tn = t - g / dy if dy != 0.0 else -1.0
-        if not (tn > lo and tn < hi):
-            tn = 0.5 * (lo + hi)
-        elif abs(tn - t) <= ROOT_QUAD * h:
-            return tn                              # quadratic convergence
-        if abs(tn - t) <= ROOT_XTOL * h or hi - lo <= ROOT_XTOL * h:
-            return tn
-        t = tn
+        t, lo, hi, done = _newton_safe(t, g, dy, lo, hi, h)
+        if done:
+            return t
     return t
 
 
