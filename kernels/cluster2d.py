@@ -1,0 +1,1372 @@
+"""Persistent contact between several 2D bodies (a *cluster*): bodies held together by a
+set of active unilateral contacts with Coulomb friction, integrated in maximal
+coordinates with error control, projection onto the constraints and event location
+(issue 16 item 2, first piece: the standalone kernel a later session wires into
+``stepper2d`` as a new persistent mode; the integrated-mode house style is ``pivot2d``).
+
+Model (Newton-Euler with unilateral contacts and Coulomb friction in maximal
+coordinates; Pfeiffer & Glocker, *Multibody Dynamics with Unilateral Contacts*, 1996,
+ch. 5-6; Haug, *Computer-Aided Kinematics and Dynamics of Mechanical Systems*, 1989,
+ch. 11 for the acceleration form of the constraints; Glocker, Multibody Syst. Dyn. 2013
+for the contact kinematics). Conventions: DESIGN §3.
+
+Bodies ``i`` (rows of ``bodies``, columns ``CB_*``): state ``(x, y, angle, vx, vy, omega)``
+(the ``flight2d`` names ``X ... OMEGA``), mass ``m``, moment ``I`` about the centre of mass.
+A *fixed* body (``CB_FIXED != 0``) has infinite mass: it keeps its velocity (a support at
+rest, or moving uniformly) and takes any force. Gravity ``g = (gx, gy)`` acts on the others.
+``J`` is the quarter turn ``J r = (-r_y, r_x)`` (``omega x r`` in 2D); ``a x b = a_x b_y -
+a_y b_x``. The velocity of the material point of body X at the world point p is
+``v_X(p) = v_X + omega_X J (p - x_X)``, its acceleration
+``a_X(p) = a_X + alpha_X J (p - x_X) - omega_X^2 (p - x_X)``.
+
+Contacts ``k`` (rows of ``contacts``, columns ``CC_*``) between body A and body B, or
+between body A and a fixed plane ``n . q >= d`` (``CC_B = -1``). Each has a point feature
+on A: the body-frame point ``pA`` with radius ``rA`` (a disk centre, a capsule end centre,
+a polygon vertex with ``rA = 0``); its world centre ``cA = x_A + R(angle_A) pA``,
+``rhoA = cA - x_A``, ``dcA/dt = v_A + omega_A J rhoA``. The normal n points from B into A
+and ``t = (n_y, -n_x)`` (DESIGN §3). Kinds (``CC_KIND``):
+
+* ``KIND_ROUND`` (round-round): a point feature ``pB, rB`` on B. ``D = cA - cB``,
+  ``g = |D| - rA - rB``, ``n = D / |D|``. ``dg/dt = n . dD/dt``, ``dn/dt = (t . dD/dt) t / |D|``,
+  so ``g'' = n . (d2cA/dt2 - d2cB/dt2) + (t . dD/dt)^2 / |D|`` (the tangential part of the
+  relative velocity of the centres, squared, over the distance).
+* ``KIND_FACE`` (point-face): a flat face of B, the line through the material point
+  ``fB = x_B + R(angle_B) pB`` with the outward unit normal ``n = R(angle_B) nB`` (``nB`` in
+  ``CC_NX, CC_NY``, body frame), offset by B's radius ``rB`` (a capsule side; 0 for a
+  polygon face). ``d = cA - fB``, ``g = n . d - rA - rB``, ``dn/dt = omega_B J n``,
+  ``dg/dt = n . dd/dt + omega_B (J n) . d``,
+  ``g'' = n . d2d/dt2 + alpha_B (J n) . d - omega_B^2 n . d + 2 omega_B (J n) . dd/dt``.
+  The mirror (a point of B against a face of A) is the same contact with A and B swapped:
+  the contact is then listed with the point's body as A (its normal is the face's
+  outward normal, from the face body into the point body, as DESIGN §3 asks).
+* ``KIND_PLANE`` (feature-plane): ``n = (CC_NX, CC_NY)`` world, unit; ``g = n . cA - d - rA``
+  with ``d = CC_D``; ``g'' = n . d2cA/dt2``.
+
+The contact point is ``p = cA - rA n`` (on A's surface; at ``g = 0`` also on B's). Its arms
+are ``aA = p - x_A``, ``aB = p - x_B``. For every kind the gap rate is exactly
+``dg/dt = n . (v_A(p) - v_B(p)) = JN . dq/dt`` with the row ``JN = (n, aA x n | -n, -aB x n)``
+(the terms of ``dn/dt`` and of ``p - cA || n`` drop out; e.g. point-face:
+``n . v_B(p) = n . dfB/dt - omega_B (J n) . (p - fB)``), so ``JN`` is the gradient of ``g``
+(the Gauss-Newton projection below is Newton's method) and the normal force ``lam_N n`` at
+p is ``JN^T lam_N`` (virtual work). With ``q''`` the accelerations,
+``g'' = JN q'' + bN``, where ``JN q''`` is ``n . (a_A(p) - a_B(p))`` without its centripetal
+parts, and (``rhoB = cB - x_B`` or ``fB - x_B``, ``w = omega``):
+
+* round-round: ``bN = -wA^2 n . rhoA + wB^2 n . rhoB + (t . dD/dt)^2 / |D|``;
+* point-face:  ``bN = n . (-wA^2 rhoA + wB^2 rhoB) - wB^2 n . d + 2 wB (J n) . dd/dt``;
+* plane:       ``bN = -wA^2 n . rhoA``.
+
+At ``g = 0`` these are the forms of the issue: point-face
+``g'' = n . (a_A(p) - a_B(p)) + 2 wB (J n) . (v_A(p) - v_B(p)) - rA (wA - wB)^2`` (the last
+term, zero for a vertex, is the rounded feature's: ``n . a_A(p) = n . d2cA/dt2 + wA^2 rA``),
+round-round ``g'' = n . (a_cA - a_cB) + |v_rel,T|^2 / |cA - cB|``. The kernel uses the
+general forms above (valid at any g), so its ``g''`` is the exact second derivative of the
+exact gap (tested against finite differences for every kind, ``cluster_rates``).
+
+Tangential: the slip ``vT = t . (v_A(p) - v_B(p)) = JT . dq/dt`` with
+``JT = (t, aA x t | -t, -aB x t)``. Its rate ``dvT/dt = JT q'' + bT`` with
+``bT = (dt/dt) . (v_A(p) - v_B(p)) + t . J (wA (dp/dt - v_A) - wB (dp/dt - v_B))``,
+``dt/dt = (dn_y/dt, -dn_x/dt)``, ``dp/dt = dcA/dt - rA dn/dt``. A STICK contact keeps
+``dvT/dt = 0`` (the rolling constraint is a velocity constraint: not projected at
+position level).
+
+Forces: ``lam_N n + lam_T t`` on A at p, the opposite on B. Each active contact's mode
+(``CC_MODE``) is fixed for the phase: ``MODE_STICK`` (unknown ``lam_T``, equation
+``dvT/dt = 0``), ``MODE_SLIP_POS`` / ``MODE_SLIP_NEG`` (sliding along ``sig t``,
+``sig = +-1``: ``lam_T = -mu sig lam_N``, the force column ``JN^T - mu sig JT^T``), and
+``MODE_LIFT`` (inactive; used by the mode selection). ``mu = 0`` is frictionless in any
+mode (``lam_T = 0``); ``mu = inf`` sticks for ever (a perfectly rough contact). The
+unknowns ``lam`` (normal for every active contact, tangential for the sticking ones, at
+most ``2 KMAX``) solve ``A lam = r``, ``A_ij = row_i M^-1 col_j``,
+``r_i = -(row_i q''_free + b_i)`` with ``q''_free`` gravity (``_forces``). ``A`` is solved by a
+one-sided Jacobi SVD (Hestenes) and its pseudo-inverse: redundant contacts (two sticking
+points on one face: identical tangential rows) get the minimum-norm split of the forces
+(equal tangential forces); the accelerations are the unique ones. A system whose
+residual is not at round-off after that (contradictory constraints, e.g. two fixed bodies
+turning against each other) is ``CS_SINGULAR``; a sliding contact whose own effective
+normal mass ``JN M^-1 (JN - mu sig JT)^T`` is not positive is ``CS_PAINLEVE`` (the 2D
+Painleve criterion ``W_NN - mu sig W_NT <= 0``). Never NaN.
+
+Integration: Dormand-Prince RK5(4) with dense output (``dopri5``) on the ``6 n`` maximal
+coordinates, component scales ``(L, L, 1 rad, V, V, V/L)`` per body (``L`` the cluster's size,
+given by the caller; ``V = max_i (|v_i| + |omega_i| L) + sqrt(|g| L)`` at the start of the
+call) and tolerance ``CLUSTER_TOL``. After every accepted step the state is projected back
+onto the active constraints (``_project``; mass-weighted least squares, the metric
+``M = diag(m, m, I)``): the positions by Gauss-Newton ``dq = M^-1 JN^T (JN M^-1 JN^T)^+ (-g)``
+until ``|g| <= PROJ_LTOL L`` (at most ``PROJ_ITER`` iterations: round-off ends it), then the
+velocities ``dv = -M^-1 J^T (J M^-1 J^T)^+ J v`` onto ``dg/dt = 0`` (every contact) and ``vT = 0``
+(sticking contacts), twice. The velocity projection is an M-orthogonal projection: it
+only removes kinetic energy (of the order of the squared drift).
+
+Events (functions that must stay positive; the phase ends at the first root, located on
+the dense output by secant/bisection to ``EVENT_RTOL |t| + EVENT_ATOL L / V``, as
+``pivot2d._locate``): ``lam_N`` of an active contact reaching 0 (``CE_LEAVE``), a sticking
+force reaching its cone ``mu lam_N - |lam_T| = 0`` (``CE_SLIP``), a sliding contact's slip
+``sig vT`` reaching 0 (``CE_STOP``: it sticks or reverses; not for ``mu = 0``) and the gap of
+each inactive candidate contact (table ``cands``, same columns, same kinds) reaching 0
+(``CE_GAP``: an impact). A function starting below its arm (``FORCE_ARM m |g|``,
+``SLIP_ARM V``, ``GAP_ARM L``) fires below ``min(0, start) - arm`` instead (``pivot2d``'s
+rule: a phase that starts on an event's root does not end at once). Force and slip
+events are returned on the far side of the root (the new mode is consistent there), gaps
+on the near side (the feature not yet through). Events are sampled at step ends, and
+steps turn no body by more than ``MAX_ANGLE``: two roots of one function within one step
+are not seen (a stated limitation, as in ``pivot2d`` and ``pivot3d``).
+
+Mode selection (``cluster_select_modes``, at the start of a phase, with every contact at
+``g = dg/dt = 0``): an enumeration of the Coulomb LCP's modes, for at most ``KSEL_MAX``
+contacts, in a fixed order: each contact's options are, when it slips (``|vT| > STICK_VTOL
+V``), slip along its slip then lift-off; when it does not, stick, slip +t, slip -t,
+lift-off (``mu = 0``: frictionless contact, lift-off); the combinations run
+lexicographically with the first contact's option varying slowest, and the first
+consistent one is returned: every active ``lam_N >= -FORCE_TOL F``, every sticking force
+inside its cone (``|lam_T| <= mu lam_N + FORCE_TOL F``), every contact that starts to slip
+from ``vT = 0`` accelerating along its slip (``sig dvT/dt > ACC_TOL |g|``), every lifted
+contact not approaching (``g'' >= -ACC_TOL |g|``), with ``F = sum m |g|``. None:
+``CS_NO_MODE`` (a Painleve-type inconsistency; the stepper's impact without collision).
+So stick is preferred whenever it is consistent.
+
+Rest (``cluster_advance``): when every free body's ``|v| + |omega| L <= REST_VTOL
+sqrt(|g| L)``, every active contact is sticking (or frictionless) with ``lam_N >
+FORCE_TOL F`` and strictly inside its cone, and every acceleration is below
+``REST_ATOL |g|`` (``|a| + |alpha| L``), the cluster is at rest: ``CS_REST`` is returned with no
+integration (the stepper freezes it).
+
+Energy: normal forces do no work (``dg/dt = 0``), sticking forces do none (``vT = 0``),
+sliding forces work ``lam_T vT = -mu lam_N |vT| <= 0``: a frictionless or rolling phase
+conserves energy, friction never creates it (tested).
+
+Arrays (no allocation in the hot path; sizes from ``work_size``):
+
+* ``bodies`` float64[nb, N_CB]; the state columns are updated in place by
+  ``cluster_advance`` and ``cluster_project``;
+* ``contacts`` float64[>= nk, N_CC] (active), ``cands`` float64[>= nc, N_CC] (inactive
+  candidates; their ``CC_MODE`` is ignored); the force columns ``CC_LAMN``, ``CC_LAMT`` of the
+  active ones are written (forces at the returned state);
+* ``w`` float64[work_size(nb, nc)]: the integrator (header ``H_*``, blocks of ``6 nb``);
+* ``la`` float64[N_LA]: the contact rows and the linear algebra (fixed size: ``KMAX``).
+"""
+import math
+
+from numba import njit
+
+from .cache_guard import guard
+
+# flush stale compiled callers before any kernel module below is imported (cache_guard)
+guard(__name__, __file__)
+
+from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
+                     reject_factor, solution, step_factor)
+from .flight2d import ANGLE, OMEGA, VX, VY, X, Y
+
+# ---- bodies table (float64[nb, N_CB]) ------------------------------------------------------
+CB_X = X            # centre of mass x (m)
+CB_Y = Y            # centre of mass y (m)
+CB_ANGLE = ANGLE    # angle (rad)
+CB_VX = VX          # velocity (m/s)
+CB_VY = VY
+CB_OMEGA = OMEGA    # angular velocity (rad/s)
+CB_M = 6            # mass (kg; ignored for a fixed body)
+CB_I = 7            # moment of inertia about the centre of mass (kg m^2)
+CB_FIXED = 8        # != 0: infinite mass (keeps its velocity, takes any force)
+N_CB = 9
+NS = 6              # state components per body (x, y, angle, vx, vy, omega)
+
+# ---- contacts table (float64[nk, N_CC]; the same columns for candidates) --------------------
+CC_KIND = 0         # KIND_ROUND, KIND_FACE or KIND_PLANE
+CC_A = 1            # body A (the point feature)
+CC_B = 2            # body B (a point feature or the face); -1: a fixed plane
+CC_PAX = 3          # A's point feature, body frame (m)
+CC_PAY = 4
+CC_RA = 5           # its radius (m)
+CC_PBX = 6          # B's point feature (KIND_ROUND) or a point of B's face line (KIND_FACE),
+CC_PBY = 7          # body frame (m)
+CC_RB = 8           # B's radius (m): the point feature's, or the face's offset (capsule)
+CC_NX = 9           # KIND_FACE: the face's outward unit normal, B's body frame;
+CC_NY = 10          # KIND_PLANE: the plane's unit normal, world
+CC_D = 11           # KIND_PLANE: plane offset d (m): n . q >= d
+CC_MU = 12          # friction coefficient (0: frictionless; inf: never slips)
+CC_MODE = 13        # MODE_* (active contacts)
+CC_LAMN = 14        # output: normal force on A (N)
+CC_LAMT = 15        # output: tangential force on A along t (N)
+N_CC = 16
+
+KIND_ROUND = 0
+KIND_FACE = 1
+KIND_PLANE = 2
+
+MODE_STICK = 0
+MODE_SLIP_POS = 1   # sliding along +t (sig = +1): lam_T = -mu lam_N
+MODE_SLIP_NEG = -1  # sliding along -t
+MODE_LIFT = 2       # not active (mode selection's lift-off)
+
+# ---- sizes --------------------------------------------------------------------------------
+KMAX = 8            # active contacts at most
+NMAX = 2 * KMAX     # force unknowns at most
+KSEL_MAX = 6        # contacts the mode enumeration handles (4^6 combinations)
+
+# ---- status codes -------------------------------------------------------------------------
+CS_OK = 0
+CS_REST = 1             # at rest: nothing integrated
+CS_SINGULAR = 2         # the force system has no solution (contradictory constraints)
+CS_PAINLEVE = 3         # a sliding contact's effective normal mass <= 0
+CS_TOO_MANY_STEPS = 4   # MAX_ATTEMPTS step attempts, or a step that cannot be taken
+CS_NO_MODE = 5          # mode selection: no consistent stick/slip/lift-off combination
+CS_TOO_MANY_CONTACTS = 6  # more than KMAX active (KSEL_MAX for the selection)
+
+# ---- event kinds --------------------------------------------------------------------------
+CE_NONE = 0         # t_max reached (or a failure: see the status)
+CE_LEAVE = 1        # lam_N of active contact `index` reaches 0
+CE_SLIP = 2         # the sticking force of contact `index` reaches its cone
+CE_STOP = 3         # the slip of sliding contact `index` reaches 0
+CE_GAP = 4          # the gap of candidate `index` reaches 0
+
+# ---- tolerances (named; dimensionless, relative to the scales stated) ---------------------
+CLUSTER_TOL = 1e-12     # RK error per step, relative to the scales (L, L, 1, V, V, V/L)
+MAX_ANGLE = 0.05        # rad turned by any body (or sqrt(|g|/L) time) per step at most
+PROJ_LTOL = 1e-15       # position projection stops at |g_k| <= PROJ_LTOL L (round-off)
+PROJ_ITER = 4           # Gauss-Newton iterations of the position projection at most
+SVD_RTOL = 1e-10        # singular values below SVD_RTOL sigma_max are redundancy (zero)
+SVD_SWEEPS = 40         # Jacobi sweeps at most (quadratic convergence: ~6-8 used)
+SOLVE_RTOL = 1e-8       # residual of the force solve over (|A| |lam| + |r|) above this:
+#                         contradictory constraints (CS_SINGULAR)
+PAINLEVE_RTOL = 1e-12   # slip's JN M^-1 (JN - mu sig JT) <= PAINLEVE_RTOL JN M^-1 JN: Painleve
+FORCE_TOL = 1e-10       # force consistency of a mode / rest, relative to F = sum m |g|
+ACC_TOL = 1e-10         # acceleration consistency of a mode, relative to |g|
+STICK_VTOL = 1e-9       # a slip |vT| <= STICK_VTOL V is zero (mode selection)
+REST_VTOL = 1e-10       # rest: |v| + |omega| L <= REST_VTOL sqrt(|g| L) for every body
+REST_ATOL = 1e-10       # rest: |a| + |alpha| L <= REST_ATOL |g| for every body
+FORCE_ARM = 1e-9        # force events starting below FORCE_ARM F are armed (module doc)
+SLIP_ARM = 1e-12        # slip events armed below SLIP_ARM V
+GAP_ARM = 1e-12         # gap events armed below GAP_ARM L
+EVENT_RTOL = 4e-16      # event time located to EVENT_RTOL |t| + EVENT_ATOL L / V
+EVENT_ATOL = 1e-15
+EVENT_ITER = 200        # secant/bisection iterations locating an event
+MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (CS_TOO_MANY_STEPS)
+
+# ---- workspace w: header, then blocks of 6 nb -----------------------------------------------
+H_TOL = 0           # RK tolerance
+H_H = 1             # accepted step (s)
+H_HNEXT = 2         # next step (s)
+H_HMAX = 3          # largest step (s)
+H_S0 = 4            # step start (s from t0)
+H_L = 5             # length scale L (m)
+H_V = 6             # velocity scale V (m/s)
+H_F = 7             # force scale F (N)
+H_GX = 8            # gravity (m/s^2)
+H_GY = 9
+H_G = 10            # |g| (m/s^2)
+H_T0 = 11           # t0 (s)
+N_H = 16
+B_SC = 0            # error scales
+B_Y = 1             # step start
+B_YT = 2            # stage argument
+B_Y1 = 3            # step end
+B_K = 4             # 4..10: seven stages
+B_RC = 11           # 11..15: dense output
+B_YA = 16           # scratch states
+B_YB = 17
+B_YC = 18           # scratch derivative
+N_BLK = 19
+N_EVW = 4           # per event: value at the step start, its floor, value at the end, scratch
+
+# ---- la: per-contact rows, then the linear algebra ----------------------------------------
+LK_NA = 0           # JN entries of A (3) and B (3)
+LK_NB = 3
+LK_TA = 6           # JT entries of A (3) and B (3)
+LK_TB = 9
+LK_BN = 12          # bN (m/s^2)
+LK_BT = 13          # bT (m/s^2)
+LK_G = 14           # gap (m)
+LK_GD = 15          # gap rate (m/s)
+LK_VT = 16          # slip vT (m/s)
+LK_IN = 17          # index of the unknown lam_N (-1: lifted)
+LK_IT = 18          # index of the unknown lam_T (-1: none)
+LK_LN = 19          # lam_N (N)
+LK_LT = 20          # lam_T (N)
+LK_GDD = 21         # g'' at the solved accelerations (m/s^2)
+LK_AT = 22          # dvT/dt at the solved accelerations (m/s^2)
+LK_S = 24           # stride
+LA_K = 0
+LA_A = LA_K + (KMAX + 1) * LK_S    # one extra slot: a candidate's rows
+LA_U = LA_A + NMAX * NMAX
+LA_V = LA_U + NMAX * NMAX
+LA_R = LA_V + NMAX * NMAX
+LA_X = LA_R + NMAX
+LA_EQ = LA_X + NMAX         # contact of each unknown (float)
+LA_ET = LA_EQ + NMAX        # 0: normal unknown, 1: tangential
+N_LA = LA_ET + NMAX
+
+
+@njit(cache=True, _nrt=False)
+def work_size(nb, nc):
+    """Length of ``w`` for ``nb`` bodies and ``nc`` candidates."""
+    return N_H + N_BLK * NS * nb + N_EVW * (2 * KMAX + nc)
+
+
+# ------------------------------------------------------------------ kinematics
+
+
+@njit(cache=True, _nrt=False)
+def _kin(c, k, w, yo):
+    """Kinematics of contact row k of table c at the state w[yo:yo + 6 nb] (module
+    docstring). Returns (g, dg/dt, nx, ny, aAx, aAy, aBx, aBy, bN, vT, bT)."""
+    kind = int(c[k, CC_KIND])
+    a = int(c[k, CC_A])
+    b = int(c[k, CC_B])
+    oa = yo + NS * a
+    xa = w[oa]
+    ya = w[oa + 1]
+    tha = w[oa + 2]
+    vxa = w[oa + 3]
+    vya = w[oa + 4]
+    wa = w[oa + 5]
+    ca = math.cos(tha)
+    sa = math.sin(tha)
+    rax = ca * c[k, CC_PAX] - sa * c[k, CC_PAY]        # rhoA = cA - xA
+    ray = sa * c[k, CC_PAX] + ca * c[k, CC_PAY]
+    cax = xa + rax
+    cay = ya + ray
+    cdax = vxa - wa * ray                              # dcA/dt
+    cday = vya + wa * rax
+    rA = c[k, CC_RA]
+    xb = 0.0
+    yb = 0.0
+    vxb = 0.0
+    vyb = 0.0
+    wb = 0.0
+    if kind == KIND_PLANE:
+        nx = c[k, CC_NX]
+        ny = c[k, CC_NY]
+        g = nx * cax + ny * cay - c[k, CC_D] - rA
+        gd = nx * cdax + ny * cday
+        ndx = 0.0
+        ndy = 0.0
+        bn = -wa * wa * (nx * rax + ny * ray)
+    else:
+        ob = yo + NS * b
+        xb = w[ob]
+        yb = w[ob + 1]
+        thb = w[ob + 2]
+        vxb = w[ob + 3]
+        vyb = w[ob + 4]
+        wb = w[ob + 5]
+        cb = math.cos(thb)
+        sb = math.sin(thb)
+        rbx = cb * c[k, CC_PBX] - sb * c[k, CC_PBY]    # rhoB = cB - xB (or fB - xB)
+        rby = sb * c[k, CC_PBX] + cb * c[k, CC_PBY]
+        dx = xa + rax - xb - rbx                       # D = cA - cB (or d = cA - fB)
+        dy = ya + ray - yb - rby
+        ddx = cdax - (vxb - wb * rby)                  # dD/dt
+        ddy = cday - (vyb + wb * rbx)
+        rB = c[k, CC_RB]
+        if kind == KIND_ROUND:
+            dist = math.hypot(dx, dy)
+            nx = dx / dist
+            ny = dy / dist
+            g = dist - rA - rB
+            gd = nx * ddx + ny * ddy
+            dT = ny * ddx - nx * ddy                   # t . dD/dt
+            ndx = dT / dist * ny                       # dn/dt = (t . dD/dt) t / |D|
+            ndy = -dT / dist * nx
+            bn = (-wa * wa * (nx * rax + ny * ray) + wb * wb * (nx * rbx + ny * rby)
+                  + dT * dT / dist)
+        else:
+            nx = cb * c[k, CC_NX] - sb * c[k, CC_NY]
+            ny = sb * c[k, CC_NX] + cb * c[k, CC_NY]
+            nd = nx * dx + ny * dy
+            g = nd - rA - rB
+            ndx = -wb * ny                             # dn/dt = wB J n
+            ndy = wb * nx
+            gd = nx * ddx + ny * ddy + ndx * dx + ndy * dy
+            bn = (nx * (-wa * wa * rax + wb * wb * rbx) + ny * (-wa * wa * ray + wb * wb * rby)
+                  - wb * wb * nd + 2.0 * wb * (-ny * ddx + nx * ddy))
+    px = cax - rA * nx                                 # contact point and its rate
+    py = cay - rA * ny
+    pdx = cdax - rA * ndx
+    pdy = cday - rA * ndy
+    tx = ny
+    ty = -nx
+    tdx = ndy
+    tdy = -ndx
+    aax = px - xa
+    aay = py - ya
+    if kind == KIND_PLANE:
+        abx = 0.0
+        aby = 0.0
+    else:
+        abx = px - xb
+        aby = py - yb
+    dvx = (vxa - wa * aay) - (vxb - wb * aby)          # v_A(p) - v_B(p)
+    dvy = (vya + wa * aax) - (vyb + wb * abx)
+    vt = tx * dvx + ty * dvy
+    qx = wa * (pdx - vxa) - wb * (pdx - vxb)
+    qy = wa * (pdy - vya) - wb * (pdy - vyb)
+    bt = tdx * dvx + tdy * dvy + (ty * qx - tx * qy)   # + t . J q
+    return g, gd, nx, ny, aax, aay, abx, aby, bn, vt, bt
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _minv(bodies, i):
+    """Inverse mass and inverse inertia of body i (0 for a fixed body)."""
+    if bodies[i, CB_FIXED] != 0.0:
+        return 0.0, 0.0
+    return 1.0 / bodies[i, CB_M], 1.0 / bodies[i, CB_I]
+
+
+@njit(cache=True, _nrt=False)
+def _fill(c, k, w, yo, la, slot):
+    """Rows, biases, gap, slip of contact k of table c into la slot ``slot``."""
+    g, gd, nx, ny, aax, aay, abx, aby, bn, vt, bt = _kin(c, k, w, yo)
+    o = LA_K + slot * LK_S
+    tx = ny
+    ty = -nx
+    la[o + LK_NA] = nx
+    la[o + LK_NA + 1] = ny
+    la[o + LK_NA + 2] = aax * ny - aay * nx
+    la[o + LK_NB] = -nx
+    la[o + LK_NB + 1] = -ny
+    la[o + LK_NB + 2] = -(abx * ny - aby * nx)
+    la[o + LK_TA] = tx
+    la[o + LK_TA + 1] = ty
+    la[o + LK_TA + 2] = aax * ty - aay * tx
+    la[o + LK_TB] = -tx
+    la[o + LK_TB + 1] = -ty
+    la[o + LK_TB + 2] = -(abx * ty - aby * tx)
+    la[o + LK_BN] = bn
+    la[o + LK_BT] = bt
+    la[o + LK_G] = g
+    la[o + LK_GD] = gd
+    la[o + LK_VT] = vt
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _coef(c, la, j, kj, tj):
+    """Force column of unknown j: (offset of its contact slot, weight of the JN part,
+    weight of the JT part)."""
+    o = LA_K + kj * LK_S
+    if tj == 1:
+        return o, 0.0, 1.0
+    mode = c[kj, CC_MODE]
+    mu = c[kj, CC_MU]
+    if mode == MODE_STICK or mu == 0.0:
+        return o, 1.0, 0.0
+    return o, 1.0, -mu * mode
+
+
+@njit(cache=True, _nrt=False)
+def _rowmcol(bodies, c, la, ki, ri, kj, cn, ct):
+    """row ri (LK_NA: normal, LK_TA: tangential) of contact ki times M^-1 times the column
+    cn JN_kj + ct JT_kj."""
+    oi = LA_K + ki * LK_S
+    oj = LA_K + kj * LK_S
+    s = 0.0
+    for si in range(2):
+        bi = int(c[ki, CC_A]) if si == 0 else int(c[ki, CC_B])
+        if bi < 0:
+            continue
+        im, ii = _minv(bodies, bi)
+        if im == 0.0:
+            continue
+        ro = oi + ri + 3 * si
+        for sj in range(2):
+            bj = int(c[kj, CC_A]) if sj == 0 else int(c[kj, CC_B])
+            if bj != bi:
+                continue
+            no = oj + LK_NA + 3 * sj
+            to = oj + LK_TA + 3 * sj
+            for q in range(3):
+                col = cn * la[no + q] + ct * la[to + q]
+                s += la[ro + q] * (im if q < 2 else ii) * col
+    return s
+
+
+# ------------------------------------------------------------------ linear algebra
+
+
+@njit(cache=True, _nrt=False)
+def _solve(la, n):
+    """Minimum-norm solution of A x = r (A at LA_A, stride NMAX, r at LA_R) into LA_X by a
+    one-sided Jacobi SVD (Hestenes). Returns False when the residual is not at round-off
+    (contradictory equations)."""
+    U = LA_U
+    V = LA_V
+    for i in range(n):
+        for j in range(n):
+            la[U + i * NMAX + j] = la[LA_A + i * NMAX + j]
+            la[V + i * NMAX + j] = 1.0 if i == j else 0.0
+    for sweep in range(SVD_SWEEPS):
+        rot = False
+        for p in range(n - 1):
+            for q in range(p + 1, n):
+                al = 0.0
+                be = 0.0
+                ga = 0.0
+                for i in range(n):
+                    up = la[U + i * NMAX + p]
+                    uq = la[U + i * NMAX + q]
+                    al += up * up
+                    be += uq * uq
+                    ga += up * uq
+                if ga == 0.0 or abs(ga) <= 1e-16 * math.sqrt(al * be):
+                    continue
+                rot = True
+                ze = (be - al) / (2.0 * ga)
+                tt = (1.0 if ze >= 0.0 else -1.0) / (abs(ze) + math.hypot(1.0, ze))
+                cs = 1.0 / math.hypot(1.0, tt)
+                sn = cs * tt
+                for i in range(n):
+                    up = la[U + i * NMAX + p]
+                    uq = la[U + i * NMAX + q]
+                    la[U + i * NMAX + p] = cs * up - sn * uq
+                    la[U + i * NMAX + q] = sn * up + cs * uq
+                    vp = la[V + i * NMAX + p]
+                    vq = la[V + i * NMAX + q]
+                    la[V + i * NMAX + p] = cs * vp - sn * vq
+                    la[V + i * NMAX + q] = sn * vp + cs * vq
+        if not rot:
+            break
+    smax = 0.0
+    for j in range(n):
+        s2 = 0.0
+        for i in range(n):
+            s2 += la[U + i * NMAX + j] ** 2
+        smax = max(smax, s2)
+    for i in range(n):
+        la[LA_X + i] = 0.0
+    for j in range(n):
+        s2 = 0.0
+        ur = 0.0
+        for i in range(n):
+            u = la[U + i * NMAX + j]
+            s2 += u * u
+            ur += u * la[LA_R + i]
+        if not s2 > SVD_RTOL * SVD_RTOL * smax:
+            continue
+        f = ur / s2
+        for i in range(n):
+            la[LA_X + i] += la[V + i * NMAX + j] * f
+    # residual check
+    res = 0.0
+    sc = 0.0
+    for i in range(n):
+        s = -la[LA_R + i]
+        a = abs(la[LA_R + i])
+        for j in range(n):
+            t = la[LA_A + i * NMAX + j] * la[LA_X + j]
+            s += t
+            a += abs(t)
+        res = max(res, abs(s))
+        sc = max(sc, a)
+    if not (res <= SOLVE_RTOL * sc):
+        return False
+    return True
+
+
+# ------------------------------------------------------------------ forces
+
+
+@njit(cache=True, _nrt=False)
+def _forces(bodies, c, nk, w, yo, la, ko):
+    """Contact forces and accelerations at the state w[yo:yo + 6 nb] for the modes
+    c[:nk, CC_MODE]; dy/dt into w[ko:ko + 6 nb]; lam, g'', dvT/dt into la. Returns CS_*."""
+    nb = bodies.shape[0]
+    gx = w[H_GX]
+    gy = w[H_GY]
+    n = 0
+    for k in range(nk):
+        _fill(c, k, w, yo, la, k)
+        o = LA_K + k * LK_S
+        if c[k, CC_MODE] == MODE_LIFT:
+            la[o + LK_IN] = -1.0
+            la[o + LK_IT] = -1.0
+            continue
+        if n >= NMAX:
+            return CS_TOO_MANY_CONTACTS
+        la[o + LK_IN] = n
+        la[LA_EQ + n] = k
+        la[LA_ET + n] = 0.0
+        n += 1
+        if c[k, CC_MODE] == MODE_STICK and c[k, CC_MU] != 0.0:
+            la[o + LK_IT] = n
+            la[LA_EQ + n] = k
+            la[LA_ET + n] = 1.0
+            n += 1
+        else:
+            la[o + LK_IT] = -1.0
+    # the system A lam = r
+    for i in range(n):
+        ki = int(la[LA_EQ + i])
+        ti = int(la[LA_ET + i])
+        ri = LK_TA if ti == 1 else LK_NA
+        oi = LA_K + ki * LK_S
+        # r_i = -(row_i q''_free + b_i)
+        rr = la[oi + (LK_BT if ti == 1 else LK_BN)]
+        for si in range(2):
+            bi = int(c[ki, CC_A]) if si == 0 else int(c[ki, CC_B])
+            if bi < 0 or bodies[bi, CB_FIXED] != 0.0:
+                continue
+            rr += la[oi + ri + 3 * si] * gx + la[oi + ri + 3 * si + 1] * gy
+        la[LA_R + i] = -rr
+        for j in range(n):
+            kj = int(la[LA_EQ + j])
+            tj = int(la[LA_ET + j])
+            oj, cn, ct = _coef(c, la, j, kj, tj)
+            la[LA_A + i * NMAX + j] = _rowmcol(bodies, c, la, ki, ri, kj, cn, ct)
+    # Painleve: a sliding contact's own effective normal mass
+    for k in range(nk):
+        o = LA_K + k * LK_S
+        i = int(la[o + LK_IN])
+        if i < 0 or c[k, CC_MODE] == MODE_STICK or c[k, CC_MU] == 0.0:
+            continue
+        wnn = _rowmcol(bodies, c, la, k, LK_NA, k, 1.0, 0.0)
+        if not la[LA_A + i * NMAX + i] > PAINLEVE_RTOL * wnn:
+            return CS_PAINLEVE
+    if n > 0:
+        if not _solve(la, n):
+            return CS_SINGULAR
+    # accelerations
+    for i in range(nb):
+        o = yo + NS * i
+        d = ko + NS * i
+        w[d] = w[o + 3]
+        w[d + 1] = w[o + 4]
+        w[d + 2] = w[o + 5]
+        if bodies[i, CB_FIXED] != 0.0:
+            w[d + 3] = 0.0
+            w[d + 4] = 0.0
+        else:
+            w[d + 3] = gx
+            w[d + 4] = gy
+        w[d + 5] = 0.0
+    for j in range(n):
+        kj = int(la[LA_EQ + j])
+        tj = int(la[LA_ET + j])
+        oj, cn, ct = _coef(c, la, j, kj, tj)
+        lam = la[LA_X + j]
+        for sj in range(2):
+            bj = int(c[kj, CC_A]) if sj == 0 else int(c[kj, CC_B])
+            if bj < 0:
+                continue
+            im, ii = _minv(bodies, bj)
+            if im == 0.0:
+                continue
+            no = oj + LK_NA + 3 * sj
+            to = oj + LK_TA + 3 * sj
+            d = ko + NS * bj
+            w[d + 3] += im * lam * (cn * la[no] + ct * la[to])
+            w[d + 4] += im * lam * (cn * la[no + 1] + ct * la[to + 1])
+            w[d + 5] += ii * lam * (cn * la[no + 2] + ct * la[to + 2])
+    # forces, g'' and dvT/dt per contact
+    for k in range(nk):
+        o = LA_K + k * LK_S
+        i = int(la[o + LK_IN])
+        it = int(la[o + LK_IT])
+        if i < 0:
+            ln = 0.0
+            lt = 0.0
+        else:
+            ln = la[LA_X + i]
+            if it >= 0:
+                lt = la[LA_X + it]
+            elif c[k, CC_MODE] == MODE_STICK or c[k, CC_MU] == 0.0:
+                lt = 0.0
+            else:
+                lt = -c[k, CC_MU] * c[k, CC_MODE] * ln
+        la[o + LK_LN] = ln
+        la[o + LK_LT] = lt
+        gdd = la[o + LK_BN]
+        at = la[o + LK_BT]
+        for si in range(2):
+            bi = int(c[k, CC_A]) if si == 0 else int(c[k, CC_B])
+            if bi < 0:
+                continue
+            d = ko + NS * bi
+            for q in range(3):
+                gdd += la[o + LK_NA + 3 * si + q] * w[d + 3 + q]
+                at += la[o + LK_TA + 3 * si + q] * w[d + 3 + q]
+        la[o + LK_GDD] = gdd
+        la[o + LK_AT] = at
+    return CS_OK
+
+
+# ------------------------------------------------------------------ projection
+
+
+@njit(cache=True, _nrt=False)
+def _project(bodies, c, nk, w, yo, la):
+    """Project the state w[yo:yo + 6 nb] onto the active constraints (module docstring).
+    Returns CS_OK or CS_SINGULAR."""
+    L = w[H_L]
+    for it in range(PROJ_ITER + 1):
+        n = 0
+        gm = 0.0
+        for k in range(nk):
+            _fill(c, k, w, yo, la, k)
+            if c[k, CC_MODE] == MODE_LIFT:
+                continue
+            la[LA_EQ + n] = k
+            la[LA_R + n] = -la[LA_K + k * LK_S + LK_G]
+            gm = max(gm, abs(la[LA_K + k * LK_S + LK_G]))
+            n += 1
+        if n == 0 or gm <= PROJ_LTOL * L or it == PROJ_ITER:
+            break
+        for i in range(n):
+            ki = int(la[LA_EQ + i])
+            for j in range(n):
+                kj = int(la[LA_EQ + j])
+                la[LA_A + i * NMAX + j] = _rowmcol(bodies, c, la, ki, LK_NA, kj, 1.0, 0.0)
+        if not _solve(la, n):
+            return CS_SINGULAR
+        _apply(bodies, c, w, yo, la, n, 0)
+    for rep in range(2):
+        n = 0
+        for k in range(nk):
+            _fill(c, k, w, yo, la, k)
+            if c[k, CC_MODE] == MODE_LIFT:
+                continue
+            o = LA_K + k * LK_S
+            la[LA_EQ + n] = k
+            la[LA_ET + n] = 0.0
+            la[LA_R + n] = -la[o + LK_GD]
+            n += 1
+            if c[k, CC_MODE] == MODE_STICK and c[k, CC_MU] != 0.0:
+                la[LA_EQ + n] = k
+                la[LA_ET + n] = 1.0
+                la[LA_R + n] = -la[o + LK_VT]
+                n += 1
+        if n == 0:
+            break
+        for i in range(n):
+            ki = int(la[LA_EQ + i])
+            ri = LK_TA if la[LA_ET + i] == 1.0 else LK_NA
+            for j in range(n):
+                kj = int(la[LA_EQ + j])
+                tj = la[LA_ET + j] == 1.0
+                la[LA_A + i * NMAX + j] = _rowmcol(bodies, c, la, ki, ri, kj,
+                                                   0.0 if tj else 1.0, 1.0 if tj else 0.0)
+        if not _solve(la, n):
+            return CS_SINGULAR
+        _apply(bodies, c, w, yo, la, n, 3)
+    return CS_OK
+
+
+@njit(cache=True, _nrt=False)
+def _apply(bodies, c, w, yo, la, n, off):
+    """w[yo + 6 i + off + (0, 1, 2)] += M^-1 J^T x for the unknowns x at LA_X (rows as
+    listed in LA_EQ / LA_ET)."""
+    for j in range(n):
+        kj = int(la[LA_EQ + j])
+        ro = LA_K + kj * LK_S + (LK_TA if la[LA_ET + j] == 1.0 else LK_NA)
+        x = la[LA_X + j]
+        for sj in range(2):
+            bj = int(c[kj, CC_A]) if sj == 0 else int(c[kj, CC_B])
+            if bj < 0:
+                continue
+            im, ii = _minv(bodies, bj)
+            if im == 0.0:
+                continue
+            d = yo + NS * bj + off
+            w[d] += im * x * la[ro + 3 * sj]
+            w[d + 1] += im * x * la[ro + 3 * sj + 1]
+            w[d + 2] += ii * x * la[ro + 3 * sj + 2]
+
+
+# ------------------------------------------------------------------ setup helpers
+
+
+@njit(cache=True, _nrt=False)
+def _setup(bodies, gx, gy, L, w):
+    """Header of w: gravity, scales; the bodies' state into block B_Y."""
+    nb = bodies.shape[0]
+    NY = NS * nb
+    gl = math.hypot(gx, gy)
+    w[H_GX] = gx
+    w[H_GY] = gy
+    w[H_G] = gl
+    w[H_L] = L
+    vmax = 0.0
+    F = 0.0
+    msum = 0.0
+    for i in range(nb):
+        if bodies[i, CB_FIXED] != 0.0:
+            continue
+        vmax = max(vmax, math.hypot(bodies[i, CB_VX], bodies[i, CB_VY])
+                   + abs(bodies[i, CB_OMEGA]) * L)
+        msum += bodies[i, CB_M]
+    V = vmax + math.sqrt(gl * L)
+    if not V > 0.0:
+        V = 1.0 * L     # no gravity, no motion: any positive scale (1/s times L)
+    w[H_V] = V
+    F = msum * gl
+    if not F > 0.0:
+        F = msum * V * V / L
+    w[H_F] = F
+    w[H_TOL] = CLUSTER_TOL
+    yo = N_H + B_Y * NY
+    for i in range(nb):
+        for j in range(NS):
+            w[yo + NS * i + j] = bodies[i, j]
+    so = N_H + B_SC * NY
+    for i in range(nb):
+        w[so + NS * i] = L
+        w[so + NS * i + 1] = L
+        w[so + NS * i + 2] = 1.0
+        w[so + NS * i + 3] = V
+        w[so + NS * i + 4] = V
+        w[so + NS * i + 5] = V / L
+
+
+@njit(cache=True, _nrt=False)
+def _store(bodies, c, nk, w, yo, la):
+    """State w[yo:...] into the bodies table; the forces of la into the contact table."""
+    nb = bodies.shape[0]
+    for i in range(nb):
+        for j in range(NS):
+            bodies[i, j] = w[yo + NS * i + j]
+    for k in range(nk):
+        c[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+        c[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+
+
+# ------------------------------------------------------------------ public: forces, rates
+
+
+@njit(cache=True, _nrt=False)
+def cluster_forces(bodies, contacts, nk, gx, gy, L, w, la, acc):
+    """Contact forces (into ``contacts[:nk, CC_LAMN / CC_LAMT]``) and accelerations (into
+    ``acc``, float64[nb, 3]: ax, ay, alpha) for the state of ``bodies`` and the modes
+    ``contacts[:nk, CC_MODE]``. Returns CS_*."""
+    if nk > KMAX:
+        return CS_TOO_MANY_CONTACTS
+    nb = bodies.shape[0]
+    NY = NS * nb
+    _setup(bodies, gx, gy, L, w)
+    yo = N_H + B_Y * NY
+    ko = N_H + B_YC * NY
+    st = _forces(bodies, contacts, nk, w, yo, la, ko)
+    if st != CS_OK:
+        return st
+    for i in range(nb):
+        for q in range(3):
+            acc[i, q] = w[ko + NS * i + 3 + q]
+    for k in range(nk):
+        contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+        contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    return CS_OK
+
+
+@njit(cache=True, _nrt=False)
+def cluster_rates(bodies, c, k, acc, w, out):
+    """Kinematics of contact row k of table c for the state of ``bodies`` and the
+    accelerations ``acc`` (float64[nb, 3]): ``out[:]`` = (g, dg/dt, g'', vT, dvT/dt, nx, ny)."""
+    nb = bodies.shape[0]
+    for i in range(nb):
+        for j in range(NS):
+            w[N_H + NS * i + j] = bodies[i, j]
+    g, gd, nx, ny, aax, aay, abx, aby, bn, vt, bt = _kin(c, k, w, N_H)
+    tx = ny
+    ty = -nx
+    a = int(c[k, CC_A])
+    b = int(c[k, CC_B])
+    gdd = bn + nx * acc[a, 0] + ny * acc[a, 1] + (aax * ny - aay * nx) * acc[a, 2]
+    at = bt + tx * acc[a, 0] + ty * acc[a, 1] + (aax * ty - aay * tx) * acc[a, 2]
+    if b >= 0:
+        gdd -= nx * acc[b, 0] + ny * acc[b, 1] + (abx * ny - aby * nx) * acc[b, 2]
+        at -= tx * acc[b, 0] + ty * acc[b, 1] + (abx * ty - aby * tx) * acc[b, 2]
+    out[0] = g
+    out[1] = gd
+    out[2] = gdd
+    out[3] = vt
+    out[4] = at
+    out[5] = nx
+    out[6] = ny
+
+
+@njit(cache=True, _nrt=False)
+def cluster_energy(bodies, gx, gy):
+    """Kinetic plus gravitational energy (J) of the free bodies (potential 0 at x = 0)."""
+    e = 0.0
+    for i in range(bodies.shape[0]):
+        if bodies[i, CB_FIXED] != 0.0:
+            continue
+        m = bodies[i, CB_M]
+        e += (0.5 * m * (bodies[i, CB_VX] ** 2 + bodies[i, CB_VY] ** 2)
+              + 0.5 * bodies[i, CB_I] * bodies[i, CB_OMEGA] ** 2
+              - m * (gx * bodies[i, CB_X] + gy * bodies[i, CB_Y]))
+    return e
+
+
+@njit(cache=True, _nrt=False)
+def cluster_project(bodies, contacts, nk, gx, gy, L, w, la):
+    """Project the state of ``bodies`` onto the active contacts (positions: g = 0; velocities:
+    dg/dt = 0, and vT = 0 where sticking), in place. Returns CS_*."""
+    if nk > KMAX:
+        return CS_TOO_MANY_CONTACTS
+    nb = bodies.shape[0]
+    NY = NS * nb
+    _setup(bodies, gx, gy, L, w)
+    yo = N_H + B_Y * NY
+    st = _project(bodies, contacts, nk, w, yo, la)
+    for i in range(nb):
+        for j in range(NS):
+            bodies[i, j] = w[yo + NS * i + j]
+    return st
+
+
+# ------------------------------------------------------------------ mode selection
+
+
+@njit(cache=True, _nrt=False)
+def _consistent(c, nk, w, la, nopt):
+    """The solved forces (la) consistent with the modes c[:nk, CC_MODE] (module doc)?
+    ``w[nopt + k]``: the number of options of contact k (4: it starts at vT = 0)."""
+    F = w[H_F]
+    gl = w[H_G]
+    atol = ACC_TOL * (gl if gl > 0.0 else w[H_V] * w[H_V] / w[H_L])
+    for k in range(nk):
+        o = LA_K + k * LK_S
+        mode = c[k, CC_MODE]
+        if mode == MODE_LIFT:
+            if la[o + LK_GDD] < -atol:
+                return False
+            continue
+        ln = la[o + LK_LN]
+        if ln < -FORCE_TOL * F:
+            return False
+        mu = c[k, CC_MU]
+        if mu == 0.0:
+            continue
+        if mode == MODE_STICK:
+            if abs(la[o + LK_LT]) > mu * ln + FORCE_TOL * F:
+                return False
+        elif w[nopt + k] == 4.0:
+            # starts to slip from vT = 0: it must accelerate along its slip
+            if not mode * la[o + LK_AT] > atol:
+                return False
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
+    """Choose a consistent mode for each of ``contacts[:nk]`` (every one at g = dg/dt = 0)
+    by the enumeration of the module docstring; the modes go to ``CC_MODE`` (``MODE_LIFT``
+    for the contacts that leave), the forces to ``CC_LAMN / CC_LAMT``. Returns CS_OK or
+    CS_NO_MODE (modes left as the last tried) or CS_TOO_MANY_CONTACTS."""
+    if nk > KSEL_MAX:
+        return CS_TOO_MANY_CONTACTS
+    nb = bodies.shape[0]
+    NY = NS * nb
+    _setup(bodies, gx, gy, L, w)
+    yo = N_H + B_Y * NY
+    ko = N_H + B_YC * NY
+    sv = N_H + B_YA * NY        # per contact: its slip sign at the start (0: not slipping)
+    nopt = N_H + B_YB * NY      # per contact: its number of options
+    V = w[H_V]
+    total = 1
+    for k in range(nk):
+        _fill(contacts, k, w, yo, la, k)
+        vt = la[LA_K + k * LK_S + LK_VT]
+        if contacts[k, CC_MU] == 0.0:
+            w[sv + k] = 1.0     # frictionless: "slip" (lam_T = 0) or lift
+            w[nopt + k] = 2.0
+        elif abs(vt) > STICK_VTOL * V:
+            w[sv + k] = 1.0 if vt > 0.0 else -1.0
+            w[nopt + k] = 2.0
+        else:
+            w[sv + k] = 0.0
+            w[nopt + k] = 4.0
+        total *= int(w[nopt + k])
+    for combo in range(total):
+        r = combo
+        for kk in range(nk):
+            k = nk - 1 - kk            # the last contact varies fastest
+            no = int(w[nopt + k])
+            opt = r % no
+            r //= no
+            if no == 2:
+                contacts[k, CC_MODE] = w[sv + k] if opt == 0 else MODE_LIFT
+            else:
+                if opt == 0:
+                    contacts[k, CC_MODE] = MODE_STICK
+                elif opt == 1:
+                    contacts[k, CC_MODE] = MODE_SLIP_POS
+                elif opt == 2:
+                    contacts[k, CC_MODE] = MODE_SLIP_NEG
+                else:
+                    contacts[k, CC_MODE] = MODE_LIFT
+        st = _forces(bodies, contacts, nk, w, yo, la, ko)
+        if st != CS_OK:
+            continue
+        if _consistent(contacts, nk, w, la, nopt):
+            for k in range(nk):
+                contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+                contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+            return CS_OK
+    return CS_NO_MODE
+
+
+# ------------------------------------------------------------------ integration
+
+
+@njit(cache=True, _nrt=False)
+def _step(bodies, c, nk, w, la, NY, h):
+    """One error-controlled DOPRI5 step from block B_Y (stage 1 at B_K). Returns
+    (status, attempts); the accepted step length is w[H_H]."""
+    Y = N_H + B_Y * NY
+    YT = N_H + B_YT * NY
+    Y1 = N_H + B_Y1 * NY
+    K = N_H + B_K * NY
+    RC = N_H + B_RC * NY
+    SC = N_H + B_SC * NY
+    tol = w[H_TOL]
+    att = 0
+    while True:
+        att += 1
+        if att > 1000 or not h > 0.0:
+            return CS_TOO_MANY_STEPS, att
+        arg2(w, NY, Y, K, YT, h)
+        st = _forces(bodies, c, nk, w, YT, la, K + NY)
+        if st != CS_OK:
+            return st, att
+        arg3(w, NY, Y, K, YT, h)
+        st = _forces(bodies, c, nk, w, YT, la, K + 2 * NY)
+        if st != CS_OK:
+            return st, att
+        arg4(w, NY, Y, K, YT, h)
+        st = _forces(bodies, c, nk, w, YT, la, K + 3 * NY)
+        if st != CS_OK:
+            return st, att
+        arg5(w, NY, Y, K, YT, h)
+        st = _forces(bodies, c, nk, w, YT, la, K + 4 * NY)
+        if st != CS_OK:
+            return st, att
+        arg6(w, NY, Y, K, YT, h)
+        st = _forces(bodies, c, nk, w, YT, la, K + 5 * NY)
+        if st != CS_OK:
+            return st, att
+        solution(w, NY, Y, K, Y1, h)
+        st = _forces(bodies, c, nk, w, Y1, la, K + 6 * NY)
+        if st != CS_OK:
+            return st, att
+        err = 0.0
+        for j in range(NY):
+            r = abs(error_estimate(w, NY, K, h, j)) / (tol * w[SC + j])
+            if r > err:
+                err = r
+        if err <= 1.0:
+            dense_store(w, NY, Y, Y1, K, RC, h)
+            w[H_H] = h
+            w[H_HNEXT] = h * step_factor(err)
+            return CS_OK, att
+        h = h * reject_factor(err)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _dense(w, NY, s, yo):
+    """Dense output at s (within the current step) into w[yo:yo + NY]."""
+    th = (s - w[H_S0]) / w[H_H]
+    RC = N_H + B_RC * NY
+    for j in range(NY):
+        w[yo + j] = dense_eval(w, NY, RC, th, j)
+
+
+@njit(cache=True, _nrt=False)
+def _events(bodies, c, nk, cands, nc, w, la, NY, yo, eo):
+    """Every event function at the state w[yo:yo + NY] into w[eo:eo + 2 KMAX + nc] (inf
+    where it does not apply): 2k lam_N of contact k (N); 2k + 1 its cone margin
+    mu lam_N - |lam_T| (N) or its slip sig vT (m/s); 2 KMAX + j the gap of candidate j (m).
+    Returns the force status."""
+    st = _forces(bodies, c, nk, w, yo, la, N_H + B_YC * NY)
+    for k in range(KMAX):
+        w[eo + 2 * k] = math.inf
+        w[eo + 2 * k + 1] = math.inf
+        if k >= nk or st != CS_OK:
+            continue
+        o = LA_K + k * LK_S
+        mode = c[k, CC_MODE]
+        if mode == MODE_LIFT:
+            continue
+        w[eo + 2 * k] = la[o + LK_LN]
+        mu = c[k, CC_MU]
+        if mu == 0.0 or mu == math.inf:
+            continue
+        if mode == MODE_STICK:
+            w[eo + 2 * k + 1] = mu * la[o + LK_LN] - abs(la[o + LK_LT])
+        else:
+            w[eo + 2 * k + 1] = mode * la[o + LK_VT]
+    for j in range(nc):
+        _fill(cands, j, w, yo, la, KMAX)
+        w[eo + 2 * KMAX + j] = la[LA_K + KMAX * LK_S + LK_G]
+    return st
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _arm(w, e, v, force):
+    """Firing level of event e for a step starting at value v (``force``: the slot is a
+    force, N; else a slip, m/s, or a gap, m)."""
+    if e >= 2 * KMAX:
+        arm = GAP_ARM * w[H_L]
+    elif force:
+        arm = FORCE_ARM * w[H_F]
+    else:
+        arm = SLIP_ARM * w[H_V]
+    if v > arm:
+        return 0.0
+    return min(0.0, v) - arm
+
+
+@njit(cache=True, _nrt=False)
+def _one_event(bodies, c, nk, cands, nc, w, la, NY, yo, e):
+    """Event function e at w[yo:...] (see _events)."""
+    eo = N_H + N_BLK * NY + 3 * (2 * KMAX + nc)   # the fourth event block: scratch
+    _events(bodies, c, nk, cands, nc, w, la, NY, yo, eo)
+    return w[eo + e]
+
+
+@njit(cache=True, _nrt=False)
+def _locate(bodies, c, nk, cands, nc, w, la, NY, e, fl, sa, sb, tt):
+    """First root of event e minus its floor fl in (sa, sb] on the dense output (value > 0
+    at sa, <= 0 at sb). Returns the far side for a force or slip event, the near side for
+    a gap."""
+    YA = N_H + B_YA * NY
+    _dense(w, NY, sa, YA)
+    fa = _one_event(bodies, c, nk, cands, nc, w, la, NY, YA, e) - fl
+    _dense(w, NY, sb, YA)
+    fb = _one_event(bodies, c, nk, cands, nc, w, la, NY, YA, e) - fl
+    t0 = w[H_T0]
+    for it in range(EVENT_ITER):
+        if sb - sa <= tt + EVENT_RTOL * abs(t0 + sb):
+            break
+        sm = sb - fb * (sb - sa) / (fb - fa) if fb != fa else 0.5 * (sa + sb)
+        if not (sa < sm < sb) or it % 3 == 2:
+            sm = 0.5 * (sa + sb)
+        _dense(w, NY, sm, YA)
+        fm = _one_event(bodies, c, nk, cands, nc, w, la, NY, YA, e) - fl
+        if fm > 0.0:
+            sa = sm
+            fa = fm
+        else:
+            sb = sm
+            fb = fm
+    return sa if e >= 2 * KMAX else sb
+
+
+@njit(cache=True, _nrt=False)
+def _at_rest(bodies, c, nk, w, la):
+    """The rest test of the module docstring at block B_Y (forces solved into la)."""
+    nb = bodies.shape[0]
+    NY = NS * nb
+    L = w[H_L]
+    gl = w[H_G]
+    vr = REST_VTOL * math.sqrt(gl * L)
+    yo = N_H + B_Y * NY
+    ko = N_H + B_YC * NY
+    for i in range(nb):
+        if bodies[i, CB_FIXED] != 0.0:
+            if (w[yo + NS * i + 3] != 0.0 or w[yo + NS * i + 4] != 0.0
+                    or w[yo + NS * i + 5] != 0.0):
+                return False    # a moving support
+            continue
+        if math.hypot(w[yo + NS * i + 3], w[yo + NS * i + 4]) + abs(w[yo + NS * i + 5]) * L > vr:
+            return False
+    if _forces(bodies, c, nk, w, yo, la, ko) != CS_OK:
+        return False
+    F = w[H_F]
+    for k in range(nk):
+        o = LA_K + k * LK_S
+        mode = c[k, CC_MODE]
+        if mode == MODE_LIFT:
+            continue
+        mu = c[k, CC_MU]
+        if mode != MODE_STICK and mu != 0.0:
+            return False
+        ln = la[o + LK_LN]
+        if not ln > FORCE_TOL * F:
+            return False
+        if mu != 0.0 and not abs(la[o + LK_LT]) < mu * ln:
+            return False
+    for i in range(nb):
+        if bodies[i, CB_FIXED] != 0.0:
+            continue
+        if math.hypot(w[ko + NS * i + 3], w[ko + NS * i + 4]) + abs(w[ko + NS * i + 5]) * L > \
+                REST_ATOL * gl:
+            return False
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la):
+    """Integrate the cluster (state ``bodies``, active ``contacts[:nk]`` in their modes
+    ``CC_MODE``, inactive candidates ``cands[:nc]``) from ``t0`` until the first event or
+    ``t_max``. The state is projected onto the constraints first. On return ``bodies``
+    holds the (projected) state at the returned time and ``contacts[:nk, CC_LAMN /
+    CC_LAMT]`` the forces there. Returns ``(status CS_*, event CE_*, index, t)``: index the
+    contact (CE_LEAVE, CE_SLIP, CE_STOP) or the candidate (CE_GAP). ``CS_REST``: the
+    cluster is at rest (nothing integrated, t = t0)."""
+    if nk > KMAX:
+        return CS_TOO_MANY_CONTACTS, CE_NONE, -1, t0
+    nb = bodies.shape[0]
+    NY = NS * nb
+    _setup(bodies, gx, gy, L, w)
+    w[H_T0] = t0
+    Y = N_H + B_Y * NY
+    Y1 = N_H + B_Y1 * NY
+    K = N_H + B_K * NY
+    YA = N_H + B_YA * NY
+    E0 = N_H + N_BLK * NY                 # event values at the step start
+    EF = E0 + (2 * KMAX + nc)             # their floors
+    ne = 2 * KMAX + nc
+    V = w[H_V]
+    S = t_max - t0
+    st = _project(bodies, contacts, nk, w, Y, la)
+    if st != CS_OK:
+        return st, CE_NONE, -1, t0
+    if _at_rest(bodies, contacts, nk, w, la):
+        _store(bodies, contacts, nk, w, Y, la)
+        return CS_REST, CE_NONE, -1, t0
+    hmax = MAX_ANGLE * L / V
+    w[H_HMAX] = hmax
+    h = min(hmax, hmax * CLUSTER_TOL ** 0.2 * 10.0)
+    w[H_S0] = 0.0
+    tt = EVENT_ATOL * L / V
+    st = _forces(bodies, contacts, nk, w, Y, la, K)
+    if st != CS_OK:
+        _store(bodies, contacts, nk, w, Y, la)
+        return st, CE_NONE, -1, t0
+    att = 0
+    while True:
+        om = 0.0
+        for i in range(nb):
+            om = max(om, abs(w[Y + NS * i + 5]))
+        hcap = hmax
+        if om * hcap > MAX_ANGLE:
+            hcap = MAX_ANGLE / om
+        h = min(h, hcap, S - w[H_S0])
+        if not h > 0.0:
+            h = S - w[H_S0]
+        if not h > 0.0:
+            _store(bodies, contacts, nk, w, Y, la)
+            return CS_OK, CE_NONE, -1, t_max
+        st, a = _step(bodies, contacts, nk, w, la, NY, h)
+        att += a
+        if st != CS_OK:
+            _forces(bodies, contacts, nk, w, Y, la, N_H + B_YC * NY)
+            _store(bodies, contacts, nk, w, Y, la)
+            return st, CE_NONE, -1, t0 + w[H_S0]
+        if att > MAX_ATTEMPTS:
+            _store(bodies, contacts, nk, w, Y, la)
+            return CS_TOO_MANY_STEPS, CE_NONE, -1, t0 + w[H_S0]
+        s0 = w[H_S0]
+        s1 = s0 + w[H_H]
+        if s1 > S:
+            s1 = S
+        # events: values at the step start (floors), then at its end
+        _dense(w, NY, s0, YA)
+        _events(bodies, contacts, nk, cands, nc, w, la, NY, YA, E0)
+        for e in range(ne):
+            force = e % 2 == 0 or (e // 2 < nk and contacts[e // 2, CC_MODE] == MODE_STICK)
+            w[EF + e] = _arm(w, e, w[E0 + e], force)
+        _dense(w, NY, s1, YA)
+        E1 = EF + ne
+        _events(bodies, contacts, nk, cands, nc, w, la, NY, YA, E1)
+        best = math.inf
+        be = -1
+        for e in range(ne):
+            if w[E0 + e] == math.inf:
+                continue
+            if w[E1 + e] - w[EF + e] <= 0.0:
+                r = _locate(bodies, contacts, nk, cands, nc, w, la, NY, e, w[EF + e], s0, s1,
+                            tt)
+                if r < best:
+                    best = r
+                    be = e
+        if be >= 0 or s1 >= S:
+            send = best if be >= 0 else S
+            _dense(w, NY, send, Y)
+            _project(bodies, contacts, nk, w, Y, la)
+            _forces(bodies, contacts, nk, w, Y, la, N_H + B_YC * NY)
+            _store(bodies, contacts, nk, w, Y, la)
+            if be < 0:
+                return CS_OK, CE_NONE, -1, t_max
+            if be >= 2 * KMAX:
+                return CS_OK, CE_GAP, be - 2 * KMAX, t0 + send
+            k = be // 2
+            if be % 2 == 0:
+                return CS_OK, CE_LEAVE, k, t0 + send
+            if contacts[k, CC_MODE] == MODE_STICK:
+                return CS_OK, CE_SLIP, k, t0 + send
+            return CS_OK, CE_STOP, k, t0 + send
+        # accept: project the step end, restart from it
+        st = _project(bodies, contacts, nk, w, Y1, la)
+        if st != CS_OK:
+            _store(bodies, contacts, nk, w, Y, la)
+            return st, CE_NONE, -1, t0 + s0
+        for j in range(NY):
+            w[Y + j] = w[Y1 + j]
+        st = _forces(bodies, contacts, nk, w, Y, la, K)
+        if st != CS_OK:
+            _store(bodies, contacts, nk, w, Y, la)
+            return st, CE_NONE, -1, t0 + s1
+        w[H_S0] = s1
+        h = w[H_HNEXT]
+
+
+# ------------------------------------------------------------------ Python-level validation
+
+
+def validate_cluster(bodies, contacts, nk, cands=None, nc=0, L=1.0):
+    """Check the tables before a kernel call (plain Python; the stepper's own scene checks
+    make this redundant there). Raises ValueError naming the first problem."""
+    import numpy as np
+    bodies = np.asarray(bodies)
+    if bodies.ndim != 2 or bodies.shape[1] != N_CB or bodies.dtype != np.float64:
+        raise ValueError(f"bodies must be float64[nb, {N_CB}], got {bodies.dtype}{bodies.shape}")
+    nb = bodies.shape[0]
+    if not np.all(np.isfinite(bodies[:, :NS])):
+        raise ValueError("bodies: non-finite state")
+    for i in range(nb):
+        if bodies[i, CB_FIXED] == 0.0 and not (bodies[i, CB_M] > 0.0 and bodies[i, CB_I] > 0.0
+                                                and np.isfinite(bodies[i, CB_M])
+                                                and np.isfinite(bodies[i, CB_I])):
+            raise ValueError(f"body {i}: mass and inertia must be positive and finite")
+    if not (L > 0.0 and np.isfinite(L)):
+        raise ValueError(f"L must be positive and finite, got {L}")
+    if nk > KMAX:
+        raise ValueError(f"{nk} active contacts: at most KMAX = {KMAX}")
+    for name, tab, cnt in (("contact", contacts, nk), ("candidate", cands, nc)):
+        if cnt == 0:
+            continue
+        tab = np.asarray(tab)
+        if tab.ndim != 2 or tab.shape[1] != N_CC or tab.shape[0] < cnt or tab.dtype != np.float64:
+            raise ValueError(f"{name}s must be float64[>= {cnt}, {N_CC}]")
+        for k in range(cnt):
+            r = tab[k]
+            kind = r[CC_KIND]
+            if kind not in (KIND_ROUND, KIND_FACE, KIND_PLANE):
+                raise ValueError(f"{name} {k}: unknown kind {kind}")
+            a = r[CC_A]
+            b = r[CC_B]
+            if a != int(a) or not 0 <= a < nb:
+                raise ValueError(f"{name} {k}: body A = {a} out of range")
+            if kind == KIND_PLANE:
+                if b != -1:
+                    raise ValueError(f"{name} {k}: a plane contact has CC_B = -1")
+            elif b != int(b) or not 0 <= b < nb or b == a:
+                raise ValueError(f"{name} {k}: body B = {b} out of range or equal to A")
+            if kind != KIND_ROUND and abs(math.hypot(r[CC_NX], r[CC_NY]) - 1.0) > 1e-12:
+                raise ValueError(f"{name} {k}: the normal (CC_NX, CC_NY) must be a unit vector")
+            if r[CC_RA] < 0.0 or r[CC_RB] < 0.0:
+                raise ValueError(f"{name} {k}: negative radius")
+            if not (r[CC_MU] >= 0.0):
+                raise ValueError(f"{name} {k}: mu must be >= 0")
+            if name == "contact":
+                if r[CC_MODE] not in (MODE_STICK, MODE_SLIP_POS, MODE_SLIP_NEG, MODE_LIFT):
+                    raise ValueError(f"contact {k}: unknown mode {r[CC_MODE]}")
+                if r[CC_MU] == math.inf and r[CC_MODE] in (MODE_SLIP_POS, MODE_SLIP_NEG):
+                    raise ValueError(f"contact {k}: a contact with mu = inf cannot slip")
+            fa = kind == KIND_PLANE or bodies[int(b), CB_FIXED] != 0.0
+            if bodies[int(a), CB_FIXED] != 0.0 and fa:
+                raise ValueError(f"{name} {k}: both sides fixed")
+            g = [r[CC_PAX], r[CC_PAY], r[CC_PBX], r[CC_PBY], r[CC_D]]
+            if not np.all(np.isfinite(g)):
+                raise ValueError(f"{name} {k}: non-finite geometry")

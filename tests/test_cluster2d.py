@@ -1,0 +1,221 @@
+"""kernels/cluster2d.py: persistent contact between several 2D bodies (issue 16 item 2).
+
+Closed forms (a disk rolling off a cylinder: lift-off at cos phi = 4/7, frictionless 2/3;
+a stack of boxes at rest; blocks on an incline), an independent scipy integration of the
+constrained Newton-Euler equations with Lagrange multipliers, energy, projection drift,
+each contact kind's g'' against finite differences of the exact gap, and the status codes.
+"""
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from rbimpact.kernels import cluster2d as C
+
+G = 9.81
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def body(x, y, a=0.0, vx=0.0, vy=0.0, w=0.0, m=1.0, I=1.0, fixed=False):
+    r = np.zeros(C.N_CB)
+    r[[C.CB_X, C.CB_Y, C.CB_ANGLE, C.CB_VX, C.CB_VY, C.CB_OMEGA]] = x, y, a, vx, vy, w
+    r[C.CB_M] = m
+    r[C.CB_I] = I
+    r[C.CB_FIXED] = 1.0 if fixed else 0.0
+    return r
+
+
+def contact(kind, A, B=-1, pa=(0.0, 0.0), ra=0.0, pb=(0.0, 0.0), rb=0.0, n=(0.0, 1.0), d=0.0,
+            mu=0.0, mode=C.MODE_STICK):
+    r = np.zeros(C.N_CC)
+    r[C.CC_KIND] = kind
+    r[C.CC_A] = A
+    r[C.CC_B] = B
+    r[C.CC_PAX], r[C.CC_PAY] = pa
+    r[C.CC_RA] = ra
+    r[C.CC_PBX], r[C.CC_PBY] = pb
+    r[C.CC_RB] = rb
+    r[C.CC_NX], r[C.CC_NY] = n
+    r[C.CC_D] = d
+    r[C.CC_MU] = mu
+    r[C.CC_MODE] = mode
+    return r
+
+
+class Cluster:
+    """Tables and work arrays of one cluster (Python convenience for the tests)."""
+
+    def __init__(self, bodies, contacts, cands=(), g=(0.0, -G), L=1.0):
+        self.b = np.array(bodies, dtype=np.float64)
+        self.c = np.array(contacts, dtype=np.float64).reshape(-1, C.N_CC)
+        self.nk = self.c.shape[0]
+        self.cand = np.array(cands, dtype=np.float64).reshape(-1, C.N_CC)
+        if self.cand.shape[0] == 0:
+            self.cand = np.zeros((1, C.N_CC))
+            self.nc = 0
+        else:
+            self.nc = self.cand.shape[0]
+        self.g = g
+        self.L = L
+        C.validate_cluster(self.b, self.c, self.nk, self.cand, self.nc, L)
+        self.w = np.zeros(C.work_size(self.b.shape[0], self.nc))
+        self.la = np.zeros(C.N_LA)
+        self.acc = np.zeros((self.b.shape[0], 3))
+
+    def forces(self):
+        return C.cluster_forces(self.b, self.c, self.nk, self.g[0], self.g[1], self.L, self.w,
+                                self.la, self.acc)
+
+    def select(self):
+        return C.cluster_select_modes(self.b, self.c, self.nk, self.g[0], self.g[1], self.L,
+                                      self.w, self.la)
+
+    def project(self):
+        return C.cluster_project(self.b, self.c, self.nk, self.g[0], self.g[1], self.L, self.w,
+                                 self.la)
+
+    def advance(self, t0, t1):
+        return C.cluster_advance(self.b, self.c, self.nk, self.cand, self.nc, self.g[0],
+                                 self.g[1], self.L, t0, t1, self.w, self.la)
+
+    def energy(self):
+        return C.cluster_energy(self.b, self.g[0], self.g[1])
+
+    def rates(self, k, table=None):
+        out = np.zeros(7)
+        C.cluster_rates(self.b, self.c if table is None else table, k, self.acc, self.w, out)
+        return out
+
+
+def rot(a, p):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([c * p[0] - s * p[1], s * p[0] + c * p[1]])
+
+
+# ------------------------------------------------------------------ 6. g'' of each kind
+
+
+def _exact_gap_and_slip(row, st):
+    """Independent gap and slip of contact row ``row`` for body states st[i] = (x, y, a, vx,
+    vy, w): the geometry written from scratch (module docstring of cluster2d, DESIGN §3)."""
+    kind = int(row[C.CC_KIND])
+    A = int(row[C.CC_A])
+    B = int(row[C.CC_B])
+    xa = np.array(st[A][:2])
+    ca = xa + rot(st[A][2], row[[C.CC_PAX, C.CC_PAY]])
+    rA = row[C.CC_RA]
+    if kind == C.KIND_PLANE:
+        n = row[[C.CC_NX, C.CC_NY]]
+        g = n @ ca - row[C.CC_D] - rA
+    else:
+        xb = np.array(st[B][:2])
+        pb = xb + rot(st[B][2], row[[C.CC_PBX, C.CC_PBY]])
+        if kind == C.KIND_ROUND:
+            dd = ca - pb
+            n = dd / np.linalg.norm(dd)
+            g = np.linalg.norm(dd) - rA - row[C.CC_RB]
+        else:
+            n = rot(st[B][2], row[[C.CC_NX, C.CC_NY]])
+            g = n @ (ca - pb) - rA - row[C.CC_RB]
+    p = ca - rA * n
+    t = np.array([n[1], -n[0]])
+
+    def vel(i):
+        x = np.array(st[i][:2])
+        r = p - x
+        return np.array(st[i][3:5]) + st[i][5] * np.array([-r[1], r[0]])
+    dv = vel(A) - (vel(B) if kind != C.KIND_PLANE else 0.0)
+    return g, t @ dv
+
+
+KIND_CASES = {
+    # (bodies, contact): generic positions, velocities, features with and without radius
+    "round-round": ([body(0.1, 0.9, 0.4, 0.3, -0.7, 1.3, m=1.2, I=0.3),
+                     body(-0.2, 0.05, -0.6, -0.5, 0.2, -2.1, m=0.7, I=0.1)],
+                    contact(C.KIND_ROUND, 0, 1, pa=(0.05, -0.1), ra=0.3, pb=(0.1, 0.02), rb=0.25)),
+    "vertex-face": ([body(0.1, 0.9, 0.4, 0.3, -0.7, 1.3, m=1.2, I=0.3),
+                     body(-0.2, 0.05, 0.3, -0.5, 0.2, -2.1, m=0.7, I=0.1)],
+                    contact(C.KIND_FACE, 0, 1, pa=(-0.2, -0.3), ra=0.0, pb=(0.1, 0.2),
+                            rb=0.0, n=(math.sin(0.2), math.cos(0.2)))),
+    "round-capsule side": ([body(0.1, 0.9, 0.4, 0.3, -0.7, 1.3, m=1.2, I=0.3),
+                            body(-0.2, 0.05, 0.3, -0.5, 0.2, -2.1, m=0.7, I=0.1)],
+                           contact(C.KIND_FACE, 0, 1, pa=(-0.2, -0.3), ra=0.15, pb=(0.1, 0.2),
+                                   rb=0.1, n=(0.0, 1.0))),
+    "round-plane": ([body(0.1, 0.9, 0.4, 0.3, -0.7, 1.3, m=1.2, I=0.3)],
+                    contact(C.KIND_PLANE, 0, -1, pa=(0.2, -0.1), ra=0.2,
+                            n=(-math.sin(0.3), math.cos(0.3)), d=0.1)),
+}
+
+
+@pytest.mark.parametrize("name", list(KIND_CASES))
+def test_gap_second_derivative_against_finite_differences(name):
+    """g, g', g'' and vT, dvT/dt of each kind against finite differences of the exact gap
+    and slip along a motion with constant (arbitrary) accelerations."""
+    bodies, row = KIND_CASES[name]
+    cl = Cluster(bodies, [row], g=(0.0, 0.0))
+    rng = np.random.default_rng(7)
+    cl.acc[:] = rng.normal(size=cl.acc.shape)
+    out = cl.rates(0)
+
+    def state(t):
+        st = []
+        for i in range(cl.b.shape[0]):
+            q = cl.b[i, :3] + cl.b[i, 3:6] * t + 0.5 * cl.acc[i] * t * t
+            v = cl.b[i, 3:6] + cl.acc[i] * t
+            st.append(np.concatenate([q, v]))
+        return st
+    h = 1e-3
+    vals = np.array([_exact_gap_and_slip(row, state(k * h)) for k in (-2, -1, 0, 1, 2)])
+    g0 = vals[2, 0]
+    d1 = (vals[0] - 8 * vals[1] + 8 * vals[3] - vals[4]) / (12 * h)      # O(h^4)
+    d2 = (-vals[0] + 16 * vals[1] - 30 * vals[2] + 16 * vals[3] - vals[4]) / (12 * h * h)
+    assert out[0] == pytest.approx(g0, abs=1e-14)
+    assert out[1] == pytest.approx(d1[0], abs=1e-9)
+    assert out[2] == pytest.approx(d2[0], abs=1e-6)
+    assert out[3] == pytest.approx(vals[2, 1], abs=1e-14)
+    assert out[4] == pytest.approx(d1[1], abs=1e-9)
+    assert abs(out[2]) > 0.1 and abs(out[4]) > 0.1      # not trivially zero
+
+
+# ------------------------------------------------------------------ 1. disk off a cylinder
+
+
+def disk_on_cylinder(mu, v0, R=1.0, r=0.5, m=1.0):
+    """Disk (radius r, I = m r^2 / 2) on top of a fixed cylinder (radius R) with the
+    tangential speed v0, rolling (mu > 0) or sliding (mu = 0)."""
+    I = 0.5 * m * r * r
+    w0 = -v0 / r if mu > 0.0 else 0.0        # rolling: v_p = v + w J (0, -r) = (v + w r, 0)
+    bodies = [body(0.0, 0.0, m=1.0, I=1.0, fixed=True),
+              body(0.0, R + r, 0.0, v0, 0.0, w0, m=m, I=I)]
+    mode = C.MODE_STICK if mu > 0.0 else C.MODE_SLIP_POS
+    ct = contact(C.KIND_ROUND, 1, 0, ra=r, rb=R, mu=mu, mode=mode)
+    return Cluster(bodies, [ct], L=R + r)
+
+
+@pytest.mark.parametrize("rolling", [True, False], ids=["rolling", "frictionless"])
+def test_disk_leaves_cylinder_at_closed_form_angle(rolling):
+    """Rolling (mu = inf): energy m g (R + r)(1 - cos phi) = (1/2)(m + I/r^2) v^2 - (1/2)
+    (m + I/r^2) v0^2 with v = (R + r) dphi/dt and I/r^2 = m/2; the normal force
+    m g cos phi - m v^2 / (R + r) vanishes at cos phi = 4/7 + (3/7) v0^2 / (g (R + r)).
+    Frictionless: (1/2) m v^2 only: cos phi = 2/3 + v0^2 / (3 g (R + r))."""
+    R, r = 1.0, 0.5
+    v0 = 1e-3 * math.sqrt(G * (R + r))
+    cl = disk_on_cylinder(math.inf if rolling else 0.0, v0, R, r)
+    q = v0 * v0 / (G * (R + r))
+    expect = 4.0 / 7.0 + 3.0 / 7.0 * q if rolling else 2.0 / 3.0 + q / 3.0
+    e0 = cl.energy()
+    st, ev, k, t = cl.advance(0.0, 30.0)
+    assert st == C.CS_OK and ev == C.CE_LEAVE and k == 0
+    cphi = cl.b[1, C.CB_Y] / (R + r)
+    assert abs(cphi - expect) < 1e-8, cphi - expect
+    assert abs(cl.energy() - e0) < 1e-10 * G * (R + r)
+    assert abs(cl.c[0, C.CC_LAMN]) < 1e-7 * G
+    # on the constraint: the gap and, rolling, the slip
+    out = cl.rates(0)
+    assert abs(out[0]) < 1e-12 * (R + r)
+    if rolling:
+        assert abs(out[3]) < 1e-12 * math.sqrt(G * (R + r))
+    test_disk_leaves_cylinder_at_closed_form_angle.err = cphi - expect
