@@ -227,8 +227,9 @@ PROJ_LTOL = 1e-15       # position projection stops at |g_k| <= PROJ_LTOL L (rou
 PROJ_ITER = 4           # Gauss-Newton iterations of the position projection at most
 SVD_RTOL = 1e-10        # singular values below SVD_RTOL sigma_max are redundancy (zero)
 SVD_SWEEPS = 40         # Jacobi sweeps at most (quadratic convergence: ~6-8 used)
-SOLVE_RTOL = 1e-8       # residual of the force solve over (|A| |lam| + |r|) above this:
-#                         contradictory constraints (CS_SINGULAR)
+SOLVE_RTOL = 1e-8       # a solve whose residual exceeds SOLVE_RTOL (|A| |x| + |r|) plus
+#                         SOLVE_RTOL times the scale of r (forces: max|A| F; projections:
+#                         L, V) has contradictory equations (CS_SINGULAR)
 PAINLEVE_RTOL = 1e-12   # slip's JN M^-1 (JN - mu sig JT) <= PAINLEVE_RTOL JN M^-1 JN: Painleve
 FORCE_TOL = 1e-10       # force consistency of a mode / rest, relative to F = sum m |g|
 ACC_TOL = 1e-10         # acceleration consistency of a mode, relative to |g|
@@ -484,10 +485,11 @@ def _rowmcol(bodies, c, la, ki, ri, kj, cn, ct):
 
 
 @njit(cache=True, _nrt=False)
-def _solve(la, n):
+def _solve(la, n, floor):
     """Minimum-norm solution of A x = r (A at LA_A, stride NMAX, r at LA_R) into LA_X by a
-    one-sided Jacobi SVD (Hestenes). Returns False when the residual is not at round-off
-    (contradictory equations)."""
+    one-sided Jacobi SVD (Hestenes). Returns False when the residual exceeds
+    ``SOLVE_RTOL (|A| |x| + |r|) + floor`` (contradictory equations; ``floor`` the round-off
+    of r's own scale)."""
     U = LA_U
     V = LA_V
     for i in range(n):
@@ -557,7 +559,7 @@ def _solve(la, n):
             a += abs(t)
         res = max(res, abs(s))
         sc = max(sc, a)
-    if not (res <= SOLVE_RTOL * sc):
+    if not (res <= SOLVE_RTOL * sc + floor):
         return False
     return True
 
@@ -622,7 +624,11 @@ def _forces(bodies, c, nk, w, yo, la, ko):
         if not la[LA_A + i * NMAX + i] > PAINLEVE_RTOL * wnn:
             return CS_PAINLEVE
     if n > 0:
-        if not _solve(la, n):
+        amax = 0.0
+        for i in range(n):
+            for j in range(n):
+                amax = max(amax, abs(la[LA_A + i * NMAX + j]))
+        if not _solve(la, n, SOLVE_RTOL * amax * w[H_F]):
             return CS_SINGULAR
     # accelerations
     for i in range(nb):
@@ -715,7 +721,7 @@ def _project(bodies, c, nk, w, yo, la):
             for j in range(n):
                 kj = int(la[LA_EQ + j])
                 la[LA_A + i * NMAX + j] = _rowmcol(bodies, c, la, ki, LK_NA, kj, 1.0, 0.0)
-        if not _solve(la, n):
+        if not _solve(la, n, SOLVE_RTOL * L):
             return CS_SINGULAR
         _apply(bodies, c, w, yo, la, n, 0)
     for rep in range(2):
@@ -744,7 +750,7 @@ def _project(bodies, c, nk, w, yo, la):
                 tj = la[LA_ET + j] == 1.0
                 la[LA_A + i * NMAX + j] = _rowmcol(bodies, c, la, ki, ri, kj,
                                                    0.0 if tj else 1.0, 1.0 if tj else 0.0)
-        if not _solve(la, n):
+        if not _solve(la, n, SOLVE_RTOL * w[H_V]):
             return CS_SINGULAR
         _apply(bodies, c, w, yo, la, n, 3)
     return CS_OK

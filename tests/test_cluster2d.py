@@ -219,3 +219,158 @@ def test_disk_leaves_cylinder_at_closed_form_angle(rolling):
     if rolling:
         assert abs(out[3]) < 1e-12 * math.sqrt(G * (R + r))
     test_disk_leaves_cylinder_at_closed_form_angle.err = cphi - expect
+
+
+# ------------------------------------------------------------------ 3. a stack at rest
+
+
+def box_inertia(m, w, h):
+    return m * (w * w + h * h) / 12.0
+
+
+def test_stack_of_boxes_rests_with_the_weights_above():
+    """Four boxes on a floor, each face contact two point-face contacts at the ends of the
+    overlap (a narrower box's corners on the face below; a wider box's face on the corners
+    below: the mirror, A the corners' body). Rest is detected, nothing moves, and each pair
+    of normal forces is the statics of the weight above: N_a + N_b = W, N_a x_a + N_b x_b =
+    W x_bar (x_bar the centre of mass of the boxes above)."""
+    # (width, height, mass, x centre)
+    spec = [(2.0, 0.5, 3.0, 0.0), (1.2, 0.4, 1.0, 0.3), (1.6, 0.3, 0.5, 0.1), (0.5, 0.6, 0.8, -0.2)]
+    bodies, contacts, faces = [], [], []
+    y = 0.0
+    for i, (wd, h, m, x) in enumerate(spec):
+        bodies.append(body(x, y + h / 2, m=m, I=box_inertia(m, wd, h)))
+        y += h
+    for i, (wd, h, m, x) in enumerate(spec):
+        if i == 0:
+            for sx in (-1, 1):
+                contacts.append(contact(C.KIND_PLANE, 0, -1, pa=(sx * wd / 2, -h / 2),
+                                        mu=0.6))
+            faces.append([(x - wd / 2, 0), (x + wd / 2, 1)])
+            continue
+        wl, hl, ml, xl = spec[i - 1]
+        pair = []
+        for sx in (-1, 1):
+            if wd <= wl:      # this box's bottom corners on the top face of the one below
+                contacts.append(contact(C.KIND_FACE, i, i - 1, pa=(sx * wd / 2, -h / 2),
+                                        pb=(0.0, hl / 2), n=(0.0, 1.0), mu=0.6))
+                pair.append((x + sx * wd / 2, len(contacts) - 1))
+            else:             # the lower box's top corners on this box's bottom face
+                contacts.append(contact(C.KIND_FACE, i - 1, i, pa=(sx * wl / 2, hl / 2),
+                                        pb=(0.0, -h / 2), n=(0.0, -1.0), mu=0.6))
+                pair.append((xl + sx * wl / 2, len(contacts) - 1))
+        faces.append(pair)
+    # 8 contacts: the enumeration handles at most KSEL_MAX; rest is decided by the modes
+    # given (all sticking), as the stepper would after an accumulation
+    cl = Cluster(bodies, contacts, L=2.0)
+    before = cl.b.copy()
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert st == C.CS_REST and ev == C.CE_NONE and t == 0.0
+    assert np.max(np.abs(cl.b - before)) <= 1e-12
+    for i, pair in enumerate(faces):
+        W = G * sum(s[2] for s in spec[i:])
+        xbar = sum(s[2] * s[3] for s in spec[i:]) / sum(s[2] for s in spec[i:])
+        (xa, ka), (xb, kb) = pair
+        Nb = W * (xbar - xa) / (xb - xa)
+        Na = W - Nb
+        assert cl.c[ka, C.CC_LAMN] == pytest.approx(Na, rel=1e-12, abs=1e-12 * W)
+        assert cl.c[kb, C.CC_LAMN] == pytest.approx(Nb, rel=1e-12, abs=1e-12 * W)
+        assert abs(cl.c[ka, C.CC_LAMT]) < 1e-12 * W and abs(cl.c[kb, C.CC_LAMT]) < 1e-12 * W
+
+
+def test_three_box_stack_mode_selection_finds_rest():
+    """Three boxes (6 contacts, within KSEL_MAX): the enumeration picks all sticking."""
+    spec = [(2.0, 0.5, 3.0, 0.0), (1.2, 0.4, 1.0, 0.3), (0.8, 0.3, 0.5, 0.1)]
+    bodies, contacts = [], []
+    y = 0.0
+    for wd, h, m, x in spec:
+        bodies.append(body(x, y + h / 2, m=m, I=box_inertia(m, wd, h)))
+        y += h
+    for sx in (-1, 1):
+        contacts.append(contact(C.KIND_PLANE, 0, -1, pa=(sx * 1.0, -0.25), mu=0.5))
+    for i in (1, 2):
+        wd, h = spec[i][:2]
+        for sx in (-1, 1):
+            contacts.append(contact(C.KIND_FACE, i, i - 1, pa=(sx * wd / 2, -h / 2),
+                                    pb=(0.0, spec[i - 1][1] / 2), n=(0.0, 1.0), mu=0.5))
+    cl = Cluster(bodies, contacts, L=2.0)
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    assert np.all(cl.c[:, C.CC_MODE] == C.MODE_STICK)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert st == C.CS_REST
+    assert cl.c[0, C.CC_LAMN] + cl.c[1, C.CC_LAMN] == pytest.approx(4.5 * G, rel=1e-13)
+
+
+# ------------------------------------------------------------------ 4. blocks on an incline
+
+
+def blocks_on_incline(th, mu1, mu2, m1=2.0, m2=1.0, w1=1.0, h1=0.3, w2=0.6, h2=0.2, u=0.1):
+    """Block 0 (w1 x h1) on the plane through the origin inclined at th, block 1 (w2 x h2)
+    on it, offset u along the incline; both at rest. Contacts: block 0's bottom corners on
+    the plane (mu1), block 1's bottom corners on block 0's top face (mu2)."""
+    n = np.array([-math.sin(th), math.cos(th)])
+    tdir = np.array([math.cos(th), math.sin(th)])
+    c0 = 2.0 * tdir + (h1 / 2) * n
+    c1 = c0 + u * tdir + (h1 / 2 + h2 / 2) * n
+    bodies = [body(*c0, a=th, m=m1, I=box_inertia(m1, w1, h1)),
+              body(*c1, a=th, m=m2, I=box_inertia(m2, w2, h2))]
+    contacts = [contact(C.KIND_PLANE, 0, -1, pa=(sx * w1 / 2, -h1 / 2), n=tuple(n), mu=mu1)
+                for sx in (-1, 1)]
+    contacts += [contact(C.KIND_FACE, 1, 0, pa=(sx * w2 / 2, -h2 / 2), pb=(0.0, h1 / 2),
+                         n=(0.0, 1.0), mu=mu2) for sx in (-1, 1)]
+    return Cluster(bodies, contacts, L=w1)
+
+
+INCLINE_CASES = {
+    # name: (theta, mu1, mu2, modes (plane, plane, face, face), a1, a2 along -t in g)
+    "rest": (math.radians(20), 0.8, 0.8, [0, 0, 0, 0], 0.0, 0.0),
+    "lower slides, upper sticks": (math.radians(20), 0.2, 0.8, [-1, -1, 0, 0], None, None),
+    "both slide": (math.radians(30), 0.3, 0.1, [-1, -1, -1, -1], None, None),
+    "upper slides on a sticking lower": (math.radians(30), 0.9, 0.1, [0, 0, -1, -1], 0.0, None),
+}
+
+
+@pytest.mark.parametrize("name", list(INCLINE_CASES))
+def test_two_blocks_on_incline_coulomb_closed_form(name):
+    """The two-block Coulomb problem from rest: which contacts stick or slip, and the
+    accelerations along the incline against the closed forms (m1 = 2, m2 = 1):
+    lower slides, upper sticks: a = g (sin th - mu1 cos th) for both; both slide:
+    a2 = g (sin th - mu2 cos th), m1 a1 = m1 g sin th + mu2 m2 g cos th - mu1 (m1 + m2)
+    g cos th; upper slides alone: a2 as before, a1 = 0. Rest: the friction and normal
+    forces on the plane balance the total weight."""
+    th, mu1, mu2, modes, a1, a2 = INCLINE_CASES[name]
+    m1, m2 = 2.0, 1.0
+    cl = blocks_on_incline(th, mu1, mu2, m1, m2)
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == modes
+    s, c = math.sin(th), math.cos(th)
+    if name == "lower slides, upper sticks":
+        a1 = a2 = G * (s - mu1 * c)
+    elif name == "both slide":
+        a2 = G * (s - mu2 * c)
+        a1 = (m1 * G * s + mu2 * m2 * G * c - mu1 * (m1 + m2) * G * c) / m1
+    elif name == "upper slides on a sticking lower":
+        a2 = G * (s - mu2 * c)
+    assert cl.forces() == C.CS_OK
+    down = -np.array([c, s])
+    for i, a in ((0, a1), (1, a2)):
+        np.testing.assert_allclose(cl.acc[i, :2], a * down, atol=1e-12 * G)
+        assert abs(cl.acc[i, 2]) < 1e-12 * G
+    N = cl.c[:2, C.CC_LAMN].sum()
+    F = cl.c[:2, C.CC_LAMT].sum()
+    assert N == pytest.approx((m1 + m2) * G * c, rel=1e-12)
+    # Newton along the incline for the whole: (m1 + m2) g sin th + F = -(m1 a1 + m2 a2)... in
+    # the t direction (up the incline): F - (m1 + m2) g s = -(m1 a1 + m2 a2)
+    assert F - (m1 + m2) * G * s == pytest.approx(-(m1 * a1 + m2 * a2), abs=1e-12 * G)
+    st, ev, k, t = cl.advance(0.0, 0.2)
+    if name == "rest":
+        assert st == C.CS_REST
+    else:
+        assert st == C.CS_OK and ev == C.CE_NONE
+        # constant accelerations: the displacement along the incline is a t^2 / 2
+        x0 = blocks_on_incline(th, mu1, mu2, m1, m2).b
+        for i, a in ((0, a1), (1, a2)):
+            np.testing.assert_allclose(cl.b[i, :2] - x0[i, :2], 0.5 * a * 0.04 * down,
+                                       atol=1e-11)
