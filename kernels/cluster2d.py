@@ -838,26 +838,35 @@ def _store(bodies, c, nk, w, yo, la):
 
 
 @njit(cache=True, _nrt=False)
-def cluster_forces(bodies, contacts, nk, gx, gy, L, w, la, acc):
-    """Contact forces (into ``contacts[:nk, CC_LAMN / CC_LAMT]``) and accelerations (into
-    ``acc``, float64[nb, 3]: ax, ay, alpha) for the state of ``bodies`` and the modes
-    ``contacts[:nk, CC_MODE]``. Returns CS_*."""
+def _forces_table(bodies, contacts, nk, gx, gy, L, w, la):
+    """_forces for the state of ``bodies``; the forces into the contact table, the
+    derivative into block B_YC. Returns CS_*."""
     if nk > KMAX:
         return CS_TOO_MANY_CONTACTS
     nb = bodies.shape[0]
     NY = NS * nb
     _setup(bodies, gx, gy, L, w)
-    yo = N_H + B_Y * NY
-    ko = N_H + B_YC * NY
-    st = _forces(bodies, contacts, nk, w, yo, la, ko)
+    st = _forces(bodies, contacts, nk, w, N_H + B_Y * NY, la, N_H + B_YC * NY)
     if st != CS_OK:
         return st
-    for i in range(nb):
-        for q in range(3):
-            acc[i, q] = w[ko + NS * i + 3 + q]
     for k in range(nk):
         contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
         contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    return CS_OK
+
+
+@njit(cache=True, _nrt=False)
+def cluster_forces(bodies, contacts, nk, gx, gy, L, w, la, acc):
+    """Contact forces (into ``contacts[:nk, CC_LAMN / CC_LAMT]``) and accelerations (into
+    ``acc``, float64[nb, 3]: ax, ay, alpha) for the state of ``bodies`` and the modes
+    ``contacts[:nk, CC_MODE]``. Returns CS_*."""
+    st = _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
+    if st != CS_OK:
+        return st
+    ko = N_H + B_YC * NS * bodies.shape[0]
+    for i in range(bodies.shape[0]):
+        for q in range(3):
+            acc[i, q] = w[ko + NS * i + 3 + q]
     return CS_OK
 
 
@@ -1009,6 +1018,32 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
                 contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
             return CS_OK
     return CS_NO_MODE
+
+
+@njit(cache=True, _nrt=False)
+def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
+    """The mode of contact k after ``cluster_advance`` returned event ``ev`` there (the
+    state and forces as returned): ``CE_LEAVE`` -> ``MODE_LIFT`` (the stepper moves it to the
+    candidates); ``CE_SLIP`` -> slip opposite to the sticking force, ``sig = -sign(lam_T)``;
+    ``CE_STOP`` -> stick if its force is inside the cone, else slip reverses
+    (``sig = -sign(lam_T)`` of the sticking trial); ``CE_GAP``: nothing (an impact). At an
+    event the new mode is the one the trend calls for: the enumeration of
+    ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
+    Returns the status of the forces in the new modes (forces written as by
+    ``cluster_forces``)."""
+    if ev == CE_LEAVE:
+        contacts[k, CC_MODE] = MODE_LIFT
+    elif ev == CE_SLIP:
+        contacts[k, CC_MODE] = MODE_SLIP_NEG if contacts[k, CC_LAMT] > 0.0 else MODE_SLIP_POS
+    elif ev == CE_STOP:
+        contacts[k, CC_MODE] = MODE_STICK
+        st = _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
+        if st != CS_OK:
+            return st
+        lt = contacts[k, CC_LAMT]
+        if abs(lt) > contacts[k, CC_MU] * contacts[k, CC_LAMN]:
+            contacts[k, CC_MODE] = MODE_SLIP_NEG if lt > 0.0 else MODE_SLIP_POS
+    return _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
 
 
 # ------------------------------------------------------------------ integration

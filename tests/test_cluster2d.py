@@ -81,6 +81,10 @@ class Cluster:
         return C.cluster_advance(self.b, self.c, self.nk, self.cand, self.nc, self.g[0],
                                  self.g[1], self.L, t0, t1, self.w, self.la)
 
+    def after_event(self, ev, k):
+        return C.cluster_after_event(self.b, self.c, self.nk, ev, k, self.g[0], self.g[1],
+                                     self.L, self.w, self.la)
+
     def energy(self):
         return C.cluster_energy(self.b, self.g[0], self.g[1])
 
@@ -374,3 +378,191 @@ def test_two_blocks_on_incline_coulomb_closed_form(name):
         for i, a in ((0, a1), (1, a2)):
             np.testing.assert_allclose(cl.b[i, :2] - x0[i, :2], 0.5 * a * 0.04 * down,
                                        atol=1e-11)
+
+
+# ------------------------------------------------------------------ 2. against scipy
+
+
+R1, R2, M1, M2 = 1.0, 0.5, 2.0, 0.5
+
+
+def two_disks(phi0=0.3, mu_floor=0.6, mu_disks=0.3, w2=0.0):
+    """Disk 0 (R1, M1) on the floor, disk 1 (R2, M2) on it at phi0 from the vertical, at rest
+    (disk 1 spinning at w2). Contacts: floor-disk 0, disk 0-disk 1 (A = the upper disk)."""
+    c1 = np.array([0.0, R1]) + (R1 + R2) * np.array([math.sin(phi0), math.cos(phi0)])
+    bodies = [body(0.0, R1, m=M1, I=0.5 * M1 * R1 * R1),
+              body(*c1, w=w2, m=M2, I=0.5 * M2 * R2 * R2)]
+    contacts = [contact(C.KIND_PLANE, 0, -1, ra=R1, mu=mu_floor),
+                contact(C.KIND_ROUND, 1, 0, ra=R2, rb=R1, mu=mu_disks)]
+    return Cluster(bodies, contacts, L=2 * (R1 + R2))
+
+
+def _ref_rows(q):
+    """Velocity-level constraint rows (normal, tangential) of the two-disk scene at the
+    configuration q = (x0, y0, a0, x1, y1, a1), written independently of the kernel:
+    floor: g = y0 - R1, vT = vx0 + R1 w0; disks: n = (c1 - c0)/|c1 - c0|, t = (n_y, -n_x),
+    g = |c1 - c0| - R1 - R2, vT = t . (v1 - v0) + R2 w1 + R1 w0. Complex-safe."""
+    dx = q[3] - q[0]
+    dy = q[4] - q[1]
+    dist = np.sqrt(dx * dx + dy * dy)
+    nx, ny = dx / dist, dy / dist
+    tx, ty = ny, -nx
+    z = 0.0 * dist
+    floorN = np.array([z, 1 + z, z, z, z, z])
+    floorT = np.array([1 + z, z, R1 + z, z, z, z])
+    diskN = np.array([-nx, -ny, z, nx, ny, z])
+    diskT = np.array([-tx, -ty, R1 + z, tx, ty, R2 + z])
+    return [(floorN, floorT), (diskN, diskT)]
+
+
+def reference_solution(y0, modes, mus, t_end):
+    """solve_ivp (DOP853, rtol 1e-12) of M q'' = F + sum (G lam) with the constraint
+    accelerations Phi q'' + (dPhi/dt) q' = 0, (dPhi/dt) q' by complex-step differentiation
+    along q' (exact to round-off): the constrained Newton-Euler equations with Lagrange
+    multipliers. Terminal events: lam_N = 0, cone margin, slip stop."""
+    minv = np.array([1 / M1, 1 / M1, 1 / (0.5 * M1 * R1 * R1),
+                     1 / M2, 1 / M2, 1 / (0.5 * M2 * R2 * R2)])
+    Fg = np.array([0.0, -G, 0.0, 0.0, -G, 0.0]) / minv
+
+    def solve(y):
+        q, v = y[:6], y[6:]
+        hc = 1e-30
+        rows = _ref_rows(q)
+        rows_c = _ref_rows(q + 1j * hc * v)
+        eqs, cols, gam = [], [], []
+        for k, ((rN, rT), (cN, cT)) in enumerate(zip(rows, rows_c)):
+            eqs.append(rN)
+            gam.append((cN.imag / hc) @ v)
+            if modes[k] == C.MODE_STICK:
+                cols.append(rN)
+                eqs.append(rT)
+                gam.append((cT.imag / hc) @ v)
+                cols.append(rT)
+            else:
+                cols.append(rN - mus[k] * modes[k] * rT)
+        Phi = np.array(eqs).real
+        Gc = np.array(cols).real.T
+        n = len(eqs)
+        K = np.zeros((6 + n, 6 + n))
+        K[:6, :6] = np.diag(1 / minv)
+        K[:6, 6:] = -Gc
+        K[6:, :6] = Phi
+        rhs = np.concatenate([Fg, -np.array(gam)])
+        sol = np.linalg.solve(K, rhs)
+        qdd, lam = sol[:6], sol[6:]
+        out = []
+        i = 0
+        for k in range(2):
+            ln = lam[i]
+            i += 1
+            if modes[k] == C.MODE_STICK:
+                lt = lam[i]
+                i += 1
+            else:
+                lt = -mus[k] * modes[k] * ln
+            vt = (rows[k][1].real @ v)
+            out.append((ln, lt, vt))
+        return qdd, out
+
+    def f(t, y):
+        qdd, _ = solve(y)
+        return np.concatenate([y[6:], qdd])
+
+    events = []
+    for k in range(2):
+        def ev_lam(t, y, k=k):
+            return solve(y)[1][k][0]
+
+        def ev_slip(t, y, k=k):
+            ln, lt, vt = solve(y)[1][k]
+            return mus[k] * ln - abs(lt) if modes[k] == C.MODE_STICK else modes[k] * vt
+        ev_lam.terminal = ev_slip.terminal = True
+        ev_lam.direction = ev_slip.direction = -1
+        events += [ev_lam, ev_slip]
+    return solve_ivp(f, (0.0, t_end), y0, method="DOP853", rtol=1e-12, atol=1e-14,
+                     dense_output=True, events=events), solve
+
+
+def test_disk_on_disk_on_floor_matches_scipy_lagrange_multipliers():
+    """A disk on a free disk on a rough floor, from rest: the kernel's modes are consistent
+    for the reference too; the trajectories agree to 1e-8 L (positions) and 1e-8 V
+    (velocities) until the first event, and the event (kind, contact, time) agrees."""
+    cl = two_disks()
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    modes = list(cl.c[:, C.CC_MODE])
+    assert modes == [C.MODE_STICK, C.MODE_STICK]        # both roll at first
+    mus = list(cl.c[:, C.CC_MU])
+    y0 = np.concatenate([cl.b[:, :3].ravel(), cl.b[:, 3:6].ravel()])
+    sol, solve = reference_solution(y0, modes, mus, 10.0)
+    # the reference's forces at the start: consistent with the modes
+    for k, (ln, lt, vt) in enumerate(solve(y0)[1]):
+        assert ln > 0 and abs(lt) < mus[k] * ln
+        assert ln == pytest.approx(cl.c[k, C.CC_LAMN], rel=1e-12)
+        assert lt == pytest.approx(cl.c[k, C.CC_LAMT], rel=1e-12, abs=1e-12 * G)
+    assert sol.status == 1                    # a terminal event
+    iev = [i for i, te in enumerate(sol.t_events) if len(te)][0]
+    t_ref = sol.t_events[iev][0]
+    L, V = cl.L, math.sqrt(G * cl.L)
+    t = 0.0
+    worst = 0.0
+    for tk in np.linspace(0.0, t_ref, 9)[1:-1]:
+        st, ev, k, t = cl.advance(t, tk)
+        assert st == C.CS_OK and ev == C.CE_NONE and t == tk
+        yr = sol.sol(tk)
+        dq = np.abs(cl.b[:, :3].ravel() - yr[:6]) * np.array([1, 1, L] * 2)
+        dv = np.abs(cl.b[:, 3:6].ravel() - yr[6:]) * np.array([1, 1, L] * 2)
+        worst = max(worst, dq.max() / L, dv.max() / V)
+    st, ev, k, t = cl.advance(t, 10.0)
+    assert st == C.CS_OK
+    assert (ev, k) == ((C.CE_LEAVE, iev // 2) if iev % 2 == 0 else (C.CE_SLIP, iev // 2))
+    assert abs(t - t_ref) < 1e-8 * t_ref, t - t_ref
+    yr = sol.y_events[iev][0]
+    worst = max(worst, np.abs(cl.b[:, :3].ravel() - yr[:6]).max() / L)
+    assert worst < 1e-8, worst
+    test_disk_on_disk_on_floor_matches_scipy_lagrange_multipliers.figures = (worst, t - t_ref,
+                                                                            t_ref, ev, k)
+
+
+def test_disk_on_disk_second_phase_slip_matches_scipy_and_dissipates():
+    """After the first event (the disks' contact reaches its cone), the mode selection
+    makes it slip; that phase against the reference too (slip force column JN - mu sig
+    JT), to its own first event; energy decreases (friction works -mu lam_N |vT|)."""
+    cl = two_disks()
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    st, ev, k, t1 = cl.advance(0.0, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_SLIP, 1)
+    # the enumeration, blind to the trend, keeps the force on its cone sticking; the
+    # transition after the event follows the trend
+    assert cl.select() == C.CS_OK and cl.c[1, C.CC_MODE] == C.MODE_STICK
+    assert cl.after_event(ev, k) == C.CS_OK
+    modes = list(cl.c[:, C.CC_MODE])
+    assert modes[0] == C.MODE_STICK and modes[1] in (C.MODE_SLIP_POS, C.MODE_SLIP_NEG)
+    mus = list(cl.c[:, C.CC_MU])
+    y0 = np.concatenate([cl.b[:, :3].ravel(), cl.b[:, 3:6].ravel()])
+    sol, solve = reference_solution(y0, modes, mus, 10.0)
+    iev = [i for i, te in enumerate(sol.t_events) if len(te)][0]
+    t_ref = sol.t_events[iev][0]
+    L, V = cl.L, math.sqrt(G * cl.L)
+    t = 0.0
+    worst = 0.0
+    E = [cl.energy()]
+    for tk in np.linspace(0.0, t_ref, 9)[1:-1]:
+        st, ev, k, t = cl.advance(t1 + t, t1 + tk)
+        t -= t1
+        assert st == C.CS_OK and ev == C.CE_NONE
+        yr = sol.sol(tk)
+        worst = max(worst, np.abs(cl.b[:, :3].ravel() - yr[:6]).max() / L,
+                    np.abs(cl.b[:, 3:6].ravel() - yr[6:]).max() / V)
+        E.append(cl.energy())
+    st, ev, k, t = cl.advance(t1 + t, t1 + 10.0)
+    E.append(cl.energy())
+    kind = C.CE_LEAVE if iev % 2 == 0 else C.CE_STOP
+    assert (st, ev, k) == (C.CS_OK, kind, iev // 2)
+    assert abs(t - t1 - t_ref) < 1e-8 * t_ref
+    assert worst < 1e-8, worst
+    dE = np.diff(E)
+    assert np.all(dE < 1e-12 * abs(E[0])) and E[-1] < E[0] - 1e-3
+    test_disk_on_disk_second_phase_slip_matches_scipy_and_dissipates.figures = (
+        worst, t - t1 - t_ref, t_ref, ev, k, E[0] - E[-1])
