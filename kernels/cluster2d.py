@@ -104,8 +104,17 @@ the dense output by secant/bisection to ``EVENT_RTOL |t| + EVENT_ATOL L / V``, a
 force reaching its cone ``mu lam_N - |lam_T| = 0`` (``CE_SLIP``), a sliding contact's slip
 ``sig vT`` reaching 0 (``CE_STOP``: it sticks or reverses; not for ``mu = 0``) and the gap of
 each inactive candidate contact (table ``cands``, same columns, same kinds) reaching 0
-(``CE_GAP``: an impact). A function starting below its arm (``FORCE_ARM m |g|``,
-``SLIP_ARM V``, ``GAP_ARM L``) fires below ``min(0, start) - arm`` instead (``pivot2d``'s
+(``CE_GAP``: an impact), and the contact point leaving a feature's range (``CE_FEATURE``,
+index ``4 k + FR_*``): a polygon vertex's or a capsule end's normal cone (``CC_ALO,
+CC_AHI`` for A's feature, ``CC_BLO, CC_BHI`` for B's in a round-round contact: the outward
+normal of the feature at the contact, ``-n`` for A and ``n`` for B, must stay within those
+body-frame angles, a cone narrower than pi; margins are the sines of the angles to the
+bounds), and a face's extent (``CC_BLO, CC_BHI`` of a point-face contact: the coordinate
+``s = t . (p - fB)`` of the contact point along the face, m). At a feature event the
+stepper swaps the contact for the one on the next feature (a face's end: the vertex,
+round-round; a vertex cone's bound: the adjacent face, point-face). A function starting
+below its arm (``FORCE_ARM F``,
+``SLIP_ARM V``, ``GAP_ARM L``; a cone margin ``GAP_ARM``) fires below ``min(0, start) - arm`` instead (``pivot2d``'s
 rule: a phase that starts on an event's root does not end at once). Force and slip
 events are returned on the far side of the root (the new mode is consistent there), gaps
 on the near side (the feature not yet through). Events are sampled at step ends, and
@@ -188,7 +197,13 @@ CC_MU = 12          # friction coefficient (0: frictionless; inf: never slips)
 CC_MODE = 13        # MODE_* (active contacts)
 CC_LAMN = 14        # output: normal force on A (N)
 CC_LAMT = 15        # output: tangential force on A along t (N)
-N_CC = 16
+CC_ALO = 16         # A's feature's normal cone: its outward normal at the contact, -n, must
+CC_AHI = 17         # stay within the angles [ALO, AHI] of A's body frame (a polygon vertex:
+#                     between its faces' normals; -inf, inf: any, e.g. a disk)
+CC_BLO = 18         # KIND_ROUND: B's feature's normal cone (n within the angles [BLO, BHI] of
+CC_BHI = 19         # B's frame); KIND_FACE: the face's extent, the contact point's coordinate
+#                     s = t . (p - fB) within [BLO, BHI] (m); -inf, inf: unbounded
+N_CC = 20
 
 KIND_ROUND = 0
 KIND_FACE = 1
@@ -219,6 +234,14 @@ CE_LEAVE = 1        # lam_N of active contact `index` reaches 0
 CE_SLIP = 2         # the sticking force of contact `index` reaches its cone
 CE_STOP = 3         # the slip of sliding contact `index` reaches 0
 CE_GAP = 4          # the gap of candidate `index` reaches 0
+CE_FEATURE = 5      # the contact point leaves a feature's range: index 4 k + FR_* (contact k)
+
+# which end of a feature range (CE_FEATURE index = 4 k + FR_*)
+FR_ALO = 0          # A's normal cone, lower angle
+FR_AHI = 1          # A's normal cone, upper angle
+FR_BLO = 2          # B's normal cone (KIND_ROUND) or the face's extent (KIND_FACE), lower
+FR_BHI = 3          # upper
+N_EVK = 6           # event functions per active contact: lam_N, cone/slip, 4 ranges
 
 # ---- tolerances (named; dimensionless, relative to the scales stated) ---------------------
 CLUSTER_TOL = 1e-12     # RK error per step, relative to the scales (L, L, 1, V, V, V/L)
@@ -286,7 +309,9 @@ LK_LN = 19          # lam_N (N)
 LK_LT = 20          # lam_T (N)
 LK_GDD = 21         # g'' at the solved accelerations (m/s^2)
 LK_AT = 22          # dvT/dt at the solved accelerations (m/s^2)
-LK_S = 24           # stride
+LK_PX = 23          # contact point p (m)
+LK_PY = 24
+LK_S = 26           # stride
 LA_K = 0
 LA_A = LA_K + (KMAX + 1) * LK_S    # one extra slot: a candidate's rows
 LA_U = LA_A + NMAX * NMAX
@@ -301,7 +326,7 @@ N_LA = LA_ET + NMAX
 @njit(cache=True, _nrt=False)
 def work_size(nb, nc):
     """Length of ``w`` for ``nb`` bodies and ``nc`` candidates."""
-    return N_H + N_BLK * NS * nb + N_EVW * (2 * KMAX + nc)
+    return N_H + N_BLK * NS * nb + N_EVW * (N_EVK * KMAX + nc)
 
 
 # ------------------------------------------------------------------ kinematics
@@ -438,6 +463,8 @@ def _fill(c, k, w, yo, la, slot):
     la[o + LK_G] = g
     la[o + LK_GD] = gd
     la[o + LK_VT] = vt
+    la[o + LK_PX] = aax + w[yo + NS * int(c[k, CC_A])]
+    la[o + LK_PY] = aay + w[yo + NS * int(c[k, CC_A]) + 1]
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -1026,7 +1053,8 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     state and forces as returned): ``CE_LEAVE`` -> ``MODE_LIFT`` (the stepper moves it to the
     candidates); ``CE_SLIP`` -> slip opposite to the sticking force, ``sig = -sign(lam_T)``;
     ``CE_STOP`` -> stick if its force is inside the cone, else slip reverses
-    (``sig = -sign(lam_T)`` of the sticking trial); ``CE_GAP``: nothing (an impact). At an
+    (``sig = -sign(lam_T)`` of the sticking trial); ``CE_GAP`` (an impact) and
+    ``CE_FEATURE`` (the contact moves to another feature): nothing, the stepper's. At an
     event the new mode is the one the trend calls for: the enumeration of
     ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
     Returns the status of the forces in the new modes (forces written as by
@@ -1111,46 +1139,88 @@ def _dense(w, NY, s, yo):
         w[yo + j] = dense_eval(w, NY, RC, th, j)
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _cone(th, lo, hi, mx, my):
+    """Margins (sin of the angles) of the unit vector m inside the cone of angles
+    [th + lo, th + hi] (inf for an open cone, lo = -inf)."""
+    if lo == -math.inf:
+        return math.inf, math.inf
+    a = th + lo
+    b = th + hi
+    return (math.cos(a) * my - math.sin(a) * mx, mx * math.sin(b) - my * math.cos(b))
+
+
 @njit(cache=True, _nrt=False)
 def _events(bodies, c, nk, cands, nc, w, la, NY, yo, eo):
-    """Every event function at the state w[yo:yo + NY] into w[eo:eo + 2 KMAX + nc] (inf
-    where it does not apply): 2k lam_N of contact k (N); 2k + 1 its cone margin
-    mu lam_N - |lam_T| (N) or its slip sig vT (m/s); 2 KMAX + j the gap of candidate j (m).
-    Returns the force status."""
+    """Every event function at the state w[yo:yo + NY] into w[eo:eo + N_EVK KMAX + nc] (inf
+    where it does not apply): for active contact k at N_EVK k: lam_N (N); its cone margin
+    mu lam_N - |lam_T| (N) or its slip sig vT (m/s); then (at 2 + FR_*) A's normal cone
+    margins (sin of the angles to its bounds), B's cone margins or the face's extent
+    margins (m); at N_EVK KMAX + j the gap of candidate j (m). Returns the force status."""
     st = _forces(bodies, c, nk, w, yo, la, N_H + B_YC * NY)
     for k in range(KMAX):
-        w[eo + 2 * k] = math.inf
-        w[eo + 2 * k + 1] = math.inf
+        e0 = eo + N_EVK * k
+        for j in range(N_EVK):
+            w[e0 + j] = math.inf
         if k >= nk or st != CS_OK:
             continue
         o = LA_K + k * LK_S
         mode = c[k, CC_MODE]
         if mode == MODE_LIFT:
             continue
-        w[eo + 2 * k] = la[o + LK_LN]
+        w[e0] = la[o + LK_LN]
         mu = c[k, CC_MU]
-        if mu == 0.0 or mu == math.inf:
+        if mu != 0.0 and mu != math.inf:
+            if mode == MODE_STICK:
+                w[e0 + 1] = mu * la[o + LK_LN] - abs(la[o + LK_LT])
+            else:
+                w[e0 + 1] = mode * la[o + LK_VT]
+        nx = la[o + LK_NA]
+        ny = la[o + LK_NA + 1]
+        tha = w[yo + NS * int(c[k, CC_A]) + 2]
+        lo, hi = _cone(tha, c[k, CC_ALO], c[k, CC_AHI], -nx, -ny)
+        w[e0 + 2 + FR_ALO] = lo
+        w[e0 + 2 + FR_AHI] = hi
+        kind = c[k, CC_KIND]
+        if kind == KIND_PLANE:
             continue
-        if mode == MODE_STICK:
-            w[eo + 2 * k + 1] = mu * la[o + LK_LN] - abs(la[o + LK_LT])
+        b = int(c[k, CC_B])
+        thb = w[yo + NS * b + 2]
+        if kind == KIND_ROUND:
+            lo, hi = _cone(thb, c[k, CC_BLO], c[k, CC_BHI], nx, ny)
         else:
-            w[eo + 2 * k + 1] = mode * la[o + LK_VT]
+            cb = math.cos(thb)
+            sb = math.sin(thb)
+            fx = w[yo + NS * b] + cb * c[k, CC_PBX] - sb * c[k, CC_PBY]
+            fy = w[yo + NS * b + 1] + sb * c[k, CC_PBX] + cb * c[k, CC_PBY]
+            sp = ny * (la[o + LK_PX] - fx) - nx * (la[o + LK_PY] - fy)
+            lo = sp - c[k, CC_BLO]
+            hi = c[k, CC_BHI] - sp
+        w[e0 + 2 + FR_BLO] = lo
+        w[e0 + 2 + FR_BHI] = hi
     for j in range(nc):
         _fill(cands, j, w, yo, la, KMAX)
-        w[eo + 2 * KMAX + j] = la[LA_K + KMAX * LK_S + LK_G]
+        w[eo + N_EVK * KMAX + j] = la[LA_K + KMAX * LK_S + LK_G]
     return st
 
 
-@njit(cache=True, _nrt=False, inline="always")
-def _arm(w, e, v, force):
-    """Firing level of event e for a step starting at value v (``force``: the slot is a
-    force, N; else a slip, m/s, or a gap, m)."""
-    if e >= 2 * KMAX:
+@njit(cache=True, _nrt=False)
+def _arm(w, c, nk, e, v):
+    """Firing level of event e for a step starting at value v: a function starting below
+    its arm fires below min(0, v) - arm."""
+    if e >= N_EVK * KMAX:
         arm = GAP_ARM * w[H_L]
-    elif force:
-        arm = FORCE_ARM * w[H_F]
     else:
-        arm = SLIP_ARM * w[H_V]
+        k = e // N_EVK
+        j = e % N_EVK
+        if j == 0 or (j == 1 and c[k, CC_MODE] == MODE_STICK):
+            arm = FORCE_ARM * w[H_F]
+        elif j == 1:
+            arm = SLIP_ARM * w[H_V]
+        elif j >= 4 and c[k, CC_KIND] == KIND_FACE:
+            arm = GAP_ARM * w[H_L]
+        else:
+            arm = GAP_ARM       # a cone margin (sin of an angle)
     if v > arm:
         return 0.0
     return min(0.0, v) - arm
@@ -1159,7 +1229,7 @@ def _arm(w, e, v, force):
 @njit(cache=True, _nrt=False)
 def _one_event(bodies, c, nk, cands, nc, w, la, NY, yo, e):
     """Event function e at w[yo:...] (see _events)."""
-    eo = N_H + N_BLK * NY + 3 * (2 * KMAX + nc)   # the fourth event block: scratch
+    eo = N_H + N_BLK * NY + 3 * (N_EVK * KMAX + nc)   # the fourth event block: scratch
     _events(bodies, c, nk, cands, nc, w, la, NY, yo, eo)
     return w[eo + e]
 
@@ -1189,7 +1259,7 @@ def _locate(bodies, c, nk, cands, nc, w, la, NY, e, fl, sa, sb, tt):
         else:
             sb = sm
             fb = fm
-    return sa if e >= 2 * KMAX else sb
+    return sa if (e >= N_EVK * KMAX or e % N_EVK >= 2) else sb
 
 
 @njit(cache=True, _nrt=False)
@@ -1255,8 +1325,8 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
     K = N_H + B_K * NY
     YA = N_H + B_YA * NY
     E0 = N_H + N_BLK * NY                 # event values at the step start
-    EF = E0 + (2 * KMAX + nc)             # their floors
-    ne = 2 * KMAX + nc
+    EF = E0 + (N_EVK * KMAX + nc)         # their floors
+    ne = N_EVK * KMAX + nc
     V = w[H_V]
     S = t_max - t0
     st = _project(bodies, contacts, nk, w, Y, la)
@@ -1305,8 +1375,7 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
         _dense(w, NY, s0, YA)
         _events(bodies, contacts, nk, cands, nc, w, la, NY, YA, E0)
         for e in range(ne):
-            force = e % 2 == 0 or (e // 2 < nk and contacts[e // 2, CC_MODE] == MODE_STICK)
-            w[EF + e] = _arm(w, e, w[E0 + e], force)
+            w[EF + e] = _arm(w, contacts, nk, e, w[E0 + e])
         _dense(w, NY, s1, YA)
         E1 = EF + ne
         _events(bodies, contacts, nk, cands, nc, w, la, NY, YA, E1)
@@ -1329,10 +1398,13 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
             _store(bodies, contacts, nk, w, Y, la)
             if be < 0:
                 return CS_OK, CE_NONE, -1, t_max
-            if be >= 2 * KMAX:
-                return CS_OK, CE_GAP, be - 2 * KMAX, t0 + send
-            k = be // 2
-            if be % 2 == 0:
+            if be >= N_EVK * KMAX:
+                return CS_OK, CE_GAP, be - N_EVK * KMAX, t0 + send
+            k = be // N_EVK
+            j = be % N_EVK
+            if j >= 2:
+                return CS_OK, CE_FEATURE, 4 * k + j - 2, t0 + send
+            if j == 0:
                 return CS_OK, CE_LEAVE, k, t0 + send
             if contacts[k, CC_MODE] == MODE_STICK:
                 return CS_OK, CE_SLIP, k, t0 + send
@@ -1408,6 +1480,18 @@ def validate_cluster(bodies, contacts, nk, cands=None, nc=0, L=1.0):
             fa = kind == KIND_PLANE or bodies[int(b), CB_FIXED] != 0.0
             if bodies[int(a), CB_FIXED] != 0.0 and fa:
                 raise ValueError(f"{name} {k}: both sides fixed")
+            for lo, hi, what in ((r[CC_ALO], r[CC_AHI], "A's normal cone"),
+                                 (r[CC_BLO], r[CC_BHI], "B's range")):
+                if math.isnan(lo) or math.isnan(hi) or not lo <= hi:
+                    raise ValueError(f"{name} {k}: {what} needs lo <= hi")
+                if lo == -math.inf and hi != math.inf:
+                    raise ValueError(f"{name} {k}: {what}: -inf opens the range, hi must be inf")
+            for lo, hi, what in ((r[CC_ALO], r[CC_AHI], "A's normal cone"),
+                                 (r[CC_BLO], r[CC_BHI], "B's normal cone")):
+                if what[0] == "B" and kind != KIND_ROUND:
+                    continue
+                if lo != -math.inf and not hi - lo < math.pi:
+                    raise ValueError(f"{name} {k}: {what} must be narrower than pi")
             g = [r[CC_PAX], r[CC_PAY], r[CC_PBX], r[CC_PBY], r[CC_D]]
             if not np.all(np.isfinite(g)):
                 raise ValueError(f"{name} {k}: non-finite geometry")
