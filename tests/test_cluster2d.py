@@ -782,3 +782,69 @@ def test_validate_cluster_names_the_problem(change, msg):
     change(bodies, c)
     with pytest.raises(ValueError, match=msg):
         C.validate_cluster(bodies, c, 1)
+
+
+def test_eccentric_disk_rocks_without_friction_for_20_s():
+    """A disk (radius 0.5) whose centre of mass lies 0.15 below its geometric centre rocks on
+    a frictionless floor (the round feature at pa = (0, 0.15) in the body frame): one long
+    frictionless phase of 20 s, energy constant to 1e-10 m g L, the horizontal momentum
+    (no horizontal force) to round-off, the gap and its rate at round-off after
+    projection; the rolling version (mu = inf) conserves energy too."""
+    for mu, mode in ((0.0, C.MODE_SLIP_POS), (math.inf, C.MODE_STICK)):
+        r, e = 0.5, 0.15
+        th0 = 0.0
+        w0 = 2.0
+        # the contact point (below the geometric centre) at rest for rolling, any v for mu = 0
+        vx = -w0 * (r - e) if mu > 0 else 0.3
+        b = body(0.0, r - e, th0, vx, 0.0, w0, m=1.0, I=0.2)
+        ct = contact(C.KIND_PLANE, 0, -1, pa=(0.0, e), ra=r, mu=mu, mode=mode)
+        cl = Cluster([b], [ct], L=2 * r)
+        st = cl.project()
+        E0 = cl.energy()
+        px0 = cl.b[0, C.CB_VX]
+        t = 0.0
+        worst_e = worst_g = worst_p = 0.0
+        for tk in np.arange(2.0, 20.01, 2.0):
+            st, ev, k, t = cl.advance(t, tk)
+            assert st == C.CS_OK and ev == C.CE_NONE, (st, ev)
+            worst_e = max(worst_e, abs(cl.energy() - E0))
+            out = cl.rates(0)
+            worst_g = max(worst_g, abs(out[0]) / cl.L, abs(out[1]) / math.sqrt(G * cl.L))
+            worst_p = max(worst_p, abs(cl.b[0, C.CB_VX] - px0))
+        assert worst_e < 1e-10 * G * cl.L, worst_e
+        assert worst_g < 1e-12, worst_g
+        if mu == 0.0:
+            assert worst_p < 1e-12 * math.sqrt(G * cl.L), worst_p
+        assert abs(cl.b[0, C.CB_ANGLE]) < 1.5      # it rocks, it does not roll away
+
+
+def test_overhanging_box_is_not_at_rest_and_pivots():
+    """A box whose centre of mass overhangs the box below: the selection lifts the inner
+    corner and keeps the edge corner (sticking), rest is not claimed, and the box turns
+    about the edge corner: its angular acceleration m g d / (I + m |r|^2) (d the overhang,
+    r the corner's arm) at the start, the corner fixed."""
+    lower = body(0.0, 0.25, m=3.0, I=box_inertia(3.0, 1.0, 0.5), fixed=True)
+    m, wd, h, x = 1.0, 0.6, 0.2, 0.65        # centre 0.15 beyond the lower's edge at 0.5
+    upper = body(x, 0.6, m=m, I=box_inertia(m, wd, h))
+    # the overlap's ends: the upper box's inner corner on the lower's top face, and the
+    # lower box's edge corner (A) on the upper box's bottom face (B)
+    cts = [contact(C.KIND_FACE, 1, 0, pa=(-wd / 2, -h / 2), pb=(0.0, 0.25), n=(0.0, 1.0),
+                   mu=0.8, b_range=(-0.5, 0.5)),
+           contact(C.KIND_FACE, 0, 1, pa=(0.5, 0.25), pb=(0.0, -h / 2), n=(0.0, -1.0),
+                   mu=0.8, b_range=(-wd / 2, wd / 2))]
+    cl = Cluster([lower, upper], cts, L=1.0)
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == [C.MODE_LIFT, C.MODE_STICK]
+    assert cl.forces() == C.CS_OK
+    d = x - 0.5
+    r2 = d * d + (h / 2) ** 2
+    assert cl.acc[1, 2] == pytest.approx(-m * G * d / (box_inertia(m, wd, h) + m * r2),
+                                         rel=1e-12)
+    st, ev, k, t = cl.advance(0.0, 0.05)
+    assert st == C.CS_OK
+    corner = cl.b[1, :2] + rot(cl.b[1, C.CB_ANGLE], (-wd / 2, -h / 2))
+    # the edge corner of the lower box stays the pivot: the upper's face point there is at
+    # rest (stick) and in contact
+    out = cl.rates(1)
+    assert abs(out[0]) < 1e-12 and abs(out[3]) < 1e-12
+    assert corner[1] > 0.5 + 1e-3          # the inner corner has lifted
