@@ -113,9 +113,9 @@ bounds), and a face's extent (``CC_BLO, CC_BHI`` of a point-face contact: the co
 ``s = t . (p - fB)`` of the contact point along the face, m). At a feature event the
 stepper swaps the contact for the one on the next feature (a face's end: the vertex,
 round-round; a vertex cone's bound: the adjacent face, point-face). A function starting
-below its arm (``FORCE_ARM F``,
-``SLIP_ARM V``, ``GAP_ARM L``; a cone margin ``GAP_ARM``) fires below ``min(0, start) - arm`` instead (``pivot2d``'s
-rule: a phase that starts on an event's root does not end at once). Force and slip
+below its arm (``FORCE_ARM F``, ``SLIP_ARM V``, ``GAP_ARM L``; a cone margin ``GAP_ARM``)
+fires below ``min(0, start) - arm`` instead (``pivot2d``'s rule: a phase that starts on an
+event's root does not end at once). Force and slip
 events are returned on the far side of the root (the new mode is consistent there), gaps
 on the near side (the feature not yet through). Events are sampled at step ends, and
 steps turn no body by more than ``MAX_ANGLE``: two roots of one function within one step
@@ -132,13 +132,18 @@ inside its cone (``|lam_T| <= mu lam_N + FORCE_TOL F``), every contact that star
 from ``vT = 0`` accelerating along its slip (``sig dvT/dt > ACC_TOL |g|``), every lifted
 contact not approaching (``g'' >= -ACC_TOL |g|``), with ``F = sum m |g|``. None:
 ``CS_NO_MODE`` (a Painleve-type inconsistency; the stepper's impact without collision).
-So stick is preferred whenever it is consistent.
+So stick is preferred whenever it is consistent. The enumeration is blind to the trend:
+at the point of a stick-slip or slip-stop event both modes are consistent to the
+tolerances (the force on the cone, or the slip and its acceleration zero), and it would
+keep the old one; after an event, ``cluster_after_event`` takes the mode the trend calls
+for (slip opposite the sticking force; stick, or reversed slip, after a stop).
 
 Rest (``cluster_advance``): when every free body's ``|v| + |omega| L <= REST_VTOL
 sqrt(|g| L)``, every active contact is sticking (or frictionless) with ``lam_N >
 FORCE_TOL F`` and strictly inside its cone, and every acceleration is below
-``REST_ATOL |g|`` (``|a| + |alpha| L``), the cluster is at rest: ``CS_REST`` is returned with no
-integration (the stepper freezes it).
+``REST_ATOL |g|`` (``|a| + |alpha| L``), the cluster is at rest: ``CS_REST`` is returned
+with no integration (the stepper freezes it). A fixed body that moves (a conveyor) is
+never at rest.
 
 Energy: normal forces do no work (``dg/dt = 0``), sticking forces do none (``vT = 0``),
 sliding forces work ``lam_T vT = -mu lam_N |vT| <= 0``: a frictionless or rolling phase
@@ -150,7 +155,9 @@ Arrays (no allocation in the hot path; sizes from ``work_size``):
   ``cluster_advance`` and ``cluster_project``;
 * ``contacts`` float64[>= nk, N_CC] (active), ``cands`` float64[>= nc, N_CC] (inactive
   candidates; their ``CC_MODE`` is ignored); the force columns ``CC_LAMN``, ``CC_LAMT`` of the
-  active ones are written (forces at the returned state);
+  active ones are written (forces at the returned state). A contact in ``MODE_LIFT`` is
+  ignored by ``cluster_advance`` (no force, no event): the stepper moves it to the
+  candidates;
 * ``w`` float64[work_size(nb, nc)]: the integrator (header ``H_*``, blocks of ``6 nb``);
 * ``la`` float64[N_LA]: the contact rows and the linear algebra (fixed size: ``KMAX``).
 """

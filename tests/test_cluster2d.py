@@ -135,6 +135,7 @@ def _exact_gap_and_slip(row, st):
         r = p - x
         return np.array(st[i][3:5]) + st[i][5] * np.array([-r[1], r[0]])
     dv = vel(A) - (vel(B) if kind != C.KIND_PLANE else 0.0)
+    _exact_gap_and_slip.frame = (n, t, p)
     return g, t @ dv
 
 
@@ -242,7 +243,8 @@ def test_stack_of_boxes_rests_with_the_weights_above():
     of normal forces is the statics of the weight above: N_a + N_b = W, N_a x_a + N_b x_b =
     W x_bar (x_bar the centre of mass of the boxes above)."""
     # (width, height, mass, x centre)
-    spec = [(2.0, 0.5, 3.0, 0.0), (1.2, 0.4, 1.0, 0.3), (1.6, 0.3, 0.5, 0.1), (0.5, 0.6, 0.8, -0.2)]
+    spec = [(2.0, 0.5, 3.0, 0.0), (1.2, 0.4, 1.0, 0.3), (1.6, 0.3, 0.5, 0.1),
+            (0.5, 0.6, 0.8, -0.2)]
     bodies, contacts, faces = [], [], []
     y = 0.0
     for i, (wd, h, m, x) in enumerate(spec):
@@ -848,3 +850,72 @@ def test_overhanging_box_is_not_at_rest_and_pivots():
     out = cl.rates(1)
     assert abs(out[0]) < 1e-12 and abs(out[3]) < 1e-12
     assert corner[1] > 0.5 + 1e-3          # the inner corner has lifted
+
+
+def test_random_clusters_newton_euler_and_constraints():
+    """Random three-body clusters (a fixed body, contacts of every kind in random modes,
+    random positions and velocities, gaps not zero): the kernel's forces and accelerations
+    satisfy Newton-Euler for every body with the forces applied at the contact points
+    (geometry recomputed independently), and along the motion with those accelerations the
+    exact gaps have g'' = 0 and the sticking slips dvT/dt = 0 (finite differences)."""
+    rng = np.random.default_rng(11)
+    checked = 0
+    for trial in range(60):
+        bodies = [body(*rng.normal(size=6), m=rng.uniform(0.5, 2), I=rng.uniform(0.05, 0.5))
+                  for _ in range(3)]
+        bodies[2][C.CB_FIXED] = 1.0
+        rows = []
+        for k in range(4):
+            kind = rng.integers(3)
+            a, b = rng.choice(3, size=2, replace=False)
+            if a == 2 and (kind == C.KIND_PLANE or b == 2):
+                a, b = b, a
+            if kind == C.KIND_PLANE:
+                a = rng.integers(2)
+            mode = rng.choice([C.MODE_STICK, C.MODE_SLIP_POS, C.MODE_SLIP_NEG])
+            ang = rng.uniform(-math.pi, math.pi)
+            rows.append(contact(kind, a, -1 if kind == C.KIND_PLANE else b,
+                                pa=tuple(rng.normal(scale=0.3, size=2)),
+                                ra=rng.uniform(0, 0.3), pb=tuple(rng.normal(scale=0.3, size=2)),
+                                rb=rng.uniform(0, 0.3), n=(math.cos(ang), math.sin(ang)),
+                                d=rng.normal(), mu=rng.uniform(0, 0.5), mode=mode))
+        cl = Cluster(bodies, rows, L=1.0)
+        st = cl.forces()
+        assert st in (C.CS_OK, C.CS_PAINLEVE, C.CS_SINGULAR)
+        if st != C.CS_OK:
+            continue
+        assert np.all(np.isfinite(cl.acc)) and np.all(np.isfinite(cl.c[:, C.CC_LAMN]))
+        F = np.zeros((3, 3))
+        st0 = [cl.b[i, :6] for i in range(3)]
+        for k, r in enumerate(cl.c):
+            _exact_gap_and_slip(r, st0)
+            n, t, p = _exact_gap_and_slip.frame
+            f = cl.c[k, C.CC_LAMN] * n + cl.c[k, C.CC_LAMT] * t
+            for i, sgn in ((int(r[C.CC_A]), 1.0), (int(r[C.CC_B]), -1.0)):
+                if i < 0:
+                    continue
+                arm = p - cl.b[i, :2]
+                F[i] += sgn * np.array([f[0], f[1], arm[0] * f[1] - arm[1] * f[0]])
+            if r[C.CC_MODE] != C.MODE_STICK:
+                assert cl.c[k, C.CC_LAMT] == pytest.approx(
+                    -r[C.CC_MU] * r[C.CC_MODE] * cl.c[k, C.CC_LAMN], rel=1e-12, abs=1e-12)
+        scale = 1.0 + np.abs(F).max() + G
+        for i in range(2):
+            m, I = cl.b[i, C.CB_M], cl.b[i, C.CB_I]
+            res = np.array([m * cl.acc[i, 0], m * (cl.acc[i, 1] + G), I * cl.acc[i, 2]]) - F[i]
+            assert np.abs(res).max() < 1e-9 * scale, res
+        assert np.all(cl.acc[2] == 0.0)
+
+        def state(tt):
+            return [np.concatenate([cl.b[i, :3] + cl.b[i, 3:6] * tt + 0.5 * cl.acc[i] * tt * tt,
+                                    cl.b[i, 3:6] + cl.acc[i] * tt]) for i in range(3)]
+        h = 1e-3
+        for k, r in enumerate(cl.c):
+            vals = np.array([_exact_gap_and_slip(r, state(j * h)) for j in (-2, -1, 0, 1, 2)])
+            d1 = (vals[0] - 8 * vals[1] + 8 * vals[3] - vals[4]) / (12 * h)
+            d2 = (-vals[0] + 16 * vals[1] - 30 * vals[2] + 16 * vals[3] - vals[4]) / (12 * h * h)
+            assert abs(d2[0]) < 1e-5 * scale, (k, d2[0])
+            if r[C.CC_MODE] == C.MODE_STICK and r[C.CC_MU] > 0:
+                assert abs(d1[1]) < 1e-7 * scale, (k, d1[1])
+        checked += 1
+    assert checked >= 20
