@@ -273,6 +273,16 @@ EVENT_RTOL = 4e-16      # event time located to EVENT_RTOL |t| + EVENT_ATOL L / 
 EVENT_ATOL = 1e-15
 EVENT_ITER = 200        # secant/bisection iterations locating an event
 MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (CS_TOO_MANY_STEPS)
+PIECE_ETOL = 1e-11      # energy deviation of a recorded piece, relative to M V^2 (M the
+#                         cluster's free mass): pivot2d's PIECE_ETOL_CURVED, not its 1e-13,
+#                         for the same reason: a cluster may stay held for a long time
+#                         (rocking, rolling) and the pieces grow as PIECE_ETOL^-1/2 (a box
+#                         rocking at 0.5 rad/s: pieces of ~2e-6 s at 1e-13, ~2e-5 s at 1e-11)
+PIECE_LTOL = 1e-10      # point deviation of a recorded piece, relative to L
+PIECE_VTOL = 1e-9       # point velocity deviation of a recorded piece, relative to V
+PIECE_BUDGET = 512      # recorded rows per call of cluster_advance at most (buffer margin)
+PIECE_ITER = 60         # shrinks of one piece at most (then it is accepted as is)
+CNT_SEG = 1             # cnt[CNT_SEG]: rows recorded in seg_* (stepper2d's counter layout)
 
 # ---- workspace w: header, then blocks of 6 nb -----------------------------------------------
 H_TOL = 0           # RK tolerance
@@ -287,6 +297,7 @@ H_GX = 8            # gravity (m/s^2)
 H_GY = 9
 H_G = 10            # |g| (m/s^2)
 H_T0 = 11           # t0 (s)
+H_M = 12            # free mass M (kg)
 N_H = 16
 B_SC = 0            # error scales
 B_Y = 1             # step start
@@ -299,6 +310,7 @@ B_YB = 17
 B_YC = 18           # scratch derivative
 N_BLK = 19
 N_EVW = 4           # per event: value at the step start, its floor, value at the end, scratch
+N_ROWS = 3          # then three state rows (9 per body) for the recorded pieces
 
 # ---- la: per-contact rows, then the linear algebra ----------------------------------------
 LK_NA = 0           # JN entries of A (3) and B (3)
@@ -333,7 +345,7 @@ N_LA = LA_ET + NMAX
 @njit(cache=True, _nrt=False)
 def work_size(nb, nc):
     """Length of ``w`` for ``nb`` bodies and ``nc`` candidates."""
-    return N_H + N_BLK * NS * nb + N_EVW * (N_EVK * KMAX + nc)
+    return N_H + N_BLK * NS * nb + N_EVW * (N_EVK * KMAX + nc) + N_ROWS * 9 * nb
 
 
 # ------------------------------------------------------------------ kinematics
@@ -837,6 +849,7 @@ def _setup(bodies, gx, gy, L, w):
     if not V > 0.0:
         V = 1.0 * L     # no gravity, no motion: any positive scale (1/s times L)
     w[H_V] = V
+    w[H_M] = msum
     F = msum * gl
     if not F > 0.0:
         F = msum * V * V / L
@@ -1312,15 +1325,142 @@ def _at_rest(bodies, c, nk, w, la):
     return True
 
 
+# ------------------------------------------------------------------ recorded pieces
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _rows_off(NY, nc):
+    """Offset of the three piece rows in w."""
+    return N_H + N_BLK * NY + N_EVW * (N_EVK * KMAX + nc)
+
+
 @njit(cache=True, _nrt=False)
-def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la):
+def _dense_rows(bodies, w, NY, s, ro):
+    """The dense state at s as rows (x, y, angle, vx, vy, omega, 0, 0, 0) at w[ro + 9 i]."""
+    YA = N_H + B_YA * NY
+    _dense(w, NY, s, YA)
+    for i in range(bodies.shape[0]):
+        for j in range(NS):
+            w[ro + 9 * i + j] = w[YA + NS * i + j]
+        for j in range(3):
+            w[ro + 9 * i + 6 + j] = 0.0
+
+
+@njit(cache=True, _nrt=False)
+def _piece_dev(bodies, w, NY, nc, sa, h):
+    """Deviation of the velocity-interpolating piece over [sa, sa + h] from the dense
+    solution, for every free body together: (energy deviation / (PIECE_ETOL M V^2),
+    max(point deviation / (PIECE_LTOL L), velocity deviation / (PIECE_VTOL V))), the larger
+    at h/2 and h. The piece's rows (start state, constant accelerations) are left in the
+    first row block."""
+    nb = bodies.shape[0]
+    R0 = _rows_off(NY, nc)
+    R1 = R0 + 9 * nb
+    L = w[H_L]
+    V = w[H_V]
+    gx = w[H_GX]
+    gy = w[H_GY]
+    _dense_rows(bodies, w, NY, sa, R0)
+    _dense_rows(bodies, w, NY, sa + h, R1)
+    for i in range(nb):
+        for j in range(3):
+            w[R0 + 9 * i + 6 + j] = (w[R1 + 9 * i + 3 + j] - w[R0 + 9 * i + 3 + j]) / h
+    de = 0.0
+    dp = 0.0
+    for smp in range(2):
+        sx = h if smp == 0 else 0.5 * h
+        if smp == 1:
+            _dense_rows(bodies, w, NY, sa + sx, R1)
+        hh = 0.5 * sx * sx
+        ep = 0.0
+        ei = 0.0
+        for i in range(nb):
+            if bodies[i, CB_FIXED] != 0.0:
+                continue
+            o = R0 + 9 * i
+            x = w[o] + w[o + 3] * sx + w[o + 6] * hh
+            y = w[o + 1] + w[o + 4] * sx + w[o + 7] * hh
+            a = w[o + 2] + w[o + 5] * sx + w[o + 8] * hh
+            vx = w[o + 3] + w[o + 6] * sx
+            vy = w[o + 4] + w[o + 7] * sx
+            om = w[o + 5] + w[o + 8] * sx
+            q = R1 + 9 * i
+            m = bodies[i, CB_M]
+            ep += (0.5 * m * (vx * vx + vy * vy) + 0.5 * bodies[i, CB_I] * om * om
+                   - m * (gx * x + gy * y))
+            ei += (0.5 * m * (w[q + 3] ** 2 + w[q + 4] ** 2) + 0.5 * bodies[i, CB_I] * w[q + 5] ** 2
+                   - m * (gx * w[q] + gy * w[q + 1]))
+            dp = max(dp, (math.hypot(x - w[q], y - w[q + 1]) + L * abs(a - w[q + 2]))
+                     / (PIECE_LTOL * L),
+                     (math.hypot(vx - w[q + 3], vy - w[q + 4]) + L * abs(om - w[q + 5]))
+                     / (PIECE_VTOL * V))
+        de = max(de, abs(ep - ei) / (PIECE_ETOL * w[H_M] * V * V))
+    return de, dp
+
+
+@njit(cache=True, _nrt=False)
+def _emit(bodies, w, NY, nc, sa, sb, hp, budget, t0, seg_t, seg_b, seg_s, cnt, ids):
+    """Record [sa, sb] (within the current step) as pieces, one row per free body each, at
+    most ``budget`` rows. Returns (s reached, next piece length guess, rows written)."""
+    nb = bodies.shape[0]
+    nf = 0
+    for i in range(nb):
+        if bodies[i, CB_FIXED] == 0.0:
+            nf += 1
+    R0 = _rows_off(NY, nc)
+    s = sa
+    n = 0
+    while s < sb and n + nf <= budget and cnt[CNT_SEG] + nf <= seg_t.shape[0]:
+        h = min(hp, sb - s)
+        last = h == sb - s
+        r = 0.0
+        for it in range(PIECE_ITER):
+            de, dp = _piece_dev(bodies, w, NY, nc, s, h)
+            r = max(de, dp)
+            if r <= 1.0:
+                break
+            # energy and velocity deviation ~ h^2, point deviation ~ h^3
+            h = h * max(0.1, 0.8 / math.sqrt(r))
+            last = False
+        for i in range(nb):
+            if bodies[i, CB_FIXED] != 0.0:
+                continue
+            k = cnt[CNT_SEG]
+            seg_t[k] = t0 + s
+            seg_b[k] = ids[i]
+            for j in range(9):
+                seg_s[k, j] = w[R0 + 9 * i + j]
+            cnt[CNT_SEG] = k + 1
+            n += 1
+        if r < 0.25:
+            hp = h * min(2.0, 0.9 / math.sqrt(max(r, 1e-6)))
+        else:
+            hp = h
+        s = sb if last else s + h
+    return s, hp, n
+
+
+@njit(cache=True, _nrt=False)
+def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la, seg_t,
+                    seg_b, seg_s, cnt, ids):
     """Integrate the cluster (state ``bodies``, active ``contacts[:nk]`` in their modes
     ``CC_MODE``, inactive candidates ``cands[:nc]``) from ``t0`` until the first event or
     ``t_max``. The state is projected onto the constraints first. On return ``bodies``
     holds the (projected) state at the returned time and ``contacts[:nk, CC_LAMN /
     CC_LAMT]`` the forces there. Returns ``(status CS_*, event CE_*, index, t)``: index the
-    contact (CE_LEAVE, CE_SLIP, CE_STOP) or the candidate (CE_GAP). ``CS_REST``: the
-    cluster is at rest (nothing integrated, t = t0)."""
+    contact (CE_LEAVE, CE_SLIP, CE_STOP), the candidate (CE_GAP) or 4 k + FR_*
+    (CE_FEATURE). ``CS_REST``: the cluster is at rest (nothing integrated, t = t0).
+
+    Recording (when ``seg_t`` is not empty): the motion from ``t0`` as
+    velocity-interpolating quadratic pieces (``pivot2d``'s, module docstring there: each
+    piece starts at the integrated state with the constant accelerations that make its
+    velocities agree at both ends; its length keeps the energy of the free bodies within
+    ``PIECE_ETOL M V^2``, their points within ``PIECE_LTOL L`` and velocities within
+    ``PIECE_VTOL V`` of the integrated solution), one row ``(x, y, angle, vx, vy, omega, ax,
+    ay, alpha)`` per free body and piece into ``seg_t[k]`` (start time), ``seg_b[k]`` (the
+    body's id ``ids[i]``), ``seg_s[k]``, ``k = cnt[CNT_SEG]`` counting up. At most
+    ``PIECE_BUDGET`` rows (or the buffer's end) per call: the call then ends early with
+    ``CE_NONE`` at the time reached (the caller calls again)."""
     if nk > KMAX:
         return CS_TOO_MANY_CONTACTS, CE_NONE, -1, t0
     nb = bodies.shape[0]
@@ -1352,6 +1492,9 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
         _store(bodies, contacts, nk, w, Y, la)
         return st, CE_NONE, -1, t0
     att = 0
+    rec = seg_t.shape[0] > 0
+    hp = math.inf
+    rows = 0
     while True:
         om = 0.0
         for i in range(nb):
@@ -1397,6 +1540,20 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
                 if r < best:
                     best = r
                     be = e
+        send = best if be >= 0 else s1
+        if rec:
+            if hp == math.inf:
+                hp = w[H_H]
+            sr, hp, n = _emit(bodies, w, NY, nc, s0, send, hp, PIECE_BUDGET - rows, t0, seg_t,
+                              seg_b, seg_s, cnt, ids)
+            rows += n
+            if sr < send:
+                # the piece budget (or the buffer) is used up inside the step: end there
+                _dense(w, NY, sr, Y)
+                _project(bodies, contacts, nk, w, Y, la)
+                _forces(bodies, contacts, nk, w, Y, la, N_H + B_YC * NY)
+                _store(bodies, contacts, nk, w, Y, la)
+                return CS_OK, CE_NONE, -1, t0 + sr
         if be >= 0 or s1 >= S:
             send = best if be >= 0 else S
             _dense(w, NY, send, Y)

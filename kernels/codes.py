@@ -30,8 +30,21 @@ ERR_CONTACT_STEPS = -16  # the integrator of a held contact exceeded its step li
 ERR_TWO_PLANES = -17     # 2D: accumulating on one plane while held by another (moving)
 ERR_NOT_COMPILED = -18   # a handler the loop was compiled without (a bug of the switches)
 ERR_FAR_ACCUMULATION = -19  # bounces accumulate only after max_accumulation_impacts
-ERR_PERSISTENT_PAIR = -20   # 2D: two bodies stay in contact (persistent body-body contact,
-                            # issue 16 item 2, not built)
+ERR_PERSISTENT_PAIR = -20   # two bodies stay in contact (persistent body-body contact,
+                            # issue 16 item 2, not built); err[5] holds a PP_* reason
+
+# Body pairs (issue 16). ``pr_off[q]`` of pair q: PR_ON searched for impacts; PR_OFF
+# disabled for good (a perforating impact); PR_HIT had an impact at the instant just
+# resolved (its next search checks whether the bodies stay in contact,
+# ``decisions.pair_persistence``).
+PR_ON = 0
+PR_OFF = 1
+PR_HIT = 2
+# Reasons of ERR_PERSISTENT_PAIR (err[5], a float): the run stops, naming the pair, when
+PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
+                     # a rise of rest_length; round bodies: v_N^2 < 2 |g''| rest_length)
+PP_TOGETHER = 2.0    # after a plastic impact the bodies ride together (no separation found)
+PP_HELD = 3.0        # a body of the pair is held on a plane by an integrated contact
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0

@@ -9,6 +9,7 @@ import math
 
 from numba import njit
 
+from .codes import PP_CHATTER, PP_TOGETHER
 from .common import P_E
 
 
@@ -84,3 +85,71 @@ def touching_rate(rate, speed):
     ``|rate| <= TOUCH_RTOL speed`` (``speed`` m/s, the scale the rate is computed from),
     else ``rate``."""
     return 0.0 if abs(rate) <= TOUCH_RTOL * speed else rate
+
+
+#: a body pair's normal speed at most PAIR_VN_RTOL times the speed it is computed from
+#: (|v_A| + |v_B| + |w_A| |r_A| + |w_B| |r_B|, m/s: the round-off of ``v_A - v_B``), or at
+#: most the joint solve's ``simul_tol`` (the residual it leaves at a contact), is zero:
+#: never read for its sign (``pair_zero_speed``, ``pair_persistence``) (dimensionless)
+PAIR_VN_RTOL = 1e-12
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def pair_zero_speed(speed, residual):
+    """The normal speed (m/s) below which a pair's contact rate is zero: the larger of
+    ``PAIR_VN_RTOL speed`` (``speed`` m/s, the absolute speeds the rate is computed from)
+    and ``residual`` (m/s), the joint solve's stopping tolerance (3D ``simul_tol``; 2D
+    ``simul_tol`` times the speed, its ``simul_tol`` being relative)."""
+    return max(PAIR_VN_RTOL * speed, residual)
+
+
+#: a re-contact of a pair ``s`` after an impact that left its contact separating at ``v``
+#: is the same contact turning back only if its gap could: a parabola through ``v`` that
+#: closes at ``s`` needs ``|g''| = 2 v / s``; when that exceeds PAIR_RECONTACT_SLACK times
+#: the bound ``G`` of the pair's ``|g''|`` (``pair_accel_bound``) the re-contact is another
+#: contact of the pair (the far end of an edge, a second corner: a near-simultaneous
+#: impact the contact frame did not name), resolved as an impact, not an accumulation
+#: (a box pair under Brach's law: v = 2.17 m/s, s = 1.8e-17 s) (dimensionless)
+PAIR_RECONTACT_SLACK = 10.0
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def pair_accel_bound(da, alA, rA, alB, rB, wA, wB, speed):
+    """A bound (m/s^2) of ``|g''|`` of a contact between two bodies in free flight or in a
+    closed-form motion: ``|a_A - a_B|`` (``da``) plus the angular accelerations times the
+    arms (``alA rA + alB rB``) plus ``4 (|w_A| + |w_B|) speed`` (rad/s, m/s), which covers
+    the centripetal terms ``|w|^2 r <= |w| speed``, the normal's turning ``2 |w| |v_rel|`` and
+    the torque-free ``|dw/dt| <= |w|^2`` of any rigid body (``|I2 - I3| <= I1``)."""
+    return da + alA * rA + alB * rB + 4.0 * (wA + wB) * speed
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def pair_persistence(v, s, converged, vzero, accel, rest_length):
+    """Whether two bodies that had an impact stay in contact (2D and 3D; persistent
+    body-body contact is not built, issue 16 item 2): 0 (they part) or the reason
+    ``codes.PP_CHATTER`` / ``codes.PP_TOGETHER``.
+
+    ``v`` (m/s) is the gap rate just after the impact, ``s`` (s) the pair's next time of
+    impact from there (``inf``: none), ``converged`` whether that search converged,
+    ``vzero`` (m/s) the rate that is zero (``pair_zero_speed``), ``accel`` (m/s^2) a bound
+    of the contact's ``|g''|`` (``pair_accel_bound``), ``rest_length`` (m) the scene's. In
+    free flight the gap rises to about ``v s / 4`` before it closes again (exact for a
+    parabola ``g = v s' - |g''| s'^2 / 2``, whose root is ``s = 2 v / |g''|``): below
+    ``rest_length`` the impacts accumulate at that contact (``PP_CHATTER``; the rule of a
+    single point on a plane, ``v^2 < 2 |g''| rest_length``, without needing ``g''``),
+    unless the re-contact is too early to be that contact's (``PAIR_RECONTACT_SLACK``) or
+    the frame's contact approaches (``v < -vzero``: the laws leave a resolved contact at
+    ``v >= 0``, so this is another contact of the pair that the instant did not resolve,
+    the closest features having been tied with it: an impact at once). A search that does
+    not converge from the touching state while ``|v| <= vzero`` (the bodies ride together:
+    zero gravity, plastic impact) is ``PP_TOGETHER``."""
+    if v < -vzero:
+        return 0.0
+    if not converged:
+        return PP_TOGETHER if v <= vzero else 0.0
+    vp = max(v, 0.0)
+    if s < math.inf and vp * s < 4.0 * rest_length:
+        if 2.0 * vp > PAIR_RECONTACT_SLACK * accel * s:
+            return 0.0      # another contact of the pair, not this one turning back
+        return PP_CHATTER
+    return 0.0

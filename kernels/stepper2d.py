@@ -157,10 +157,11 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT,
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
-                   PAINLEVE_IMPACT, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
-                   RC_MAX_EVENTS)
+                   PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
+                   PR_HIT, PR_OFF, PR_ON, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
-from .decisions import accumulation_time, impacts_before_rest, perforates
+from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  # noqa: F401
+                        pair_accel_bound, pair_persistence, pair_zero_speed, perforates)
 from .dispatch import resolve_2d_as
 from .routh import routh_2d_scalar
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
@@ -236,22 +237,9 @@ SWITCHES_IN_LOOP = True     # ``loop_for(law, *switches)``; run_loop does not ta
 
 MAXC = 16            # contacts resolved at one instant (per call of the impact step)
 
-# Body pairs (issue 16). ``pr_off[q]``: PR_ON a pair searched for impacts; PR_OFF disabled
-# for good (a perforating impact); PR_HIT had an impact at the instant just resolved (its
-# next search checks whether the bodies stay in contact, ``_pair_persists``).
-PR_ON = 0
-PR_OFF = 1
-PR_HIT = 2
-# Reasons of ERR_PERSISTENT_PAIR (err[5]): persistent body-body contact is not built
-# (issue 16 item 2), so the run stops, naming the pair, when
-PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
-                     # a rise of rest_length; disks: v_N^2 < 2 |g''| rest_length)
-PP_TOGETHER = 2.0    # after a plastic impact the bodies ride together (no separation found)
-PP_HELD = 3.0        # a body of the pair is held on a plane by an integrated contact
-#: a pair's post-impact normal speed at most PAIR_VN_RTOL times the bodies' speed scale
-#: (|v_A - v_B| + |w_A| |r_A| + |w_B| |r_B|, m/s) is the round-off of a plastic impact
-#: (about 1e-16 of it): zero, never read for its sign (``_pair_persists``)
-PAIR_VN_RTOL = 1e-12
+# Body pairs (issue 16): ``pr_off`` codes PR_ON / PR_OFF / PR_HIT and the reasons PP_* of
+# ERR_PERSISTENT_PAIR are shared with 3D (``codes``), and so is the rule that decides
+# whether a pair stays in contact after an impact (``decisions.pair_persistence``).
 #: face on face: two edges of rounded polygons (box, polygon, rod, capsule) touch along a
 #: segment when the far vertex of each face lies within ``simul_gap + PAIR_FACE_RTOL * L``
 #: of the extreme support along the contact normal (``L`` the distance of the body's
@@ -724,7 +712,11 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             dy = tmp[0, Y] - tmp[1, Y]
             dist = math.sqrt(dx * dx + dy * dy)
             v = (dx * (tmp[0, VX] - tmp[1, VX]) + dy * (tmp[0, VY] - tmp[1, VY])) / dist
-            if max(v, 0.0) * s < 4.0 * tolf[TF_REST_LENGTH]:
+            sp = (math.hypot(tmp[0, VX], tmp[0, VY]) + math.hypot(tmp[1, VX], tmp[1, VY])
+                  + abs(tmp[0, OMEGA]) * bflt[a, B_RADIUS]
+                  + abs(tmp[1, OMEGA]) * bflt[b, B_RADIUS])
+            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+            if pair_persistence(v, s, True, vz, INF, tolf[TF_REST_LENGTH]) == PP_CHATTER:
                 rb = bflt[b, B_RADIUS]
                 _set_err(err, t_now, a, b, tmp[1, X] + rb * dx / dist,
                          tmp[1, Y] + rb * dy / dist, PP_CHATTER, v, s)
@@ -756,15 +748,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
 def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
     """Whether bodies a and b, which had an impact at t_now (states ``tmp[0]``, ``tmp[1]``
     there) stay in contact: persistent body-body contact, not built (issue 16 item 2), so
-    ``ERR_PERSISTENT_PAIR`` (0: they part). With ``v`` the gap rate after the impact (the
-    post-impact normal speed, ``pair2d.frame_rel``) and ``s`` the pair's next time of
-    impact, the free-flight gap rises to about ``v s / 4`` before it closes again (exact for
-    a parabola ``g = v s' - |g''| s'^2 / 2``, whose root is ``s = 2 v / |g''|``): below
-    ``rest_length`` the impacts accumulate at that contact (``PP_CHATTER``; the rule of a
-    single point on a plane, ``v^2 < 2 |g''| rest_length``, without needing ``g''``). A
-    search that does not converge from the touching state while ``v`` is no more than
-    ``PAIR_VN_RTOL`` of the bodies' speed scale (the bodies ride together: zero gravity,
-    plastic impact) is that too (``PP_TOGETHER``)."""
+    ``ERR_PERSISTENT_PAIR`` (0: they part), by ``decisions.pair_persistence`` with ``v``
+    the gap rate after the impact (``pair2d.frame_rel``) and ``s`` the pair's next time of
+    impact (search result ``code``)."""
     g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
         bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
         bint[a, B_FIRST], bint[a, B_COUNT], tmp[0, ANGLE], bint[b, B_KIND],
@@ -776,16 +762,20 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
                    tmp[0, OMEGA], tmp[1, VX], tmp[1, VY], tmp[1, OMEGA])
     px = tmp[0, X] + 0.5 * (pax + pbx)
     py = tmp[0, Y] + 0.5 * (pay + pby)
-    if code == TOI_NOT_CONVERGED:
-        vs = (math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
-              + abs(tmp[0, OMEGA]) * math.hypot(pax, pay)
-              + abs(tmp[1, OMEGA]) * math.hypot(pbx - dx, pby - dy))
-        if v <= PAIR_VN_RTOL * vs:
-            _set_err(err, t_now, a, b, px, py, PP_TOGETHER, v, g)
-            return ERR_PERSISTENT_PAIR
-        return 0
-    if code == TOI_OK and s < INF and max(v, 0.0) * s < 4.0 * tolf[TF_REST_LENGTH]:
-        _set_err(err, t_now, a, b, px, py, PP_CHATTER, v, s)
+    ra = math.hypot(pax, pay)
+    rb = math.hypot(pbx - dx, pby - dy)
+    wr = abs(tmp[0, OMEGA]) * ra + abs(tmp[1, OMEGA]) * rb
+    sp = math.hypot(tmp[0, VX], tmp[0, VY]) + math.hypot(tmp[1, VX], tmp[1, VY]) + wr
+    vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)     # simul_tol is relative in 2D
+    G = pair_accel_bound(math.hypot(tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY]),
+                         abs(tmp[0, ALPHA]), ra, abs(tmp[1, ALPHA]), rb, abs(tmp[0, OMEGA]),
+                         abs(tmp[1, OMEGA]),
+                         math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY]) + wr)
+    why = 0.0
+    if code != TOI_MISSED:
+        why = pair_persistence(v, s, code == TOI_OK, vz, G, tolf[TF_REST_LENGTH])
+    if why != 0.0:
+        _set_err(err, t_now, a, b, px, py, why, v, g if why == PP_TOGETHER else s)
         return ERR_PERSISTENT_PAIR
     return 0
 

@@ -10,8 +10,9 @@ and calls again). Negative return codes are errors (``ERR_*``, details in ``err`
 modes and event kinds are shared with 2D (``codes``); table columns are named
 (``layout``, ``flight3d``'s state offsets ``SX, SQ, SV, SW, SA, SAL``, the ``B_*``
 below). As in 2D, the law is a compile-time constant of ``loop_for`` and the loop's last
-arguments are the feature switches ``pivot``, ``pair``, ``joint`` (``scene_features``):
-a sphere on a floor compiles no point/edge contact, pair or joint code.
+arguments are the feature switches ``pivot``, ``pair``, ``pgen``, ``joint``
+(``scene_features``): a sphere on a floor compiles no point/edge contact, pair or joint
+code, and spheres colliding compile no ``pair3d`` code.
 
 Scene arrays (constant during a run)
 ------------------------------------
@@ -26,7 +27,7 @@ Scene arrays (constant during a run)
 ``planes`` float64[np, 4]  ``(nx, ny, nz, d)``: half-space ``n . y >= d`` is free space
 ``grav`` float64[3]        gravity (m/s^2)
 ``law_ids``, ``law_par``   the law table; ``bp_law`` int64[nb, np]; ``pairs`` int64[npr, 3]
-                           sphere-sphere pairs ``(a, b, law row)``
+                           body pairs ``(a, b, law row)`` (any shapes, issue 16)
 ``tolf``, ``toli``         tolerances (``TF_*``, ``TI_*`` slots)
 
 Dynamic state
@@ -37,7 +38,8 @@ N_WS] integrator workspaces (``ws[i, 0] < 0``: not started for the current segme
 ``M_FEAT`` face); ``tz``/``zp`` pending
 accumulation point and its plane; ``ttr`` next persistent-mode transition; ``bt``/``bpl``
 /``bft`` next body-plane impact time, plane and feature; ``bp_off`` body-plane pairs
-disabled after a perforating impact; ``pr_t``/``pr_off`` the same for sphere pairs;
+disabled after a perforating impact; ``pr_t``/``pr_off`` the same for body pairs
+(``codes.PR_*``: ``PR_HIT`` marks a pair that had an impact at the instant just resolved);
 ``glob[0]`` the current time; ``cnt`` = (events, segments, consecutive events at one
 instant); integrated point/edge contact (``PM_PIVOT``): ``pv`` float64[nb, N_CP] its
 contact parameters, ``pw`` float64[nb, N_PW] its integrator, ``pk`` int64[nb, 2] its
@@ -95,6 +97,15 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   (``capture=True``, the default) -- a spinning box on a face has no closed form here --
   else the run fails (``capture=False``: ``ERR_CHATTER``). Sphere pairs whose impacts
   accumulate also end with ``ERR_CHATTER``.
+
+Body pairs of other shapes than two spheres (issue 16; the switch ``pgen``): the time of
+impact of ``pair3d_toi`` from both rows at the search's start, no further than either
+body's next scheduled event (``_general_pair``); the contact points of
+``pair3d_manifold`` at the impact (``_pair_contacts``), in the instant's clusters with the
+plane contacts. After an impact of the pair its next search decides whether the bodies
+stay in contact (``decisions.pair_persistence``, shared with 2D): persistent body-body
+contact is not built, so ``ERR_PERSISTENT_PAIR`` names the pair (``codes.PP_*`` reason),
+as it does when a body held by an integrated contact has such a partner.
 """
 import functools
 import math
@@ -121,9 +132,11 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_STICK, PAINLEVE_IMPACT,
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
-                   RC_MAX_EVENTS)
+                   RC_MAX_EVENTS, ERR_PERSISTENT_PAIR, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
+                   PR_HIT, PR_OFF, PR_ON)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
-from .decisions import accumulation_time, impacts_before_rest, perforates, touching_rate
+from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound,
+                        pair_persistence, pair_zero_speed, perforates, touching_rate)
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
@@ -136,8 +149,12 @@ from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_P
                       PW_JAM, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
                       FW_C1, slip_growth)
-from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED
+from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
+from .pair3d import FR_NX, FR_PAX, FR_PBX, FR_RATE, N_FE, pair_frame  # noqa: F401
+from .pair3d_manifold import (MAX_MF, MF_PAX, MF_PBX, N_MF, manifold_slab,  # noqa: F401
+                               pair_manifold)
+from .pair3d_toi import pair_toi
 
 INF = math.inf
 # Compile time: callees are never passed int or bool literals (Numba compiles a separate
@@ -697,13 +714,23 @@ def _centre_motion(st, tref, i, t, tz, zp, planes):
 
 
 @njit(cache=True)
-def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_off, tolf,
-                    toli, err):
-    if pr_off[q] != 0:
+def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt,
+                    pr_t, pr_off, ws, tolf, toli, pscr, pfe, err):
+    """Next impact time of body pair q (states at t_now). Two spheres: closed form
+    (``toi3d.sphere_sphere_toi``, over the rest of the run); any other pair of shapes
+    (``pgen``: the general pair switch, True, or None in a loop compiled for sphere pairs
+    only): ``_general_pair``."""
+    if pr_off[q] == PR_OFF:
         pr_t[q] = INF
         return 0
     a = pairs[q, 0]
     b = pairs[q, 1]
+    if not (bint[a, B_KIND] == SH_SPHERE and bint[b, B_KIND] == SH_SPHERE):
+        if pgen is None:    # pruned by type: a loop for sphere pairs compiles no pair3d code
+            return _not_compiled(err, t_now, a, FEATURE_PAIR)
+        return _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr,
+                             bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
+    pr_off[q] = PR_ON
     xa, ya, za, ua, va, wa, aa, ba, ca = _centre_motion(st, tref, a, t_now, tz, zp, planes)
     xb, yb, zb, ub, vb, wb, ab, bb, cb = _centre_motion(st, tref, b, t_now, tz, zp, planes)
     d0 = xa - xb
@@ -732,6 +759,211 @@ def _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_of
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
+
+
+# scratch rows of ``pscr`` (float64[N_PSCR, flight3d.N_WS]) for the general pair search
+PS_A = 0        # the pair's two state rows at the search's start (flight3d layout)
+PS_HELD = 2     # two rows: the held motion of a body in a pending accumulation jump;
+                # then the first holds the pair's frame row (pair3d.FR_*) at the start
+PS_WS = 4       # two rows: rotation-integrator workspaces of pair_toi's trajectories
+PS_POSE = 6     # two rows: pair_toi's pose scratch; the first also _pair_contacts' frame
+N_PSCR = 8
+
+
+@njit(cache=True)
+def _row_at(i, t_now, st, tref, bint, bflt, planes, tz, zp, ws, tolf, toli, held, out):
+    """Body i's state row at t_now into ``out`` (float64[19]): its segment from ``tref``
+    (``pose_at`` with the body's own rotation workspace, so the trajectory is the one the
+    stepper replays), or the held motion of a pending accumulation jump (``_held_into``,
+    through the scratch row ``held``). Returns RK_OK or the rotation integrator's code."""
+    src = st[i]
+    if tz[i] < INF:
+        p = zp[i]
+        _held_into(st[i], bint[i, B_KIND], planes[p, 0], planes[p, 1], planes[p, 2], held)
+        src = held
+    return pose_at(src, bint[i, B_ROT], bint[i, B_AXIS], bflt[i, B_I1], bflt[i, B_I1 + 1],
+                   bflt[i, B_I1 + 2], ws[i], t_now - tref[i], tolf[TF_ROT_TOL],
+                   toli[TI_ROT_MAX_STEPS], out)
+
+
+@njit(cache=True)
+def _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt, pr_t,
+                  pr_off, ws, tolf, toli, pscr, pfe, err):
+    """Next impact time of pair q of any shapes but two spheres (issue 16):
+    ``pair3d_toi.pair_toi`` from both bodies' rows at t_now, searched no further than the
+    next scheduled event of either body (a plane impact, an accumulation point, a
+    transition: that event marks the body and the pair is searched again from there; the
+    rows of persistent modes are exact motions too). Right after an impact of the pair
+    (``pr_off[q] == PR_HIT``) ``decisions.pair_persistence`` decides whether the bodies
+    stay in contact: persistent body-body contact is not built (``ERR_PERSISTENT_PAIR``).
+    A body held by an integrated contact (``PM_PIVOT``) has no closed-form motion to
+    search: ``ERR_PERSISTENT_PAIR`` (reason ``PP_HELD``). A general rotation is integrated
+    afresh from t_now by the search (``rot_tol``): the impact time is that trajectory's."""
+    hit = pr_off[q] == PR_HIT
+    pr_off[q] = PR_ON
+    a = pairs[q, 0]
+    b = pairs[q, 1]
+    tl = tolf[TF_T_END]
+    for j in range(2):
+        i = a if j == 0 else b
+        if pm[i, M_MODE] == PM_PIVOT:
+            _set_err(err, t_now, a, b, st[i, SX], st[i, SX + 1], st[i, SX + 2], PP_HELD,
+                     float(i), 0.0)
+            return ERR_PERSISTENT_PAIR
+        if _row_at(i, t_now, st, tref, bint, bflt, planes, tz, zp, ws, tolf, toli,
+                   pscr[PS_HELD + j], pscr[PS_A + j]) != RK_OK:
+            _set_err(err, t_now, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                     0.0)
+            return ERR_ROT
+        for x in (tz[i], ttr[i], bt[i]):
+            if t_now < x < tl:
+                tl = x
+    rA = pscr[PS_A]
+    rB = pscr[PS_A + 1]
+    fr = pscr[PS_HELD]      # the frame at t_now (the held rows are no longer needed)
+    g0 = pair_frame(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_HALF], bflt[a, B_HALF + 1],
+                    bflt[a, B_HALF + 2], rA, bint[b, B_KIND], bflt[b, B_RADIUS],
+                    bflt[b, B_HALF], bflt[b, B_HALF + 1], bflt[b, B_HALF + 2], rB, fr, pfe)
+    v = fr[FR_RATE]
+    # speed scale |v_A - v_B| + |w_A| |r_A| + |w_B| |r_B| (arms to the witness points) and
+    # a bound of the contact's |g''| (decisions.pair_accel_bound)
+    vs = 0.0
+    va = 0.0
+    vb = 0.0
+    da = 0.0
+    la = 0.0
+    lb = 0.0
+    wa = 0.0
+    wb = 0.0
+    aa = 0.0
+    ab = 0.0
+    for j in range(3):
+        vs += (rA[SV + j] - rB[SV + j]) ** 2
+        va += rA[SV + j] ** 2
+        vb += rB[SV + j] ** 2
+        da += (rA[SA + j] - rB[SA + j]) ** 2
+        la += (fr[FR_PAX + j] - rA[SX + j]) ** 2
+        lb += (fr[FR_PBX + j] - rB[SX + j]) ** 2
+        wa += rA[SW + j] ** 2
+        wb += rB[SW + j] ** 2
+        aa += rA[SAL + j] ** 2
+        ab += rB[SAL + j] ** 2
+    la = math.sqrt(la)
+    lb = math.sqrt(lb)
+    wa = math.sqrt(wa)
+    wb = math.sqrt(wb)
+    vs = math.sqrt(vs) + wa * la + wb * lb
+    vz = pair_zero_speed(math.sqrt(va) + math.sqrt(vb) + wa * la + wb * lb,
+                         tolf[TF_SIMUL_TOL])
+    if abs(g0) <= tolf[TF_GAP_TOL] and v != 0.0 and abs(v) <= vz:
+        # touching at a normal rate that is round-off (or the joint solve's residual):
+        # zero for the search (B's searched row takes it; the state keeps its velocity)
+        v = 0.0
+        for j in range(3):
+            rB[SV + j] += fr[FR_RATE] * fr[FR_NX + j]
+    s, code = pair_toi(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_HALF], bflt[a, B_HALF + 1],
+                       bflt[a, B_HALF + 2], rA, bint[a, B_ROT], bint[a, B_AXIS], bflt[a, B_I1],
+                       bflt[a, B_I1 + 1], bflt[a, B_I1 + 2], pscr[PS_WS],
+                       bint[b, B_KIND], bflt[b, B_RADIUS], bflt[b, B_HALF], bflt[b, B_HALF + 1],
+                       bflt[b, B_HALF + 2], rB, bint[b, B_ROT], bint[b, B_AXIS], bflt[b, B_I1],
+                       bflt[b, B_I1 + 1], bflt[b, B_I1 + 2], pscr[PS_WS + 1],
+                       t_now, tl - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
+                       tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT], tolf[TF_ROT_TOL],
+                       toli[TI_ROT_MAX_STEPS], pscr[PS_POSE], pscr[PS_POSE + 1])
+    if hit and code != TOI_MISSED and code != TOI_ROT_FAILED:
+        G = pair_accel_bound(math.sqrt(da), math.sqrt(aa), la, math.sqrt(ab), lb, wa, wb, vs)
+        why = pair_persistence(v, s, code == TOI_OK, vz, G, tolf[TF_REST_LENGTH])
+        if why != 0.0:
+            _set_err(err, t_now, a, b, 0.5 * (fr[FR_PAX] + fr[FR_PBX]),
+                     0.5 * (fr[FR_PAX + 1] + fr[FR_PBX + 1]),
+                     0.5 * (fr[FR_PAX + 2] + fr[FR_PBX + 2]), why, v, s)
+            return ERR_PERSISTENT_PAIR
+    if code == TOI_MISSED:
+        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
+        return ERR_MISSED
+    if code == TOI_ROT_FAILED:
+        _set_err(err, t_now, a, -1, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
+        return ERR_ROT
+    if code == TOI_NOT_CONVERGED:
+        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], s, 0.0, 0.0)
+        return ERR_TOI
+    pr_t[q] = t_now + s
+    return 0
+
+
+@njit(cache=True)
+def _pair_contacts(q, nc, t, st, bint, bflt, pairs, ws, tolf, toli, c_i, c_f, pscr, pmf, pfe,
+                   err):
+    """The contact rows of pair q of any shapes but two spheres (bodies at t) from
+    ``nc`` on: the points of ``pair3d_manifold.pair_manifold`` (a face, an edge or a
+    capsule lying on a face, capsules side by side: up to ``MAX_MF`` points with one
+    normal, within its slab ``manifold_slab``, ``SLAB_REL`` of the bodies' sizes; else the
+    witness pair), each with the normal from B into A and each body's arm to its own
+    point, so that ``W`` and ``v`` are those of the pair's frame. When the frame's single
+    contact separates, the pair's impact is another contact tied with it to round-off
+    (the far end of an edge just resolved: the search found it ``1e-17`` s later, the same
+    instant in floating point): it is the frame of the bodies' rows ``simul_time`` later,
+    where it is the deeper (the impact cluster's own time window). Returns the new number
+    of contacts (or an error code)."""
+    a = pairs[q, 0]
+    b = pairs[q, 1]
+    kA = bint[a, B_KIND]
+    kB = bint[b, B_KIND]
+    slab = manifold_slab(kA, bflt[a, B_RADIUS], bflt[a, B_HALF], bflt[a, B_HALF + 1],
+                         bflt[a, B_HALF + 2], kB, bflt[b, B_RADIUS], bflt[b, B_HALF],
+                         bflt[b, B_HALF + 1], bflt[b, B_HALF + 2])
+    fr = pscr[PS_POSE]
+    m = pair_manifold(kA, bflt[a, B_RADIUS], bflt[a, B_HALF], bflt[a, B_HALF + 1],
+                      bflt[a, B_HALF + 2], st[a], kB, bflt[b, B_RADIUS], bflt[b, B_HALF],
+                      bflt[b, B_HALF + 1], bflt[b, B_HALF + 2], st[b], slab, fr, pfe, pmf)
+    nx = fr[FR_NX]
+    ny = fr[FR_NX + 1]
+    nz = fr[FR_NX + 2]
+    if m < 1 or not (math.isfinite(nx) and math.isfinite(ny) and math.isfinite(nz)):
+        _set_err(err, t, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
+        return ERR_NONFINITE
+    ca = st[a]
+    cb = st[b]
+    if m == 1 and fr[FR_RATE] >= 0.0:
+        for j in range(2):
+            i = a if j == 0 else b
+            if pose_at(st[i], bint[i, B_ROT], bint[i, B_AXIS], bflt[i, B_I1],
+                       bflt[i, B_I1 + 1], bflt[i, B_I1 + 2], ws[i], tolf[TF_SIMUL_TIME],
+                       tolf[TF_ROT_TOL], toli[TI_ROT_MAX_STEPS], pscr[PS_A + j]) != RK_OK:
+                _set_err(err, t, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
+                         0.0)
+                return ERR_ROT
+        f2 = pscr[PS_HELD]
+        pair_frame(kA, bflt[a, B_RADIUS], bflt[a, B_HALF], bflt[a, B_HALF + 1],
+                   bflt[a, B_HALF + 2], pscr[PS_A], kB, bflt[b, B_RADIUS], bflt[b, B_HALF],
+                   bflt[b, B_HALF + 1], bflt[b, B_HALF + 2], pscr[PS_A + 1], f2, pfe)
+        if f2[FR_RATE] < 0.0:
+            ca = pscr[PS_A]
+            cb = pscr[PS_A + 1]
+            nx = f2[FR_NX]
+            ny = f2[FR_NX + 1]
+            nz = f2[FR_NX + 2]
+            for j in range(3):
+                pmf[0, MF_PAX + j] = f2[FR_PAX + j]
+                pmf[0, MF_PBX + j] = f2[FR_PBX + j]
+    for k in range(m):
+        if nc >= MAXC - 1:
+            _set_err(err, t, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], MAXC - 1, 0.0,
+                     0.0)
+            return ERR_TOO_MANY
+        c_i[nc, CI_TYPE] = 1
+        c_i[nc, CI_A] = a
+        c_i[nc, CI_B] = b
+        c_i[nc, CI_FEAT] = -1
+        c_i[nc, CI_LAW] = pairs[q, 2]
+        c_i[nc, CI_OFF] = 0
+        _frame(c_f, nc, nx, ny, nz)
+        for j in range(3):
+            c_f[nc, CF_RA + j] = pmf[k, MF_PAX + j] - ca[SX + j]
+            c_f[nc, CF_RB + j] = pmf[k, MF_PBX + j] - cb[SX + j]
+            c_f[nc, CF_P + j] = st[a, SX + j] + c_f[nc, CF_RA + j]
+        nc += 1
+    return nc
 
 
 # ------------------------------------------------------------------ integrated point/edge contact
@@ -777,28 +1009,35 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
 
 
 @njit(cache=True)
-def _recompute_body(i, t_now, st, tref, bint, bflt, feats, planes, pairs, pm, tz, zp, bt,
-                    bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli, skip, pose, err, ttr, pk,
-                    pv, pw, fw, ybuf, vals, vals0, vfl, hrow, pivot, pair):
-    """Every candidate event of body i (state at t_now): its planes (or its integrated
-    contact's events) and its pairs. ``pivot``, ``pair``: feature switches."""
+def _recompute_motion(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt, bpl, bft,
+                      bp_off, ws, tolf, toli, skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals,
+                      vals0, vfl, hrow, pivot):
+    """The candidate events of body i's own motion (state at t_now): its planes, or its
+    integrated contact's events. ``pivot``: feature switch."""
     if pm[i, M_MODE] == PM_PIVOT:
         if pivot is None:
             return _not_compiled(err, t_now, i, FEATURE_PIVOT)
         return _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
                                 pw, fw, tolf, toli, skip, ybuf, vals, vals0, vfl, err)
-    rc = _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt,
-                           bpl, bft, bp_off, ws, tolf, toli, skip, pose, hrow, err)
-    if rc < 0:
-        return rc
+    return _recompute_planes(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp, bt,
+                             bpl, bft, bp_off, ws, tolf, toli, skip, pose, hrow, err)
+
+
+@njit(cache=True)
+def _recompute_pairs(t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt, pr_t,
+                     pr_off, ws, tolf, toli, pscr, pfe, bmark, err, pair, pgen):
+    """Recompute every pair with a marked body (``bmark``), after the planes of every
+    marked body (a general pair's search stops at either body's next scheduled event).
+    ``pair``, ``pgen``: feature switches (any pair; pairs of other shapes than spheres)."""
     for q in range(pairs.shape[0]):
-        if pairs[q, 0] == i or pairs[q, 1] == i:
-            if pair is None:
-                return _not_compiled(err, t_now, i, FEATURE_PAIR)
-            rc = _recompute_pair(q, t_now, st, tref, bflt, planes, pairs, tz, zp, pr_t,
-                                 pr_off, tolf, toli, err)
-            if rc < 0:
-                return rc
+        if bmark[pairs[q, 0]] == 0 and bmark[pairs[q, 1]] == 0:
+            continue
+        if pair is None:
+            return _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
+        rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp,
+                             ttr, bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
+        if rc < 0:
+            return rc
     return 0
 
 
@@ -2614,9 +2853,10 @@ def _sequential(law, members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3
 def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
              st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
              pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f, skip, pose, fw, ybuf,
-             vals, vals0, vfl, err, pair):
+             vals, vals0, vfl, pscr, pfe, err, pair, pgen):
     """Start a run at glob[0]: settle bodies that start resting on a plane, log the first
-    trajectory segments and compute every candidate event (``pair``: feature switch)."""
+    trajectory segments and compute every candidate event (``pair``, ``pgen``: feature
+    switches, see ``run_loop``)."""
     nb = st.shape[0]
     t = glob[0]
     cw = MAXC - 1
@@ -2659,8 +2899,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
     for q in range(pairs.shape[0]):
         if pair is None:
             return _not_compiled(err, t, pairs[q, 0], FEATURE_PAIR)
-        rc = _recompute_pair(q, t, st, tref, bflt, planes, pairs, tz, zp, pr_t, pr_off, tolf,
-                             toli, err)
+        rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr,
+                             bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
         if rc < 0:
             return rc
     return 0
@@ -2755,11 +2995,15 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                          0.0)
                 return ERR_CHATTER
             return rc
-    # sphere pairs (and anything else) accumulating: not supported
+    # sphere pairs (and anything else) accumulating: not supported (a pair of other shapes
+    # is checked by its next search, decisions.pair_persistence)
     for c in range(nc):
         if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
             continue
         if c_i[c, CI_OFF] != 0:
+            continue
+        if c_i[c, CI_TYPE] == 1 and not (bint[c_i[c, CI_A], B_KIND] == SH_SPHERE
+                                         and bint[c_i[c, CI_B], B_KIND] == SH_SPHERE):
             continue
         vN, v1, v2 = _contact_velocity(st, c_i, c_f, c)
         acc = _gap_accel(st, bflt, c_i, c_f, c)
@@ -2771,21 +3015,23 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
 
 
 def scene_features(bint, planes, grav, n_pairs):
-    """The feature switches ``(pivot, pair, joint)`` of a scene (True, or None when the
-    scene cannot reach that mode; ``codes.FEATURES``): a box or a capsule can be held on a
-    point or an edge (pivot3d), and a sphere on a plane that gravity does not meet
-    square-on (its slip can curve across the slope: integrated contact); boxes and capsules
-    touch with several points at once; sphere pairs; several contacts at one instant
-    (joint solve) with boxes, capsules, two planes or pairs. ``planes`` float64[np, 4]
-    (unit normal, offset), ``grav`` float64[3] (m/s^2)."""
+    """The feature switches ``(pivot, pair, pgen, joint)`` of a scene (True, or None when
+    the scene cannot reach that mode; ``codes.FEATURES``): a box or a capsule can be held
+    on a point or an edge (pivot3d), and a sphere on a plane that gravity does not meet
+    square-on (its slip can curve across the slope: integrated contact); boxes and
+    capsules touch with several points at once; body pairs (``pair``), with a pair of other
+    shapes than two spheres (``pgen``: ``pair3d``, ``pair3d_toi``, ``pair3d_manifold``);
+    several contacts at one instant (joint solve) with boxes, capsules, two planes or
+    pairs. ``planes`` float64[np, 4] (unit normal, offset), ``grav`` float64[3] (m/s^2)."""
     kinds = {int(k) for k in bint[:, 0]}
     n_planes = len(planes)
     g = np.asarray(grav, float)
     sloped = any(np.any(np.cross(np.asarray(pl[:3], float), g) != 0.0) for pl in planes)
     pivot = SH_BOX in kinds or SH_CAPSULE in kinds or (SH_SPHERE in kinds and sloped)
     pair = n_pairs > 0
+    pgen = pair and kinds != {SH_SPHERE}
     joint = pivot or pair or n_planes >= 2
-    return tuple(True if on else None for on in (pivot, pair, joint))
+    return tuple(True if on else None for on in (pivot, pair, pgen, joint))
 
 
 @njit(cache=True)
@@ -2809,10 +3055,10 @@ def loop_for(law):
                  toli, st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws,
                  glob, cnt, pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb,
                  Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0,
-                 vfl, err, pivot, pair, joint):
+                 vfl, pscr, pmf, pfe, err, pivot, pair, pgen, joint):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
-        contract. ``pivot``, ``pair``, ``joint``: the scene's feature switches
-        (``scene_features``)."""
+        contract. ``pivot``, ``pair``, ``pgen``, ``joint``: the scene's feature switches
+        (``scene_features``; ``pgen``: pairs of other shapes than two spheres)."""
         nb = st.shape[0]
         npl = planes.shape[0]
         npr = pairs.shape[0]
@@ -2940,12 +3186,21 @@ def loop_for(law):
                 did = True
                 ws[i, WS_MODE] = -1.0
                 _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
-                rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz,
-                                     zp, bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli,
-                                     skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0,
-                                     vfl, c_f[MAXC - 2], pivot, pair)
+                rc = _recompute_motion(i, t, st, tref, bint, bflt, feats, planes, pm, tz, zp,
+                                       bt, bpl, bft, bp_off, ws, tolf, toli, skip, pose, err,
+                                       ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
+                                       c_f[MAXC - 2], pivot)
                 if rc < 0:
                     return rc
+                if npr > 0:
+                    for j in range(nb):
+                        bmark[j] = 0
+                    bmark[i] = 1
+                    rc = _recompute_pairs(t, st, tref, bint, bflt, planes, pairs, pm, tz, zp,
+                                          ttr, bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe,
+                                          bmark, err, pair, pgen)
+                    if rc < 0:
+                        return rc
             if did:
                 continue
 
@@ -3050,6 +3305,14 @@ def loop_for(law):
                     return ERR_TOO_MANY
                 a = pairs[q, 0]
                 b = pairs[q, 1]
+                if not (bint[a, B_KIND] == SH_SPHERE and bint[b, B_KIND] == SH_SPHERE):
+                    if pgen is None:
+                        return _not_compiled(err, t, a, FEATURE_PAIR)
+                    nc = _pair_contacts(q, nc, t, st, bint, bflt, pairs, ws, tolf, toli, c_i,
+                                        c_f, pscr, pmf, pfe, err)
+                    if nc < 0:
+                        return nc
+                    continue
                 c_i[nc, CI_TYPE] = 1
                 c_i[nc, CI_A] = a
                 c_i[nc, CI_B] = b
@@ -3106,17 +3369,19 @@ def loop_for(law):
                                      v3, W3, P3, Ii, tolf, toli, ev_t, ev_i, ev_f, cnt, err)
                     if rc < 0:
                         return rc
-            # perforating impacts disable their pair for good
+            # perforating impacts disable their pair for good; the pairs in an impact now
+            # are marked PR_HIT (their next search checks whether they stay in contact)
             for c in range(nc):
-                if c_i[c, CI_OFF] == 0:
-                    continue
-                if c_i[c, CI_TYPE] == 0:
+                if c_i[c, CI_OFF] != 0 and c_i[c, CI_TYPE] == 0:
                     bp_off[c_i[c, CI_A], c_i[c, CI_B]] = 1
-                else:
+                elif c_i[c, CI_TYPE] == 1:
                     for q in range(npr):
                         if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B]) or
-                            (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
-                            pr_off[q] = 1
+                                (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
+                            if c_i[c, CI_OFF] != 0:
+                                pr_off[q] = PR_OFF
+                            elif pr_off[q] == PR_ON:
+                                pr_off[q] = PR_HIT
             # persistent contacts, accumulation (Zeno) points, integrated contacts
             for i in range(nb):
                 if bmark[i] == 0:
@@ -3169,10 +3434,15 @@ def loop_for(law):
             for i in range(nb):
                 if bmark[i] == 0:
                     continue
-                rc = _recompute_body(i, t, st, tref, bint, bflt, feats, planes, pairs, pm, tz,
-                                     zp, bt, bpl, bft, bp_off, pr_t, pr_off, ws, tolf, toli,
-                                     skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0,
-                                     vfl, c_f[MAXC - 2], pivot, pair)
+                rc = _recompute_motion(i, t, st, tref, bint, bflt, feats, planes, pm, tz, zp,
+                                       bt, bpl, bft, bp_off, ws, tolf, toli, skip, pose, err,
+                                       ttr, pk, pv, pw, fw, ybuf, vals, vals0, vfl,
+                                       c_f[MAXC - 2], pivot)
                 if rc < 0:
                     return rc
+            rc = _recompute_pairs(t, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt,
+                                  pr_t, pr_off, ws, tolf, toli, pscr, pfe, bmark, err, pair,
+                                  pgen)
+            if rc < 0:
+                return rc
     return run_loop

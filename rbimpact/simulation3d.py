@@ -22,8 +22,18 @@ What the stepper does
   ``rbimpact.kernels.dispatch.resolve_3d`` (Routh's swerve included). A law failure raises
   ``NoSolutionError`` naming body, time and point. A perforating impact (``v_fN < 0``)
   disables that pair for the rest of the run.
-* **Body-body contacts**: sphere against sphere. Any other pair of bodies is rejected when
-  the simulation is built, unless ``ignore_unsupported_pairs=True`` (they pass through).
+* **Body-body contacts** (issue 16): every pair of spheres, boxes and capsules collides.
+  Two spheres keep their closed-form time of impact; any other pair is searched by
+  ``rbimpact.kernels.pair3d_toi`` (conservative advancement that never passes a root,
+  polished to round-off) up to either body's next event. At the impact the contact points
+  and their one normal (from B into A) come from ``pair3d_manifold`` (a face, an edge or a
+  capsule lying on a face: a cluster of up to 8 points, resolved under the policy with
+  the plane contacts of the same instant). Persistent contact between bodies is not built
+  yet: the run stops (``SimulationError``, status "persistent_pair") when a pair's impacts
+  accumulate, when the bodies ride together after a plastic impact, or when a body held
+  by an integrated contact (pivot) has a partner of another shape than two spheres.
+  ``ignore_unsupported_pairs=True`` keeps the behaviour from before: only spheres
+  collide, other pairs pass through each other.
 * **Simultaneous contacts** (a box landing flat): contacts within ``simul_time`` of the
   earliest are clustered by shared bodies; ``policy="simultaneous"`` (default) solves each
   cluster jointly (Newton restitution ``e`` and Coulomb ``mu`` of each contact's pair law,
@@ -207,8 +217,11 @@ class Simulation3D:
         self._feats = np.ascontiguousarray(np.concatenate(feats), dtype=float)
         self._planes = np.array([(*p.normal, p.offset) for p in planes],
                                 dtype=float).reshape(npl, 4)
+        # every pair of bodies collides (issue 16; pair3d*); ignore_unsupported_pairs=True
+        # keeps the sphere pairs only, as before
+        collide = (bint[:, 0] == 0) if self.ignore_unsupported_pairs else np.ones(nb, bool)
         table = pack_laws("Simulation3D", scene, self.law, pair_laws, Plane3D,
-                          bint[:, 0] == 0, dim="3D", round_name="spheres",
+                          collide, dim="3D", round_name="spheres",
                           ignore_unsupported_pairs=self.ignore_unsupported_pairs)
         self._pairs = table.pairs
         self._bp_law = table.bp_law
@@ -227,13 +240,23 @@ class Simulation3D:
                         f"Simulation3D: body {body.index} ({_shape_name(body)}) starts inside "
                         f"plane {plane.index} (point {plane.point}, normal {plane.normal}): "
                         f"its lowest point is {-g:.6g} m below the plane's surface")
+        if len(self._pairs):
+            from .kernels.pair3d import N_FE, N_FR, pair_frame
+            fr, fe = np.zeros(N_FR), np.zeros(N_FE, np.int64)
         for i, j, _ in self._pairs:
             bi, bj = self.scene.bodies[i], self.scene.bodies[j]
-            dist = float(np.linalg.norm(np.subtract(bi.position, bj.position)))
-            g = dist - self._bflt[i, 4] - self._bflt[j, 4]
+            rows = []
+            for b in (bi, bj):
+                row = np.zeros(19)
+                row[0:3] = b.position
+                row[3:7] = b.orientation
+                rows.append(row)
+            g = pair_frame(self._bint[i, 0], *self._bflt[i, 4:8], rows[0],
+                           self._bint[j, 0], *self._bflt[j, 4:8], rows[1], fr, fe)
             if g < -gap_tol:
-                raise ValueError(f"Simulation3D: spheres {i} and {j} overlap at the start by "
-                                 f"{-g:.6g} m")
+                raise ValueError(f"Simulation3D: bodies {i} ({_shape_name(bi)}) and {j} "
+                                 f"({_shape_name(bj)}) overlap at the start by {-g:.6g} m "
+                                 f"(more than gap_tol = {gap_tol:g} m)")
 
     # ------------------------------------------------------------ running
 
@@ -341,23 +364,24 @@ class Simulation3D:
         Ii = np.zeros((3, 3))
         skip = np.zeros(max(npl, 1), np.int64)
         pose = np.zeros(19)
+        pscr = np.zeros((k.N_PSCR, N_WS))       # the general pair search's scratch rows
+        pmf = np.zeros((k.MAX_MF, k.N_MF))     # a pair's contact manifold
+        pfe = np.zeros(k.N_FE, np.int64)       # a pair's contact features
         err = np.zeros(k.N_ERR)
         scene_arrays = (self._bint, self._bflt, self._feats, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
-        run_loop, (pivot, pair, joint) = compiled_loop(self, k)
+        run_loop, (pivot, pair, pgen, joint) = compiled_loop(self, k)
         rc = call_loop(k.init_run, (*scene_arrays, *state, *bufs, c_f, skip, pose, fw, ybuf,
-                                    vals, vals0, vfl, err, pair))
+                                    vals, vals0, vfl, pscr, pfe, err, pair, pgen))
+        work = (c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf,
+                vals, vals0, vfl, pscr, pmf, pfe, err, pivot, pair, pgen, joint)
         if rc == 0:
-            rc = call_loop(run_loop, (*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb,
-                                      comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals,
-                                      vals0, vfl, err, pivot, pair, joint))
+            rc = call_loop(run_loop, (*scene_arrays, *state, *bufs, *work))
             while rc == k.RC_BUFFER_FULL:
                 bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_doubling)
-                rc = run_loop(*scene_arrays, *state, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp,
-                              bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0, vfl,
-                              err, pivot, pair, joint)
+                rc = run_loop(*scene_arrays, *state, *bufs, *work)
         status = run_status(k, rc)
         *kept, recording = rec.finish(bufs, cnt, glob)
         result = self._result(*kept, glob, status, float(t_end), recording)
@@ -492,6 +516,27 @@ class Simulation3D:
             exc = SimulationError(f"the integrated contact of {body} exceeded rot_max_steps "
                                   f"= {self.tolerances['rot_max_steps']} steps {at} "
                                   f"(contact_tol = {self.tolerances['contact_tol']:g})")
+        elif rc == k.ERR_PERSISTENT_PAIR:
+            why = err[6]
+            other = self._where(b)
+            if why == k.PP_HELD:
+                held = self._where(int(err[7]))
+                detail = (f"{held} is held on a plane by an integrated (pivot) contact {at} "
+                          f"while it can meet the other body of the pair, {body} and {other}"
+                          f"; body-body contact with a body in an integrated contact")
+            elif why == k.PP_TOGETHER:
+                detail = (f"{body} and {other} stay together after their impact {at}, {pt} "
+                          f"(normal speed {err[7]:.3g} m/s, the round-off of a plastic "
+                          f"impact; no separation found)")
+            else:
+                detail = (f"impacts accumulate at a single contact point of {body} on "
+                          f"{other} {at}, {pt}: normal speed after the impact {err[7]:.3g} "
+                          f"m/s, next impact of the pair {err[8]:.3g} s later (the bodies "
+                          f"part by less than rest_length = "
+                          f"{self.tolerances['rest_length']:g} m)")
+            exc = SimulationError(f"persistent body-body contact (resting, sliding, pivoting "
+                                  f"or rolling on another body) is not supported yet (issue "
+                                  f"16): {detail}")
         elif rc == k.ERR_STALL:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
                                   f"{self.tolerances['stall_events']} consecutive events at "

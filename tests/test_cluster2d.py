@@ -80,9 +80,13 @@ class Cluster:
         return C.cluster_project(self.b, self.c, self.nk, self.g[0], self.g[1], self.L, self.w,
                                  self.la)
 
-    def advance(self, t0, t1):
+    def advance(self, t0, t1, rec=None):
+        """rec: (seg_t, seg_b, seg_s, cnt) to record pieces (ids = body rows)."""
+        if rec is None:
+            rec = (np.zeros(0), np.zeros(0, np.int64), np.zeros((0, 9)), np.zeros(3, np.int64))
+        ids = np.arange(self.b.shape[0], dtype=np.int64)
         return C.cluster_advance(self.b, self.c, self.nk, self.cand, self.nc, self.g[0],
-                                 self.g[1], self.L, t0, t1, self.w, self.la)
+                                 self.g[1], self.L, t0, t1, self.w, self.la, *rec, ids)
 
     def after_event(self, ev, k):
         return C.cluster_after_event(self.b, self.c, self.nk, ev, k, self.g[0], self.g[1],
@@ -919,3 +923,72 @@ def test_random_clusters_newton_euler_and_constraints():
                 assert abs(d1[1]) < 1e-7 * scale, (k, d1[1])
         checked += 1
     assert checked >= 20
+
+
+# ------------------------------------------------------------------ recorded pieces
+
+
+def test_recorded_pieces_follow_the_integrated_motion():
+    """The rocking box and the two disks recorded as velocity-interpolating quadratic
+    pieces (one row per free body and piece; the fixed cylinder has none), in calls of at
+    most PIECE_BUDGET rows: sampled anywhere, the pieces keep the energy within a few
+    PIECE_ETOL M V^2 (plus the integration's own error), the contact gaps within a few
+    PIECE_LTOL L, and they join continuously."""
+    from rbimpact.kernels.flight2d import sample_segments
+    for make, t_end in ((lambda: box_on_cylinder(0.5, math.inf), 0.5),
+                        (lambda: two_disks(), 0.6)):
+        cl = make()
+        if cl.b.shape[0] == 2 and cl.b[0, C.CB_FIXED] == 0.0:
+            cl.c[:, C.CC_MODE] = C.MODE_LIFT
+            assert cl.select() == C.CS_OK
+        E0 = cl.energy()
+        nfree = int(np.sum(cl.b[:, C.CB_FIXED] == 0.0))
+        V = max(np.hypot(cl.b[i, 3], cl.b[i, 4]) + abs(cl.b[i, 5]) * cl.L
+                for i in range(cl.b.shape[0])) + math.sqrt(G * cl.L)
+        Mf = sum(cl.b[i, C.CB_M] for i in range(cl.b.shape[0]) if cl.b[i, C.CB_FIXED] == 0)
+        cap = 200_000
+        rec = (np.zeros(cap), np.zeros(cap, np.int64), np.zeros((cap, 9)), np.zeros(3, np.int64))
+        t, calls = 0.0, 0
+        while t < t_end:
+            before = rec[3][C.CNT_SEG]
+            t_before = t
+            st, ev, k, t = cl.advance(t, t_end, rec)
+            assert st == C.CS_OK and ev == C.CE_NONE and t > t_before
+            assert rec[3][C.CNT_SEG] - before <= C.PIECE_BUDGET
+            calls += 1
+        nseg = rec[3][C.CNT_SEG]
+        seg_t, seg_b, seg_s = rec[0][:nseg], rec[1][:nseg], rec[2][:nseg]
+        assert calls > 1 and seg_t[0] == 0.0 and np.all(np.diff(seg_t) >= 0.0)
+        assert set(seg_b) == {i for i in range(cl.b.shape[0]) if cl.b[i, C.CB_FIXED] == 0}
+        assert nseg % nfree == 0
+        times = np.linspace(0.0, t_end, 2001)[:-1]
+        nb = cl.b.shape[0]
+        out = [np.zeros((times.size, nb)) for _ in range(6)]
+        for i in set(seg_b):
+            idx = np.nonzero(seg_b == i)[0]
+            # each body's rows are contiguous in time: sample them through a compact copy
+            sample_segments(seg_t[idx].copy(), seg_s[idx].copy(), 0, idx.size, times, *out, i)
+        worst_e = worst_g = 0.0
+        probe = make()
+        probe.c[:, C.CC_MODE] = cl.c[:, C.CC_MODE]
+        for j in range(times.size):
+            for i in range(nb):
+                if probe.b[i, C.CB_FIXED] == 0.0:
+                    probe.b[i, :6] = [o[j, i] for o in out]
+            worst_e = max(worst_e, abs(probe.energy() - E0))
+            for k in range(probe.nk):
+                worst_g = max(worst_g, abs(probe.rates(k)[0]))
+        assert worst_e < 5 * C.PIECE_ETOL * Mf * V * V + 1e-11, worst_e
+        assert worst_g < 5 * C.PIECE_LTOL * cl.L, worst_g
+        # joins: each piece's end is the next one's start
+        for i in set(seg_b):
+            idx = np.nonzero(seg_b == i)[0]
+            for a, b in zip(idx[:-1], idx[1:]):
+                h = seg_t[b] - seg_t[a]
+                r = seg_s[a]
+                end = r[:3] + r[3:6] * h + 0.5 * r[6:9] * h * h
+                assert np.abs(end[:2] - seg_s[b, :2]).max() < 5 * C.PIECE_LTOL * cl.L
+                assert np.abs(r[3:6] + r[6:9] * h - seg_s[b, 3:6]).max() < 5 * C.PIECE_VTOL * V
+        test_recorded_pieces_follow_the_integrated_motion.figures = getattr(
+            test_recorded_pieces_follow_the_integrated_motion, "figures", []) + [
+            (nseg, calls, worst_e / (Mf * V * V), worst_g / cl.L)]
