@@ -158,8 +158,20 @@ Arrays (no allocation in the hot path; sizes from ``work_size``):
   active ones are written (forces at the returned state). A contact in ``MODE_LIFT`` is
   ignored by ``cluster_advance`` (no force, no event): the stepper moves it to the
   candidates;
-* ``w`` float64[work_size(nb, nc)]: the integrator (header ``H_*``, blocks of ``6 nb``);
-* ``la`` float64[N_LA]: the contact rows and the linear algebra (fixed size: ``KMAX``).
+* ``w`` float64[work_size(nb, nc)]: the integrator (header ``H_*``, blocks of ``6 nb``, the
+  event values, three piece rows per body);
+* ``la`` float64[N_LA]: the contact rows and the linear algebra (fixed size: ``KMAX``);
+* recording (``cluster_advance``): ``seg_t`` float64[m], ``seg_b`` int64[m], ``seg_s``
+  float64[m, 9], ``cnt`` int64[>= 2] (``cnt[CNT_SEG]`` rows used), ``ids`` int64[nb] (the
+  stepper's body index of each row of ``bodies``); empty ``seg_t``: no recording.
+
+Not here (the stepper's, issue 16 item 2's next pieces): entering the mode (bodies whose
+body-body impacts accumulate, or that land on each other at rest), building the tables
+from the scene's shapes (the two point-face contacts of a face-face contact at the ends of
+the overlap, the feature ranges), swapping a contact at ``CE_FEATURE``, moving a lifted
+contact to the candidates, the impact at ``CE_GAP``, ellipses (a curved feature: its
+support function as in ``pivot2d``), and a mode selection for more than ``KSEL_MAX``
+contacts (an LCP pivoting method instead of the enumeration).
 """
 import math
 
@@ -1388,8 +1400,8 @@ def _piece_dev(bodies, w, NY, nc, sa, h):
             m = bodies[i, CB_M]
             ep += (0.5 * m * (vx * vx + vy * vy) + 0.5 * bodies[i, CB_I] * om * om
                    - m * (gx * x + gy * y))
-            ei += (0.5 * m * (w[q + 3] ** 2 + w[q + 4] ** 2) + 0.5 * bodies[i, CB_I] * w[q + 5] ** 2
-                   - m * (gx * w[q] + gy * w[q + 1]))
+            ei += (0.5 * m * (w[q + 3] ** 2 + w[q + 4] ** 2)
+                   + 0.5 * bodies[i, CB_I] * w[q + 5] ** 2 - m * (gx * w[q] + gy * w[q + 1]))
             dp = max(dp, (math.hypot(x - w[q], y - w[q + 1]) + L * abs(a - w[q + 2]))
                      / (PIECE_LTOL * L),
                      (math.hypot(vx - w[q + 3], vy - w[q + 4]) + L * abs(om - w[q + 5]))
