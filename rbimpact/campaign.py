@@ -21,13 +21,15 @@ scene_seed)``). What a scene draws (``draw_scene``):
   a random orientation, and a velocity and spin of the scale ``sqrt(|g| L)``,
   ``sqrt(|g| / L)``.
 
-The two-body axis (issue 16; ``rbimpact stability --scenes N --dim 2 --bodies 2``,
-``drop_campaign(..., bodies=2)``): two random 2D shapes thrown at each other in flight
+The two-body axis (issue 16; ``rbimpact stability --scenes N --dim 2 --bodies 2``, the
+same with ``--dim 3``, ``drop_campaign(..., bodies=2)``): two random shapes of the
+dimension (random orientations and spin vectors in 3D) thrown at each other in flight
 (``draw_pair_scene``: zero gravity and no plane, or gravity with a floor too far below to
 reach before ``t_end``), drawn from their own seed stream (``pair_scene_seed``), so the
 single-body scenes of a seed are unchanged; checked by ``check_pair_result`` (no overlap
 of the bodies beyond the tolerance below, no energy created, momentum kept in zero
-gravity). Persistent contact between bodies is not built (issue 16 item 2): a scene whose
+gravity; the 3D angular momentum to ``ANGULAR_MOMENTUM_RTOL_3D``). Persistent contact
+between bodies is not built (issue 16 item 2): a scene whose
 bodies end up rolling or riding on each other stops with the named refusal, a FAIL of a
 known open mode.
 
@@ -476,6 +478,10 @@ PAIR_FAST_SPIN = 0.2
 MOMENTUM_RTOL = 1e-12
 """Linear and angular momentum (about the origin) kept in a zero-gravity scene, relative to
 the scene's scales ``sum m |v|`` and ``sum I |w| + m |x| |v|``, at the end of the run."""
+ANGULAR_MOMENTUM_RTOL_3D = 1e-9
+"""The same for the angular momentum of a 3D scene: a body with three different moments
+rotates by an integrator held to ``rot_tol`` (1e-12) per step, so its angular momentum
+drifts by a few ``rot_tol`` per unit of ``|w| t``."""
 
 
 def pair_scene_seed(dim, seed, index):
@@ -491,33 +497,45 @@ def draw_pair_scene(dim, sseed):
     along a random direction with a gap of the bounding circles ``PAIR_GAP`` (relative),
     thrown at A with an impact parameter up to 0.8 of the bounding radii, a closing speed
     of 0.2 to 2 ``sqrt(|g| L)``, random angles and spins."""
-    if dim != 2:
-        raise ValueError(f"the two-body campaign axis is 2D only (issue 16); got dim={dim!r}")
+    if dim not in (2, 3):
+        raise ValueError(f"the two-body campaign axis has dim 2 or 3; got dim={dim!r}")
     rng = np.random.default_rng(sseed)
     label, name, params = _draw_law(rng)
     layout = PAIR_LAYOUTS[rng.integers(len(PAIR_LAYOUTS))]
     bodies = []
     for _ in range(2):
-        shape = SHAPES[2][rng.integers(len(SHAPES[2]))]
+        shape = SHAPES[dim][rng.integers(len(SHAPES[dim]))]
         L = _loguniform(rng, SIZE_MIN, SIZE_MAX)
         aspect = float(rng.uniform(0.2, 1.0))
-        b = dict(shape=shape, size=L, aspect=aspect, mass=_loguniform(rng, 1e-2, 1e2),
-                 angle=float(rng.uniform(0, 2 * math.pi)))
-        if shape == "polygon":
-            b["vertices"] = _polygon_vertices(rng, L, aspect)
-        w = float(rng.uniform(-3.0, 3.0)) * math.sqrt(GRAVITY / L)
+        b = dict(shape=shape, size=L, aspect=aspect, mass=_loguniform(rng, 1e-2, 1e2))
+        if dim == 2:
+            b["angle"] = float(rng.uniform(0, 2 * math.pi))
+            if shape == "polygon":
+                b["vertices"] = _polygon_vertices(rng, L, aspect)
+            w = float(rng.uniform(-3.0, 3.0)) * math.sqrt(GRAVITY / L)
+        else:
+            q = rng.normal(size=4)
+            b["orientation"] = tuple(float(x) for x in q / np.linalg.norm(q))
+            w = rng.uniform(-3.0, 3.0, size=3) * math.sqrt(GRAVITY / L)
         if rng.uniform() < PAIR_FAST_SPIN:
-            w *= 30.0
-        b["spin"] = w
+            w = w * 30.0
+        b["spin"] = w if dim == 2 else tuple(float(x) for x in w)
         bodies.append(b)
     Lm = math.sqrt(bodies[0]["size"] * bodies[1]["size"])
-    spec = dict(dim=2, seed=int(sseed), law=label, law_name=name, params=params,
+    if dim == 2:
+        direction = float(rng.uniform(0, 2 * math.pi))
+    else:
+        u = rng.normal(size=3)
+        direction = tuple(float(x) for x in u / np.linalg.norm(u))
+    spec = dict(dim=dim, seed=int(sseed), law=label, law_name=name, params=params,
                 policy=POLICIES[rng.integers(2)], layout=layout,
                 shape="+".join(b["shape"] for b in bodies), size=min(b["size"] for b in bodies),
-                bodies=bodies, height=0.0,
-                direction=float(rng.uniform(0, 2 * math.pi)),
+                bodies=bodies, height=0.0, direction=direction,
                 gap=_loguniform(rng, *PAIR_GAP), impact=float(rng.uniform(-0.8, 0.8)),
                 speed=float(rng.uniform(0.2, 2.0)) * math.sqrt(GRAVITY * Lm))
+    if dim == 3:        # the side of the impact parameter: a unit vector normal to u
+        p = np.cross(u, rng.normal(size=3))
+        spec["side"] = tuple(float(x) for x in p / np.linalg.norm(p))
     return spec
 
 
@@ -528,12 +546,15 @@ def build_pair_scene(spec):
     centre of mass velocity is such that the total momentum is zero. ``t_end``: the time to
     close the distance and pass through twice the bounding radii."""
     from .laws import Law
-    from .scene import Scene2D
-    from .simulation import Simulation
+    dim = spec["dim"]
     law = Law(spec["law_name"], **spec["params"])
-    shapes = [_shape(dict(b, dim=2)) for b in spec["bodies"]]
+    shapes = [_shape(dict(b, dim=dim)) for b in spec["bodies"]]
     R = [sh.bounding_radius for sh in shapes]
     m = [b["mass"] for b in spec["bodies"]]
+    if dim == 3:
+        return _build_pair_scene_3d(spec, law, shapes, R, m)
+    from .scene import Scene2D
+    from .simulation import Simulation
     u = np.array([math.cos(spec["direction"]), math.sin(spec["direction"])])
     perp = np.array([-u[1], u[0]])
     d = (R[0] + R[1]) * (1.0 + spec["gap"])
@@ -557,9 +578,41 @@ def build_pair_scene(spec):
     return sim, t_end, MAX_EVENTS
 
 
+def _build_pair_scene_3d(spec, law, shapes, R, m):
+    """``build_pair_scene`` in 3D: the same placement along the unit ``direction`` with the
+    impact parameter along ``side``; random orientations and spin vectors."""
+    from .scene3d import Scene3D
+    from .simulation3d import Simulation3D
+    u = np.asarray(spec["direction"], float)
+    perp = np.asarray(spec["side"], float)
+    d = (R[0] + R[1]) * (1.0 + spec["gap"])
+    xB = d * u + spec["impact"] * (R[0] + R[1]) * perp
+    vrel = -spec["speed"] * u
+    vA = -m[1] / (m[0] + m[1]) * vrel
+    vB = m[0] / (m[0] + m[1]) * vrel
+    free = spec["layout"] == "pair-free"
+    scene = Scene3D(gravity=(0.0, 0.0, 0.0) if free else (0.0, 0.0, -GRAVITY))
+    t_end = (d + 2.0 * (R[0] + R[1])) / spec["speed"]
+    if not free:
+        K = 0.0
+        for sh, mi, b, v in zip(shapes, m, spec["bodies"], (vA, vB)):
+            w = np.asarray(b["spin"], float)
+            K += 0.5 * mi * float(v @ v) + 0.5 * float(np.max(sh.inertia(mi))) * float(w @ w)
+        drop = 0.5 * GRAVITY * t_end ** 2 + 2.0 * math.sqrt(2.0 * K / min(m)) * t_end
+        scene.add_floor(-(drop + 2.0 * (R[0] + R[1]) + d + 1.0))
+    for sh, mass, b, x, v in zip(shapes, m, spec["bodies"], (np.zeros(3), xB), (vA, vB)):
+        scene.add_body(sh, mass, tuple(x), orientation=b["orientation"], velocity=tuple(v),
+                       angular_velocity=b["spin"])
+    sim = Simulation3D(scene, law, policy=spec["policy"])
+    return sim, t_end, MAX_EVENTS
+
+
 def pair_gap(sim, s, k, i=0, j=1):
     """Signed gap (m) of bodies i and j at sample ``k`` of ``s`` (``Result.sample``):
-    ``kernels.pair2d.frame_rel`` (distance when apart, minus the penetration depth)."""
+    ``kernels.pair2d.frame_rel`` (3D: ``kernels.pair3d.pair_frame``; distance when apart,
+    minus the penetration depth)."""
+    if "position" in s:
+        return _pair_gap_3d(sim, s, k, i, j)
     from .kernels.pair2d import frame_rel
     bint, bflt, V = sim._bint, sim._bflt, sim._verts
     return float(frame_rel(int(bint[i, 0]), bflt[i, 2], bflt[i, 3], bflt[i, 4], V,
@@ -568,6 +621,51 @@ def pair_gap(sim, s, k, i=0, j=1):
                            int(bint[j, 1]), int(bint[j, 2]),
                            float(s["x"][k, j] - s["x"][k, i]),
                            float(s["y"][k, j] - s["y"][k, i]), float(s["angle"][k, j]))[0])
+
+
+def _pair_gap_3d(sim, s, k, i, j):
+    from .kernels.pair3d import N_FE, N_FR, pair_frame
+    rows = []
+    for b in (i, j):
+        row = np.zeros(19)
+        row[0:3] = s["position"][k, b]
+        row[3:7] = s["orientation"][k, b]
+        rows.append(row)
+    bint, bflt = sim._bint, sim._bflt
+    return float(pair_frame(int(bint[i, 0]), *bflt[i, 4:8], rows[0], int(bint[j, 0]),
+                            *bflt[j, 4:8], rows[1], np.zeros(N_FR), np.zeros(N_FE, np.int64)))
+
+
+def _momenta(res, s, dim, k):
+    """Linear momentum (kg m/s, a vector) and angular momentum about the origin (kg m^2/s,
+    a scalar in 2D, a vector in 3D) of sample ``k``."""
+    m = res.masses
+    if dim == 2:
+        x, y, vx, vy, w = (s[c][k] for c in ("x", "y", "vx", "vy", "omega"))
+        return (np.array([np.sum(m * vx), np.sum(m * vy)]),
+                np.array([np.sum(res.moments * w + m * (x * vy - y * vx))]))
+    from .stability import _quat_rotate
+    x, v = s["position"][k], s["velocity"][k]
+    q, w = s["orientation"][k], s["angular_velocity"][k]
+    qc = q * np.array([1.0, -1.0, -1.0, -1.0])
+    Iw = _quat_rotate(q, res.inertias * _quat_rotate(qc, w))     # world I w
+    return (np.sum(m[:, None] * v, axis=0),
+            np.sum(Iw + m[:, None] * np.cross(x, v), axis=0))
+
+
+def _momentum_scales(res, s, dim):
+    """``sum m |v|`` and ``sum |I w| + m |x| |v|`` at the first sample."""
+    m = res.masses
+    if dim == 2:
+        x, y, vx, vy, w = (s[c][0] for c in ("x", "y", "vx", "vy", "omega"))
+        return (float(np.sum(m * np.hypot(vx, vy))),
+                float(np.sum(res.moments * np.abs(w) + m * np.hypot(x, y) * np.hypot(vx, vy))))
+    x, v, w = s["position"][0], s["velocity"][0], s["angular_velocity"][0]
+    speed = np.linalg.norm(v, axis=1)
+    Imax = np.max(res.inertias, axis=1)
+    return (float(np.sum(m * speed)),
+            float(np.sum(Imax * np.linalg.norm(w, axis=1)
+                         + m * np.linalg.norm(x, axis=1) * speed)))
 
 
 def check_pair_result(spec, sim, res, note):
@@ -599,11 +697,13 @@ def check_pair_result(spec, sim, res, note):
     pen = max(0.0, -worst)
     if pen > pen_tol:
         problems.append(f"penetration {pen:.3g} m > {pen_tol:.2g} m (body 0 in body 1)")
-    E = _energy_from_sample(res, s, 2)
-    K0 = float(kinetic_from_sample(res, s, 2)[0])
-    gabs = math.hypot(*sim.scene.gravity)
+    dim = spec["dim"]
+    E = _energy_from_sample(res, s, dim)
+    K0 = float(kinetic_from_sample(res, s, dim)[0])
+    gabs = float(np.linalg.norm(sim.scene.gravity))
     sizes = np.array([b["size"] for b in spec["bodies"]])
-    E_scale = K0 + float(np.sum(res.masses * gabs * (np.max(np.abs(s["y"]), axis=0) + sizes)))
+    up = s["y"] if dim == 2 else s["position"][:, :, 2]
+    E_scale = K0 + float(np.sum(res.masses * gabs * (np.max(np.abs(up), axis=0) + sizes)))
     gain = float(np.max(E - np.minimum.accumulate(E))) / E_scale
     ev = res.events
     imp = ev[ev["kind"] == "impact"]
@@ -616,18 +716,14 @@ def check_pair_result(spec, sim, res, note):
         problems.append(f"energy created: {gain:.3g} of the scene's energy scale "
                         f"{E_scale:.3g} J (> {ENERGY_RTOL:g})")
     if spec["layout"] == "pair-free":
-        m, I = res.masses, res.moments
-        out = []
-        for k in (0, len(t) - 1):
-            x, y, vx, vy, w = (s[c][k] for c in ("x", "y", "vx", "vy", "omega"))
-            out.append((np.sum(m * vx), np.sum(m * vy),
-                        np.sum(I * w + m * (x * vy - y * vx))))
-        x, y, vx, vy, w = (s[c][0] for c in ("x", "y", "vx", "vy", "omega"))
-        ps = float(np.sum(m * np.hypot(vx, vy)))
-        Ls = float(np.sum(I * np.abs(w) + m * np.hypot(x, y) * np.hypot(vx, vy)))
-        dp = max(abs(out[1][0] - out[0][0]), abs(out[1][1] - out[0][1]))
-        dL = abs(out[1][2] - out[0][2])
-        if dp > MOMENTUM_RTOL * ps or dL > MOMENTUM_RTOL * Ls:
+        p0, L0 = _momenta(res, s, dim, 0)
+        p1, L1 = _momenta(res, s, dim, len(t) - 1)
+        ps, Ls = _momentum_scales(res, s, dim)
+        dp = float(np.max(np.abs(p1 - p0)))
+        dL = float(np.max(np.abs(L1 - L0)))
+        # a general 3D rotation is integrated to rot_tol: angular momentum to its accuracy
+        ltol = MOMENTUM_RTOL if dim == 2 else ANGULAR_MOMENTUM_RTOL_3D
+        if dp > MOMENTUM_RTOL * ps or dL > ltol * Ls:
             problems.append(f"momentum not kept: linear {dp:.3g} of {ps:.3g} kg m/s, "
                             f"angular {dL:.3g} of {Ls:.3g} kg m^2/s")
     if len(imp) == 0:
@@ -754,7 +850,7 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1):
     """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
     seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
     each ``DropRow``. ``bodies``: 1 (the drop scenes) or 2 (the two-body axis,
-    ``draw_pair_scene``: 2D only, its own seed stream ``pair_scene_seed``)."""
+    ``draw_pair_scene``, its own seed stream ``pair_scene_seed``)."""
     if bodies not in (1, 2) or isinstance(bodies, bool):
         raise ValueError(f"drop_campaign: bodies must be 1 or 2, got {bodies!r}")
     if isinstance(n_scenes, bool) or not isinstance(n_scenes, (int, np.integer)) \
@@ -764,10 +860,6 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1):
     dims = {2: (2,), 3: (3,), "2": (2,), "3": (3,), "both": (2, 3)}.get(dim)
     if dims is None:
         raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")
-    if bodies == 2:
-        if 3 in dims and dim != "both":
-            raise ValueError("drop_campaign: the two-body axis (bodies=2) is 2D only")
-        dims = (2,)
     t0 = time.perf_counter()
     rows = []
     seeder = pair_scene_seed if bodies == 2 else scene_seed

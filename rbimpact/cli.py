@@ -252,7 +252,7 @@ def _parser():
                    help="run one campaign scene (from a failure's reproducer) and explain it")
     q.add_argument("--bodies", type=int, choices=(1, 2), default=1,
                    help="campaign: 1 body dropped (default) or 2 bodies thrown at each other "
-                   "in flight (2D, issue 16)")
+                   "in flight (2D or 3D, issue 16)")
     q.set_defaults(func=_cmd_stability)
 
     q = sub.add_parser("sweep", help="run a scenario over a grid of parameters, laws and "
