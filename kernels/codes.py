@@ -40,6 +40,8 @@ ERR_PERSISTENT_PAIR = -20   # two bodies stay in contact (persistent body-body c
 PR_ON = 0
 PR_OFF = 1
 PR_HIT = 2
+PR_CHECK = 3         # 3D: ``pr_t[q]`` is not an impact but the time to search the pair
+                     # again (a body of it held by an integrated contact: a distance bound)
 # Reasons of ERR_PERSISTENT_PAIR (err[5], a float): the run stops, naming the pair, when
 PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
                      # a rise of rest_length; round bodies: v_N^2 < 2 |g''| rest_length)

@@ -133,7 +133,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS, ERR_PERSISTENT_PAIR, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
-                   PR_HIT, PR_OFF, PR_ON)
+                   PR_CHECK, PR_HIT, PR_OFF, PR_ON)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
 from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound,
                         pair_persistence, pair_zero_speed, perforates, touching_rate)
@@ -154,6 +154,7 @@ from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_b
 from .pair3d import FR_NX, FR_PAX, FR_PBX, FR_RATE, N_FE, pair_frame  # noqa: F401
 from .pair3d_manifold import (MAX_MF, MF_PAX, MF_PBX, N_MF, manifold_slab,  # noqa: F401
                                pair_manifold)
+from .pair3d_shape import body_reach
 from .pair3d_toi import pair_toi
 
 INF = math.inf
@@ -714,8 +715,8 @@ def _centre_motion(st, tref, i, t, tz, zp, planes):
 
 
 @njit(cache=True)
-def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt,
-                    pr_t, pr_off, ws, tolf, toli, pscr, pfe, err):
+def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr,
+                    bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err):
     """Next impact time of body pair q (states at t_now). Two spheres: closed form
     (``toi3d.sphere_sphere_toi``, over the rest of the run); any other pair of shapes
     (``pgen``: the general pair switch, True, or None in a loop compiled for sphere pairs
@@ -728,8 +729,8 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz,
     if not (bint[a, B_KIND] == SH_SPHERE and bint[b, B_KIND] == SH_SPHERE):
         if pgen is None:    # pruned by type: a loop for sphere pairs compiles no pair3d code
             return _not_compiled(err, t_now, a, FEATURE_PAIR)
-        return _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr,
-                             bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
+        return _general_pair(q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp,
+                             ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err)
     pr_off[q] = PR_ON
     xa, ya, za, ua, va, wa, aa, ba, ca = _centre_motion(st, tref, a, t_now, tz, zp, planes)
     xb, yb, zb, ub, vb, wb, ab, bb, cb = _centre_motion(st, tref, b, t_now, tz, zp, planes)
@@ -787,8 +788,8 @@ def _row_at(i, t_now, st, tref, bint, bflt, planes, tz, zp, ws, tolf, toli, held
 
 
 @njit(cache=True)
-def _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt, pr_t,
-                  pr_off, ws, tolf, toli, pscr, pfe, err):
+def _general_pair(q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr, bt,
+                  pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err):
     """Next impact time of pair q of any shapes but two spheres (issue 16):
     ``pair3d_toi.pair_toi`` from both bodies' rows at t_now, searched no further than the
     next scheduled event of either body (a plane impact, an accumulation point, a
@@ -797,8 +798,8 @@ def _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr
     (``pr_off[q] == PR_HIT``) ``decisions.pair_persistence`` decides whether the bodies
     stay in contact: persistent body-body contact is not built (``ERR_PERSISTENT_PAIR``).
     A body held by an integrated contact (``PM_PIVOT``) has no closed-form motion to
-    search: ``ERR_PERSISTENT_PAIR`` (reason ``PP_HELD``). A general rotation is integrated
-    afresh from t_now by the search (``rot_tol``): the impact time is that trajectory's."""
+    search: ``_held_pair``. A general rotation is integrated afresh from t_now by the
+    search (``rot_tol``): the impact time is that trajectory's."""
     hit = pr_off[q] == PR_HIT
     pr_off[q] = PR_ON
     a = pairs[q, 0]
@@ -806,18 +807,22 @@ def _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr
     tl = tolf[TF_T_END]
     for j in range(2):
         i = a if j == 0 else b
-        if pm[i, M_MODE] == PM_PIVOT:
-            _set_err(err, t_now, a, b, st[i, SX], st[i, SX + 1], st[i, SX + 2], PP_HELD,
-                     float(i), 0.0)
-            return ERR_PERSISTENT_PAIR
+        if t_now < tz[i] < tl:
+            tl = tz[i]
+        if t_now < ttr[i] < tl:
+            tl = ttr[i]
+        if t_now < bt[i] < tl:
+            tl = bt[i]
+    if pm[a, M_MODE] == PM_PIVOT or pm[b, M_MODE] == PM_PIVOT:
+        return _held_pair(q, a, b, t_now, tl, st, tref, bint, bflt, planes, grav, tz, zp,
+                          pr_t, pr_off, pm, pv, pw, fw, pscr, err)
+    for j in range(2):
+        i = a if j == 0 else b
         if _row_at(i, t_now, st, tref, bint, bflt, planes, tz, zp, ws, tolf, toli,
                    pscr[PS_HELD + j], pscr[PS_A + j]) != RK_OK:
             _set_err(err, t_now, i, -1, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
                      0.0)
             return ERR_ROT
-        for x in (tz[i], ttr[i], bt[i]):
-            if t_now < x < tl:
-                tl = x
     rA = pscr[PS_A]
     rB = pscr[PS_A + 1]
     fr = pscr[PS_HELD]      # the frame at t_now (the held rows are no longer needed)
@@ -888,6 +893,78 @@ def _general_pair(q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr
         _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], s, 0.0, 0.0)
         return ERR_TOI
     pr_t[q] = t_now + s
+    return 0
+
+
+#: a pair with a body held by an integrated contact is searched again after HELD_CHECK
+#: of the time its bounding spheres surely stay apart (dimensionless, < 1: the bound is
+#: renewed from the states there), and refused when that bound's distance falls to
+#: HELD_NEAR times the sum of the bounding radii (dimensionless)
+HELD_CHECK = 0.5
+HELD_NEAR = 1e-3
+
+
+@njit(cache=True)
+def _held_pair(q, a, b, t_now, tl, st, tref, bint, bflt, planes, grav, tz, zp, pr_t, pr_off,
+               pm, pv, pw, fw, pscr, err):
+    """Pair q with a body held by an integrated contact (``PM_PIVOT``, no closed-form
+    motion to search): a distance bound. Each body stays within its bounding sphere (radius
+    ``R`` = core reach + radius) about its centre, whose displacement after ``s`` is at
+    most ``u s + c s^2 / 2``: a body in a closed-form row ``u = |v|``, ``c = |a|``; a held
+    body ``u = sqrt(2 K / m)``, ``c = |g|`` (its kinetic energy K can only grow by the work
+    of gravity, ``dK/dt <= m |g| |v| <= m |g| sqrt(2 K / m)``, so ``sqrt(2 K / m)`` grows by at
+    most ``|g| s``; the plane's normal force does no work and friction only dissipates). If
+    the spheres stay apart until ``tl`` (either body's next event, where the pair is
+    searched again) nothing is due; else the pair is checked again (``PR_CHECK``) at
+    ``HELD_CHECK`` of that time, and refused by name (``PP_HELD``: persistent or integrated
+    contact with a partner is not built) when the spheres come within ``HELD_NEAR`` of
+    each other."""
+    d0 = 0.0
+    u = 0.0
+    c = 0.0
+    R = 0.0
+    g = math.sqrt(grav[0] * grav[0] + grav[1] * grav[1] + grav[2] * grav[2])
+    for j in range(2):
+        i = a if j == 0 else b
+        R += bflt[i, B_RADIUS] + body_reach(bint[i, B_KIND], bflt[i, B_HALF],
+                                            bflt[i, B_HALF + 1], bflt[i, B_HALF + 2])
+        row = pscr[PS_A + j]
+        if pm[i, M_MODE] == PM_PIVOT:
+            rc = pivot_eval(pw[i], pv[i], fw, t_now - tref[i], row)
+            if rc != PI_OK:
+                _set_err(err, t_now, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1],
+                         st[i, SX + 2], pw[i, PW_WHY], pv[i, CP_MU], pv[i, CP_K])
+                return ERR_CONTACT_STEPS if rc == PI_TOO_MANY_STEPS else ERR_PAINLEVE
+            bx, by, bz = qrot_inv(row[3], row[4], row[5], row[6], row[10], row[11], row[12])
+            K = (bflt[i, B_MASS] * (row[7] * row[7] + row[8] * row[8] + row[9] * row[9])
+                 + bflt[i, B_I1] * bx * bx + bflt[i, B_I1 + 1] * by * by
+                 + bflt[i, B_I1 + 2] * bz * bz)         # twice the kinetic energy
+            u += math.sqrt(K / bflt[i, B_MASS])
+            c += g
+        else:
+            x0, x1, x2, v0, v1, v2, a0, a1, a2 = _centre_motion(st, tref, i, t_now, tz, zp,
+                                                                planes)
+            row[0] = x0
+            row[1] = x1
+            row[2] = x2
+            u += math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+            c += math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    dx = pscr[PS_A, 0] - pscr[PS_A + 1, 0]
+    dy = pscr[PS_A, 1] - pscr[PS_A + 1, 1]
+    dz = pscr[PS_A, 2] - pscr[PS_A + 1, 2]
+    d0 = math.sqrt(dx * dx + dy * dy + dz * dz) - R
+    if not d0 > HELD_NEAR * R:
+        i = a if pm[a, M_MODE] == PM_PIVOT else b
+        _set_err(err, t_now, a, b, st[i, SX], st[i, SX + 1], st[i, SX + 2], PP_HELD,
+                 float(i), 0.0)
+        return ERR_PERSISTENT_PAIR
+    # the first s >= 0 with u s + c s^2 / 2 = d0 (cancellation-free root)
+    s = 2.0 * d0 / (u + math.sqrt(u * u + 2.0 * c * d0)) if u + c > 0.0 else INF
+    if t_now + s >= tl:
+        pr_t[q] = INF
+    else:
+        pr_t[q] = t_now + HELD_CHECK * s
+        pr_off[q] = PR_CHECK
     return 0
 
 
@@ -1024,8 +1101,9 @@ def _recompute_motion(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
 
 
 @njit(cache=True)
-def _recompute_pairs(t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt, pr_t,
-                     pr_off, ws, tolf, toli, pscr, pfe, bmark, err, pair, pgen):
+def _recompute_pairs(t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr, bt,
+                     pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, bmark, err, pair,
+                     pgen):
     """Recompute every pair with a marked body (``bmark``), after the planes of every
     marked body (a general pair's search stops at either body's next scheduled event).
     ``pair``, ``pgen``: feature switches (any pair; pairs of other shapes than spheres)."""
@@ -1034,8 +1112,9 @@ def _recompute_pairs(t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr
             continue
         if pair is None:
             return _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
-        rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, pairs, pm, tz, zp,
-                             ttr, bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
+        rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz,
+                             zp, ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe,
+                             err)
         if rc < 0:
             return rc
     return 0
@@ -2899,8 +2978,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
     for q in range(pairs.shape[0]):
         if pair is None:
             return _not_compiled(err, t, pairs[q, 0], FEATURE_PAIR)
-        rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr,
-                             bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe, err)
+        rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp,
+                             ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err)
         if rc < 0:
             return rc
     return 0
@@ -3196,9 +3275,9 @@ def loop_for(law):
                     for j in range(nb):
                         bmark[j] = 0
                     bmark[i] = 1
-                    rc = _recompute_pairs(t, st, tref, bint, bflt, planes, pairs, pm, tz, zp,
-                                          ttr, bt, pr_t, pr_off, ws, tolf, toli, pscr, pfe,
-                                          bmark, err, pair, pgen)
+                    rc = _recompute_pairs(t, st, tref, bint, bflt, planes, grav, pairs, pm, tz,
+                                          zp, ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf,
+                                          toli, pscr, pfe, bmark, err, pair, pgen)
                     if rc < 0:
                         return rc
             if did:
@@ -3212,7 +3291,14 @@ def loop_for(law):
                 if bt[i] <= tw:
                     bmark[i] = 1
             for q in range(npr):
-                if pr_t[q] <= tw:
+                if pr_t[q] <= tw and pr_off[q] == PR_CHECK:
+                    # a held body's pair is due for its distance check, not an impact
+                    rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, grav,
+                                         pairs, pm, tz, zp, ttr, bt, pr_t, pr_off, ws, pv,
+                                         pw, fw, tolf, toli, pscr, pfe, err)
+                    if rc < 0:
+                        return rc
+                elif pr_t[q] <= tw:
                     bmark[pairs[q, 0]] = 1
                     bmark[pairs[q, 1]] = 1
             # bring the bodies involved to t; a pending accumulation point is cancelled: the
@@ -3297,7 +3383,7 @@ def loop_for(law):
                         st[i, SA + j] = grav[j]
                         st[i, SAL + j] = 0.0
             for q in range(npr):
-                if pr_t[q] > tw:
+                if pr_t[q] > tw or pr_off[q] == PR_CHECK:
                     continue
                 if nc >= MAXC - 1:
                     _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, 0.0, MAXC - 1, 0.0,
@@ -3440,9 +3526,9 @@ def loop_for(law):
                                        c_f[MAXC - 2], pivot)
                 if rc < 0:
                     return rc
-            rc = _recompute_pairs(t, st, tref, bint, bflt, planes, pairs, pm, tz, zp, ttr, bt,
-                                  pr_t, pr_off, ws, tolf, toli, pscr, pfe, bmark, err, pair,
-                                  pgen)
+            rc = _recompute_pairs(t, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr,
+                                  bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe,
+                                  bmark, err, pair, pgen)
             if rc < 0:
                 return rc
     return run_loop

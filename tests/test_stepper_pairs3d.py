@@ -392,23 +392,28 @@ def test_box_settling_on_a_box_is_refused_without_overlap():
         assert g > -1e-9
 
 
-def test_held_body_with_a_partner_is_refused_unless_pairs_ignored():
-    """A capsule whose plastic landing makes it pivot on the floor (an integrated contact)
-    in a scene with a box far away: body-body contact with a body in an integrated contact
-    is not built, so the run stops with the named refusal rather than searching a motion
-    that has no closed form; with ignore_unsupported_pairs=True the two pass through each
-    other (as before issue 16) and the run goes on."""
-    def scene():
+def test_held_body_and_a_partner_distance_bound():
+    """A capsule whose plastic landing makes it pivot on the floor (an integrated contact,
+    no closed-form motion to search) next to a box at rest: while their bounding spheres
+    surely stay apart (a bound from the held body's kinetic energy and gravity,
+    ``stepper3d._held_pair``) the run goes on, checking again as time passes; a box within
+    reach makes it stop with the named refusal of body-body contact with a held body. With
+    ignore_unsupported_pairs=True they pass through each other (as before issue 16)."""
+    def scene(xb):
         sc = Scene3D(gravity=(0.0, 0.0, -9.81))
         sc.add_floor()
         sc.add_body(Capsule(1.0, 0.02), 1.0, (0.0, 0.0, 0.5), orientation=quat((0, 1, 0), 1.2))
-        sc.add_body(Box3D((0.2, 0.2, 0.2)), 1.0, (3.0, 0.0, 0.1))
+        sc.add_body(Box3D((0.2, 0.2, 0.2)), 1.0, (xb, 0.0, 0.1))
         return sc
     law = Law("kane_levinson", e=0.0, mu=0.3)
+    far = sim_with(scene(0.9), law).run(1.0)
+    assert far.status == "done"
+    assert "pivot" in list(far.events["kind"])
+    assert not np.any(far.events["b"] == 1)         # no body-body impact
     with pytest.raises(SimulationError, match=r"integrated \(pivot\) contact") as info:
-        sim_with(scene(), law).run(1.0)
+        sim_with(scene(0.6), law).run(1.0)
     assert info.value.result.status == "persistent_pair"
-    sim = Simulation3D(scene(), law, ignore_unsupported_pairs=True)
+    sim = Simulation3D(scene(0.6), law, ignore_unsupported_pairs=True)
     assert len(sim._pairs) == 0
     res = sim.run(0.5)
     assert "pivot" in list(res.events["kind"])
