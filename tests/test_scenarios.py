@@ -21,8 +21,9 @@ from rbimpact.run import list_text, run_scenario
 NAMES = ("billiards", "bouncing_ball", "bouncing_ellipse", "box_on_box", "falling_rod",
          "painleve_rod", "perforation", "polygon_collide", "rocking_block", "rod_strikes_ball",
          "spinning_ball", "superball")
-# the 3D scenarios (tests/test_stepper3d.py runs them)
-NAMES_3D = ("die_toss", "spinning_ball_3d", "superball_3d", "tumbling_capsule")
+# the 3D scenarios (tests/test_stepper3d.py and tests/test_stepper_pairs3d.py run them)
+NAMES_3D = ("dice_collide", "die_toss", "spinning_ball_3d", "superball_3d",
+            "tumbling_capsule")
 # many-body scenarios (granular_gas: rbimpact.manybody, tests/test_gas_physics.py;
 # polygon_gas: the 2D stepper, tests/test_polygon_gas.py)
 NAMES_MANY = ("granular_gas", "polygon_gas")
