@@ -161,7 +161,8 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PR_HIT, PR_OFF, PR_ON, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  # noqa: F401
-                        pair_accel_bound, pair_persistence, pair_zero_speed, perforates)
+                        pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
+                        touching_rate)
 from .dispatch import resolve_2d_as
 from .routh import routh_2d_scalar
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
@@ -699,11 +700,23 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     S = tl - t_now
     if disks:
         R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
-        s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
-                                tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY],
-                                tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now,
-                                S, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
-                                toli[TI_TOI_MAXIT])
+        d0 = tmp[0, X] - tmp[1, X]
+        d1 = tmp[0, Y] - tmp[1, Y]
+        u0 = tmp[0, VX] - tmp[1, VX]
+        u1 = tmp[0, VY] - tmp[1, VY]
+        dist = math.sqrt(d0 * d0 + d1 * d1)
+        un = (d0 * u0 + d1 * u1) / dist
+        if dist - R <= tolf[TF_GAP_TOL] and un != 0.0 and touching_rate(un, math.hypot(
+                tmp[0, VX], tmp[0, VY]) + math.hypot(tmp[1, VX], tmp[1, VY])) == 0.0:
+            # touching at a normal rate that is round-off: zero (decisions.TOUCH_RTOL; the
+            # rule of the 3D sphere pair): two disks that a sticking plastic impact left
+            # touching part (their centres slide past each other), whatever the sign of
+            # the rate's round-off
+            u0 -= un * d0 / dist
+            u1 -= un * d1 / dist
+        s, code = disk_disk_toi(d0, d1, u0, u1, tmp[0, AX] - tmp[1, AX],
+                                tmp[0, AY] - tmp[1, AY], R, t_now, S, tolf[TF_TOI_RTOL],
+                                tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
         if hit and code == TOI_OK and s < INF:
             # the rule of _pair_persists on the closed form: a re-contact within a rise of
             # rest_length (s = 0: a round-off approach left by a plastic impact) is the

@@ -752,9 +752,19 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, p
     s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, aa - ab, ba - bb, ca - cb, R, t_now,
                                 tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
                                 tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    return _pair_found(q, a, b, t_now, s, code, st, pr_t, err)
+
+
+@njit(cache=True, inline="always")
+def _pair_found(q, a, b, t_now, s, code, st, pr_t, err):
+    """Store pair q's time-of-impact result ``(s, code)`` found from t_now, or the error of
+    its code (``TOI_MISSED``, ``TOI_ROT_FAILED``, ``TOI_NOT_CONVERGED``)."""
     if code == TOI_MISSED:
         _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
         return ERR_MISSED
+    if code == TOI_ROT_FAILED:
+        _set_err(err, t_now, a, -1, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
+        return ERR_ROT
     if code == TOI_NOT_CONVERGED:
         _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], s, 0.0, 0.0)
         return ERR_TOI
@@ -883,17 +893,7 @@ def _general_pair(q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, z
                      0.5 * (fr[FR_PAX + 1] + fr[FR_PBX + 1]),
                      0.5 * (fr[FR_PAX + 2] + fr[FR_PBX + 2]), why, v, s)
             return ERR_PERSISTENT_PAIR
-    if code == TOI_MISSED:
-        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
-        return ERR_MISSED
-    if code == TOI_ROT_FAILED:
-        _set_err(err, t_now, a, -1, st[a, SX], st[a, SX + 1], st[a, SX + 2], 0.0, 0.0, 0.0)
-        return ERR_ROT
-    if code == TOI_NOT_CONVERGED:
-        _set_err(err, t_now, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], s, 0.0, 0.0)
-        return ERR_TOI
-    pr_t[q] = t_now + s
-    return 0
+    return _pair_found(q, a, b, t_now, s, code, st, pr_t, err)
 
 
 #: a pair with a body held by an integrated contact is searched again after HELD_CHECK

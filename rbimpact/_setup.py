@@ -251,3 +251,24 @@ def call_loop(loop, args):
         return loop(*args)
     with _full_gc_deferred():
         return loop(*args)
+
+
+def persistent_pair_message(k, why, body, other, held, at, pt, v, s, rest_length):
+    """The message of a run stopped by ``ERR_PERSISTENT_PAIR`` (2D and 3D): reason ``why``
+    (``k.PP_*``), the pair's bodies as text, the held body (``PP_HELD``), the time and point
+    texts, the post-impact normal speed ``v`` (m/s), the next impact ``s`` (s) after it."""
+    if why == k.PP_HELD:
+        detail = (f"{held} is held on a plane by an integrated (pivot) contact {at} while "
+                  f"it can meet the other body of the pair, {body} and {other}; body-body "
+                  f"contact with a body in an integrated contact")
+    elif why == k.PP_TOGETHER:
+        detail = (f"{body} and {other} stay together after their impact {at}, {pt} (normal "
+                  f"speed {v:.3g} m/s, the round-off of a plastic impact; no separation "
+                  f"found)")
+    else:
+        detail = (f"impacts accumulate at a single contact point of {body} on {other} {at}, "
+                  f"{pt}: normal speed after the impact {v:.3g} m/s, next impact of the pair "
+                  f"{s:.3g} s later (the bodies part by less than rest_length = "
+                  f"{rest_length:g} m)")
+    return (f"persistent body-body contact (resting, sliding, pivoting or rolling on another "
+            f"body) is not supported yet (issue 16): {detail}")

@@ -143,7 +143,8 @@ import warnings
 import numpy as np
 
 from ._setup import (Arena, call_loop, check_law, check_painleve, check_run_args, check_scene,
-                     check_tolerances, compiled_loop, pack_laws, run_status)
+                     check_tolerances, compiled_loop, pack_laws,
+                     persistent_pair_message, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -538,26 +539,10 @@ class Simulation:
                 f"that point in persistent contact: integrated at a vertex of a box or a rod "
                 f"and on an ellipse (pivot), not supported for a disk")
         elif rc == k.ERR_PERSISTENT_PAIR:
-            why = err[5]
-            other = self._where(b)
-            if why == k.PP_HELD:
-                held = self._where(int(err[6]))
-                detail = (f"{held} is held on a plane by an integrated (pivot) contact {at} "
-                          f"while it can meet the other body of the pair, {body} and {other}"
-                          f"; body-body contact with a body in an integrated contact")
-            elif why == k.PP_TOGETHER:
-                detail = (f"{body} and {other} stay together after their impact {at}, {pt} "
-                          f"(normal speed {err[6]:.3g} m/s, the round-off of a plastic "
-                          f"impact; no separation found)")
-            else:
-                detail = (f"impacts accumulate at a single contact point of {body} on "
-                          f"{other} {at}, {pt}: normal speed after the impact {err[6]:.3g} "
-                          f"m/s, next impact of the pair {err[7]:.3g} s later (the bodies "
-                          f"part by less than rest_length = "
-                          f"{self.tolerances['rest_length']:g} m)")
-            exc = SimulationError(f"persistent body-body contact (resting, sliding, pivoting "
-                                  f"or rolling on another body) is not supported yet (issue "
-                                  f"16): {detail}")
+            held = self._where(int(err[6])) if err[5] == k.PP_HELD else ""
+            exc = SimulationError(persistent_pair_message(
+                k, err[5], body, self._where(b), held, at, pt, err[6], err[7],
+                self.tolerances["rest_length"]))
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
                 f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "
