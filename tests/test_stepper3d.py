@@ -511,8 +511,12 @@ def test_bad_scenes_raise_clear_errors():
     s = Scene3D()
     s.add_body(Sphere(0.1), 1.0, (0.0, 0.0, 1.0))
     s.add_body(Box3D(0.1), 1.0, (1.0, 0.0, 1.0))
+    # every pair collides (issue 16); a law for a pair that ignore_unsupported_pairs keeps
+    # out (only spheres collide then) is an error
+    assert len(Simulation3D(s, Law("routh", e=0.5))._pairs) == 1
     with pytest.raises(ValueError, match="only handles body-body contacts between spheres"):
-        Simulation3D(s, Law("routh", e=0.5))
+        Simulation3D(s, Law("routh", e=0.5), pair_laws={(0, 1): Law("routh", e=0.2)},
+                     ignore_unsupported_pairs=True)
     with pytest.raises(TypeError, match="unknown keyword"):
         Simulation3D(s, Law("routh", e=0.5), ignore_unsupported_pairs=True, rot_tl=1e-9)
 
