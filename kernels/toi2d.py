@@ -34,6 +34,8 @@ import math
 
 from numba import njit
 
+from .decisions import touching_rate
+
 FEAT_VERTEX = 0
 FEAT_ELLIPSE = 1
 
@@ -104,10 +106,14 @@ def centres_quadratic_toi(g0, dist, R, b, a, S, gap_tol):
     """Closed-form earliest touching ``s`` in ``[0, S]`` of two round bodies (disks or
     spheres, radii summing to ``R``) with equal accelerations: ``|d + u s|^2 = R^2`` with
     ``g0 = |d| - R``, ``dist = |d|``, ``b = 2 d . u``, ``a = |u|^2``; cancellation-free.
-    Returns ``(s, code)`` (shared by ``disk_disk_toi`` and ``toi3d.sphere_sphere_toi``)."""
+    Returns ``(s, code)`` (shared by ``disk_disk_toi`` and ``toi3d.sphere_sphere_toi``).
+    Touching (``g0 <= 0``), the bodies approach only when the normal rate ``b / (2 |d|)`` is
+    below ``-decisions.TOUCH_RTOL`` times the relative speed ``sqrt(a)``: a rate at its
+    round-off (an impact resolved to ``v_N = 0``) is zero, and then the gap grows
+    (``g'' = |u|^2 / |d| >= 0``): no impact, whatever the sign of that round-off."""
     if g0 <= 0.0:
         code = TOI_MISSED if g0 < -gap_tol else TOI_OK
-        if b < 0.0:
+        if touching_rate(0.5 * b / dist, math.sqrt(a)) < 0.0 or code == TOI_MISSED:
             return 0.0, code
         return INF, code
     if b >= 0.0:
