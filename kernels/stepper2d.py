@@ -719,7 +719,7 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             # released from persistent contact at a tangency of order three: search from
             # the first s0 (doubling from REL_S0 sqrt(R / |g|)) where the gap and its rate
             # are both positive (a re-contact within s0 of the release is not seen)
-            s0 = _released_pair_s0(tmp, R, S)
+            s0 = _released_pair_s0(tmp, R, S, tolf[TF_GAP_TOL])
         s, code = disk_disk_toi(tmp[0, X] - tmp[1, X], tmp[0, Y] - tmp[1, Y],
                                 tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY],
                                 tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY], R, t_now + s0,
@@ -777,11 +777,12 @@ persistent contact (``_released_pair_s0``; doubled until the gap opens)."""
 
 
 @_inner
-def _released_pair_s0(tmp, R, S):
+def _released_pair_s0(tmp, R, S, gtol):
     """Offset s0 (s) from which to search a pair of disks just released from persistent
     contact (rows tmp[0], tmp[1] at the release, moved to s0 in place): the first of
     ``REL_S0 T 2^k`` (``T = sqrt(R / |a|)``, a the relative acceleration, or R / |v|) where
-    the gap and its rate are positive, at most S."""
+    the gap exceeds gap_tol and grows, at most S (a tangency of order three: searched from
+    a gap of zero, the conservative advancement would crawl)."""
     da = math.hypot(tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY])
     dv = math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
     T = math.sqrt(R / da) if da > 0.0 else (R / dv if dv > 0.0 else S)
@@ -795,7 +796,7 @@ def _released_pair_s0(tmp, R, S):
         dy = tmp[0, Y] - tmp[1, Y] + (tmp[0, VY] - tmp[1, VY]) * s + (tmp[0, AY] - tmp[1, AY]) * h
         ux = tmp[0, VX] - tmp[1, VX] + (tmp[0, AX] - tmp[1, AX]) * s
         uy = tmp[0, VY] - tmp[1, VY] + (tmp[0, AY] - tmp[1, AY]) * s
-        if math.hypot(dx, dy) - R > 0.0 and dx * ux + dy * uy > 0.0:
+        if math.hypot(dx, dy) - R > gtol and dx * ux + dy * uy > 0.0:
             break
         s *= 2.0
     fly_into(tmp[0], s, tmp[0])
