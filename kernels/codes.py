@@ -58,6 +58,8 @@ PP_FEATURE = 7.0     # a contact point leaves its feature (CE_FEATURE: not built
 PP_TWO = 8.0         # a second cluster while one is in motion, or a cluster body held
                      # otherwise (pivot, wedge)
 PP_SPLIT = 9.0       # a body leaves a cluster that keeps body-body contacts (not built)
+PP_STICK_SLIP = 10.0  # stick-slip events of a cluster accumulate (CL_CHAT_MAX of them
+                      # closer than CL_CHAT_RTOL sqrt(L / |g|) apart: stepper2d)
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0

@@ -158,7 +158,8 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
-                   PM_CLUSTER, PP_CLUSTER, PP_FEATURE, PP_NO_MODE, PP_SHAPES, PP_SPLIT, PP_TWO,
+                   PM_CLUSTER, PP_CLUSTER, PP_FEATURE, PP_NO_MODE, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
+                   PP_TWO,
                    PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
@@ -2922,14 +2923,28 @@ CL_IDX = 4       # its index
 CL_LEAD = 5      # the leader (stepper body index), -1
 CL_FROZEN = 6    # 1: at rest (frozen)
 CL_PEND = 7      # pair whose impacts accumulate (enter a cluster at the next pass), -1
-CL_HDR = 8
+CL_CHAT = 8      # consecutive mode events closer than CL_CHAT_RTOL T (stick-slip chatter)
+CL_HDR = 10
+CL_CHAT_RTOL = 1e-6
+"""Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
+CL_CHAT_MAX = 50
+"""Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
 NCAND = 16       # candidate rows
 
 
 def cluster_sizes(nb):
-    """``(cbod shape, ccon shape, cw size, cid size)`` of a scene of nb bodies."""
-    return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC), cl.N_LA + int(cl.work_size(nb, NCAND)),
-            CL_HDR + nb + cl.KMAX + NCAND)
+    """``(cbod shape, ccon shape, cw size, cid size)`` of a scene of nb bodies (cw: la, w,
+    then two spare slots, the last the time of the last mode event)."""
+    return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC),
+            cl.N_LA + int(cl.work_size(nb, NCAND)) + 2, CL_HDR + nb + cl.KMAX + NCAND)
+
+
+@_inner
+def _cl_speed(bod):
+    v = 0.0
+    for r in range(bod.shape[0]):
+        v = max(v, math.hypot(bod[r, 3], bod[r, 4]))
+    return v
 
 
 @_inner
@@ -3188,6 +3203,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_LEAD] = ids[0]
     cid[CL_EV] = cl.CE_NONE
     cid[CL_FROZEN] = 0
+    cid[CL_CHAT] = 0
     dx = st[a, X] - st[b, X]
     dy = st[a, Y] - st[b, Y]
     dist = math.hypot(dx, dy)
@@ -3332,9 +3348,38 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
         a = ids[int(ccon[k, cl.CC_A])]
         src = cid[CL_HDR + nb + k]
         b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
-        cs = cl.cluster_after_event(bod, con, cid[CL_NK], ev, k, gx, gy, L, w, la)
-        if cs != cl.CS_OK:
-            return _cl_refuse(err, t, a, a, st, PP_CLUSTER, float(cs), 0.0), 0
+        # stick-slip chatter: mode events of the cluster closer than CL_CHAT_RTOL T apart
+        # (T = sqrt(L / |g|)); from the third, the modes of every contact are chosen again
+        # (cluster_select_modes: the event's own trend rule can flip one contact back and
+        # forth while another one's mode is what changed); CL_CHAT_MAX of them: refused
+        gl = math.hypot(gx, gy)
+        T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
+        ti = cw.shape[0] - 1
+        if cid[CL_CHAT] > 0 and t - cw[ti] <= CL_CHAT_RTOL * T:
+            cid[CL_CHAT] += 1
+        else:
+            cid[CL_CHAT] = 1
+        cw[ti] = t
+        if cid[CL_CHAT] >= CL_CHAT_MAX:
+            return _cl_refuse(err, t, a, a, st, PP_STICK_SLIP, float(cid[CL_CHAT]), t), 0
+        if cid[CL_CHAT] >= 3 and ev != cl.CE_LEAVE:
+            cs = cl.cluster_select_modes(bod, con, cid[CL_NK], gx, gy, L, w, la)
+            if cs != cl.CS_OK:
+                return _cl_refuse(err, t, a, a, st,
+                                  PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                                  float(cs), 0.0), 0
+            for kk in range(cid[CL_NK]):
+                if ccon[kk, cl.CC_MODE] == cl.MODE_LIFT:
+                    k = kk
+                    ev = cl.CE_LEAVE       # handled below as a contact leaving
+                    a = ids[int(ccon[k, cl.CC_A])]
+                    src = cid[CL_HDR + nb + k]
+                    b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
+                    break
+        else:
+            cs = cl.cluster_after_event(bod, con, cid[CL_NK], ev, k, gx, gy, L, w, la)
+            if cs != cl.CS_OK:
+                return _cl_refuse(err, t, a, a, st, PP_CLUSTER, float(cs), 0.0), 0
         mode = ccon[k, cl.CC_MODE]
         kind = EV_RELEASE
         if ev == cl.CE_SLIP or (ev == cl.CE_STOP and mode != cl.MODE_STICK):

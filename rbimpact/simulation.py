@@ -571,6 +571,10 @@ class Simulation:
                 detail = (f"{body} and {other} stay in contact {at} while "
                           f"{self._where(int(err[6]))} is in another cluster or held by "
                           f"an integrated contact (one cluster at a time)")
+            elif why == k.PP_STICK_SLIP:
+                detail = (f"the stick-slip events of the cluster of {body} accumulate {at} "
+                          f"({int(err[6])} mode changes closer than {k.CL_CHAT_RTOL:g} "
+                          f"sqrt(L / |g|) apart; no consistent lasting mode found)")
             elif why == k.PP_SPLIT:
                 detail = (f"{body} leaves the cluster {at} while other bodies stay in "
                           f"contact (splitting a cluster is not built)")

@@ -188,3 +188,31 @@ def test_two_disks_side_by_side_rest():
     s = res.sample(np.linspace(0.0, 10.0, 101))
     assert np.max(np.abs(s["x"] - [0.0, 0.2])) <= 1e-12
     assert np.max(np.abs(s["y"] - 0.1)) <= 1e-12
+
+
+#: campaign scenes (``rbimpact stability --scenes 300 --dim 2``, seed 0; layout "touching")
+#: that stopped before this wiring with the refusal of persistent body-body contact (5 of
+#: them) or the disk-on-disk ERR_CHATTER of the same accumulation (8)
+TOUCHING_SEEDS = [3276648838, 360519305, 145448507, 1455818033, 1159475767, 2744056958,
+                  1950292482, 4221115390, 1152666252, 2245518037, 183055972, 1863458657]
+#: ... and the one that now ends with another named reason: no consistent stick/slip/lift
+#: mode of the cluster at its entry (a Painleve-type inconsistency: a spinning disk, mu = 10)
+TOUCHING_REFUSED = {693027722: "no consistent stick/slip/lift-off mode"}
+
+
+@pytest.mark.parametrize("seed", TOUCHING_SEEDS)
+def test_campaign_touching_scenes_pass(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed)
+    assert row.layout == "touching"
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+
+
+@pytest.mark.parametrize("seed", sorted(TOUCHING_REFUSED))
+def test_campaign_touching_scene_refused_by_another_name(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed)
+    assert row.status == "SimulationError"
+    assert TOUCHING_REFUSED[seed] in row.note, row.note
+    assert row.penetration <= row.pen_tol
