@@ -216,3 +216,51 @@ def test_campaign_touching_scene_refused_by_another_name(seed):
     assert row.status == "SimulationError"
     assert TOUCHING_REFUSED[seed] in row.note, row.note
     assert row.penetration <= row.pen_tol
+
+
+def test_disk_rolling_into_a_resting_disk_plastically():
+    """A disk rolling on the floor hits a resting one plastically (e = 0, mu = 0.5): they
+    ride together (a cluster entered, then dissolved when the contact force is zero), no
+    overlap, energy never created, both end rolling at one speed."""
+    sc = Scene2D(gravity=(0.0, -G))
+    sc.add_floor()
+    sc.add_body(Disk(0.1), 1.0, (0.0, 0.1), velocity=(1.0, 0.0), angular_velocity=-10.0)
+    sc.add_body(Disk(0.1), 1.0, (0.5, 0.1))
+    sim = Simulation(sc, Law("kane_levinson", e=0.0, mu=0.5))
+    res = sim.run(3.0)
+    assert res.status == "done"
+    ts = np.union1d(np.linspace(0.0, 3.0, 3001), res.events["t"])
+    s = res.sample(ts)
+    gaps = np.array([pair_gap(sim, s, k) for k in range(len(ts))])
+    assert gaps.min() >= -1e-9 * 0.2
+    assert np.min(s["y"] - 0.1) >= -1e-9 * 0.2
+    E = energy(sim, s)
+    assert np.max(E - np.minimum.accumulate(E)) <= 1e-10 * 2.0 * G * 0.2
+    assert s["vx"][-1, 0] == pytest.approx(s["vx"][-1, 1], abs=1e-9)
+    assert s["vx"][-1, 0] > 0.0
+
+
+def test_disk_dropped_into_the_groove_of_two_disks_rests():
+    """Two disks touching on the floor, a third dropped onto both (mu = 0.5, e = 0): the
+    three-body cluster (two disk-disk and two floor contacts) comes to rest as a pyramid,
+    symmetric, no overlap, nothing moving afterwards."""
+    sc = Scene2D(gravity=(0.0, -G))
+    sc.add_floor()
+    sc.add_body(Disk(0.1), 1.0, (-0.1, 0.1))
+    sc.add_body(Disk(0.1), 1.0, (0.1, 0.1))
+    h = 0.1 + 0.2 * math.sin(math.pi / 3)
+    sc.add_body(Disk(0.1), 1.0, (0.0, h + 0.05))
+    sim = Simulation(sc, Law("kane_levinson", e=0.0, mu=0.5))
+    res = sim.run(2.0)
+    assert res.status == "done"
+    ev = res.events
+    assert any((ev["kind"] == "rest") & (ev["mode"] == 6) & (ev["cluster"] == 3))
+    ts = np.union1d(np.linspace(0.0, 2.0, 4001), ev["t"])
+    s = res.sample(ts)
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        assert np.array([pair_gap(sim, s, k, i, j) for k in range(len(ts))]).min() >= -2e-10
+    assert np.min(s["y"] - 0.1) >= -2e-10
+    np.testing.assert_allclose(s["x"][-1], [-0.1, 0.1, 0.0], atol=1e-7)
+    assert s["y"][-1, 2] == pytest.approx(h, abs=1e-9)
+    late = ts > 1.0
+    assert np.max(np.abs(s["vx"][late])) == 0.0 and np.max(np.abs(s["vy"][late])) == 0.0
