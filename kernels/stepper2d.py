@@ -119,6 +119,32 @@ consistent, keeps the one contact that can hold it alone (``_two_drop``; ERR_TWO
 when none can); another vertex lands (an impact, with both held vertices in its cluster).
 A polygon resting or sliding on a face whose corner lands on a second plane rests when the
 face and the corner admit a static equilibrium (``wedge2d.three_contact_rest``).
+
+Persistent contact between disks (``PM_CLUSTER``, ``kernels/cluster2d.py``; issue 16 item 2)
+-----------------------------------------------------------------------------------------
+When the impacts of two disks accumulate (``decisions.pair_persistence`` says ``PP_CHATTER``
+in ``_recompute_pair``, or ``_holding`` finds the pair's contact chattering), the pair is
+marked (``cid[CL_PEND]``) and, at the next pass, enters a *cluster* (``_cluster_enter``): the
+disks connected to it by disk-disk contacts within ``gap_tol`` and the planes they touch
+within ``gap_tol`` are its active contacts (round-round, feature-plane), their other pairs
+and planes its candidates; the state is projected onto g = dg/dt = 0 (an M-orthogonal
+projection: removes the round-off approach, never adds energy) and the modes are chosen
+(``cluster_select_modes``; none: ``ERR_PERSISTENT_PAIR``, reason ``PP_NO_MODE``); event
+"contact", mode ``PM_CLUSTER``, cluster size. Its members are ``PM_CLUSTER``; its leader's
+``ttr`` is the next pass (``_cluster_pass``: ``cluster_advance`` to its first event, pieces
+recorded as pivot2d's). Events: a contact's force reaching zero (event "release"; it becomes
+a candidate; when no disk-disk contact is left the cluster dissolves, each member settling
+on the plane it still touches, ``_settle``, or flying; the released pair is searched past
+its tangency, ``PR_REL``), stick/slip ("stick", "slide": ``cluster_after_event``; stick-slip
+chatter re-selects every mode, and ``CL_CHAT_MAX`` chattering events are ``PP_STICK_SLIP``),
+a candidate's gap closing (the cluster dissolves into that impact instant, its contacts in
+the instant's cluster at v_N = 0; the persistence rule then enters it again), rest
+(``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
+dissolves into that instant). One cluster at a time; disks only (``PP_SHAPES``); a pair
+with one body in a moving cluster is refused (``PP_HELD``: no closed-form motion to
+search); a member leaving while others stay in contact (``PP_SPLIT``) and feature switches
+(``PP_FEATURE``) are not built. State: ``cbod``, ``ccon``, ``cw``, ``cid``
+(``cluster_sizes``), arguments of the loop after ``err``.
 """
 import functools
 import math
