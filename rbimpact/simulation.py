@@ -555,7 +555,8 @@ class Simulation:
                           f"; body-body contact with a body in an integrated contact")
             elif why == k.PP_NO_MODE:
                 detail = (f"{body} and {other} in persistent contact {at}: no consistent "
-                          f"stick/slip/lift-off mode of the cluster (Painleve-type)")
+                          f"stick/slip/lift-off mode of the cluster found (cluster2d.cluster_select_modes' "
+                          f"enumeration; a Painleve inconsistency is not proven)")
             elif why == k.PP_CLUSTER:
                 detail = (f"the persistent contact of {body} and {other} {at} failed in "
                           f"cluster2d (status CS {int(err[6])}: 2 singular, 3 Painleve, 4 "
