@@ -555,8 +555,9 @@ class Simulation:
                           f"; body-body contact with a body in an integrated contact")
             elif why == k.PP_NO_MODE:
                 detail = (f"{body} and {other} in persistent contact {at}: no consistent "
-                          f"stick/slip/lift-off mode of the cluster found (cluster2d.cluster_select_modes' "
-                          f"enumeration; a Painleve inconsistency is not proven)")
+                          f"stick/slip/lift-off mode of the cluster found (the enumeration "
+                          f"of cluster2d.cluster_select_modes; a Painleve inconsistency is "
+                          f"not proven)")
             elif why == k.PP_CLUSTER:
                 detail = (f"the persistent contact of {body} and {other} {at} failed in "
                           f"cluster2d (status CS {int(err[6])}: 2 singular, 3 Painleve, 4 "
