@@ -769,6 +769,8 @@ def _project(bodies, c, nk, w, yo, la):
             if c[k, CC_MODE] == MODE_LIFT:
                 continue
             la[LA_EQ + n] = k
+            la[LA_ET + n] = 0.0     # a normal row (_apply reads LA_ET: not the velocity
+            #                         projection's stale tangential flags)
             la[LA_R + n] = -la[LA_K + k * LK_S + LK_G]
             gm = max(gm, abs(la[LA_K + k * LK_S + LK_G]))
             n += 1
