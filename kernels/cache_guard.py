@@ -71,8 +71,9 @@ def _imports(name):
             mod = mod.strip()
             if mod:
                 out.append(mod)
-            else:   # from . import a, b
-                out += [x.strip(" ()\\") for x in names.split(",") if x.strip(" ()\\")]
+            else:   # from . import a, b (or a as b)
+                out += [x.split(" as ")[0].strip(" ()\\") for x in names.split(",")
+                        if x.strip(" ()\\")]
     return [m for m in out if m != "cache_guard"]
 
 

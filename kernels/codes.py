@@ -42,11 +42,26 @@ PR_OFF = 1
 PR_HIT = 2
 PR_CHECK = 3         # 3D: ``pr_t[q]`` is not an impact but the time to search the pair
                      # again (a body of it held by an integrated contact: a distance bound)
+PR_REL = 4           # 2D: its persistent contact just ended (a cluster contact lifted at
+                     # g = g' = g'' = 0): its next search starts past that tangency
 # Reasons of ERR_PERSISTENT_PAIR (err[5], a float): the run stops, naming the pair, when
 PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
                      # a rise of rest_length; round bodies: v_N^2 < 2 |g''| rest_length)
 PP_TOGETHER = 2.0    # after a plastic impact the bodies ride together (no separation found)
 PP_HELD = 3.0        # a body of the pair is held on a plane by an integrated contact
+                     # (PM_PIVOT), or is in a moving cluster (PM_CLUSTER) while the other
+                     # body is not (no closed-form motion to search)
+# Reasons of a refused persistent 2D body-body contact (PM_CLUSTER, kernels/cluster2d.py):
+PP_NO_MODE = 4.0     # cluster_select_modes: no consistent stick/slip/lift-off (Painleve)
+PP_CLUSTER = 5.0     # cluster2d failed (err[6]: its CS_* status: singular, Painleve, steps,
+                     # too many contacts) or the cluster holds more than the tables
+PP_SHAPES = 6.0      # a cluster with a body other than a disk (not built yet)
+PP_FEATURE = 7.0     # a contact point leaves its feature (CE_FEATURE: not built yet)
+PP_TWO = 8.0         # a second cluster while one is in motion, or a cluster body held
+                     # otherwise (pivot, wedge)
+PP_SPLIT = 9.0       # a body leaves a cluster that keeps body-body contacts (not built)
+PP_STICK_SLIP = 10.0  # stick-slip events of a cluster accumulate (CL_CHAT_MAX of them
+                      # closer than CL_CHAT_RTOL sqrt(L / |g|) apart: stepper2d)
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0
@@ -71,6 +86,8 @@ PM_REST = 3
 PM_PIVOT = 4             # integrated vertex, edge or boundary contact (pivot2d, pivot3d)
 PM_WEDGED = 5            # held by two planes: 2D at rest on two contacts (wedge2d); 3D a
                          # sphere rolling (sliding if mu = 0) along their groove, or at rest
+PM_CLUSTER = 6           # 2D: in persistent contact with other bodies (and planes), integrated
+                         # by kernels/cluster2d.py (or frozen at rest)
 
 # what a Painleve-inconsistent sliding contact does (the ``painleve`` option)
 PAINLEVE_ERROR = 0       # the run stops with status "painleve", the contact named

@@ -119,6 +119,32 @@ consistent, keeps the one contact that can hold it alone (``_two_drop``; ERR_TWO
 when none can); another vertex lands (an impact, with both held vertices in its cluster).
 A polygon resting or sliding on a face whose corner lands on a second plane rests when the
 face and the corner admit a static equilibrium (``wedge2d.three_contact_rest``).
+
+Persistent contact between disks (``PM_CLUSTER``, ``kernels/cluster2d.py``; issue 16 item 2)
+-----------------------------------------------------------------------------------------
+When the impacts of two disks accumulate (``decisions.pair_persistence`` says ``PP_CHATTER``
+in ``_recompute_pair``, or ``_holding`` finds the pair's contact chattering), the pair is
+marked (``cid[CL_PEND]``) and, at the next pass, enters a *cluster* (``_cluster_enter``): the
+disks connected to it by disk-disk contacts within ``gap_tol`` and the planes they touch
+within ``gap_tol`` are its active contacts (round-round, feature-plane), their other pairs
+and planes its candidates; the state is projected onto g = dg/dt = 0 (an M-orthogonal
+projection: removes the round-off approach, never adds energy) and the modes are chosen
+(``cluster_select_modes``; none: ``ERR_PERSISTENT_PAIR``, reason ``PP_NO_MODE``); event
+"contact", mode ``PM_CLUSTER``, cluster size. Its members are ``PM_CLUSTER``; its leader's
+``ttr`` is the next pass (``_cluster_pass``: ``cluster_advance`` to its first event, pieces
+recorded as pivot2d's). Events: a contact's force reaching zero (event "release"; it becomes
+a candidate; when no disk-disk contact is left the cluster dissolves, each member settling
+on the plane it still touches, ``_settle``, or flying; the released pair is searched past
+its tangency, ``PR_REL``), stick/slip ("stick", "slide": ``cluster_after_event``; stick-slip
+chatter re-selects every mode, and ``CL_CHAT_MAX`` chattering events are ``PP_STICK_SLIP``),
+a candidate's gap closing (the cluster dissolves into that impact instant, its contacts in
+the instant's cluster at v_N = 0; the persistence rule then enters it again), rest
+(``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
+dissolves into that instant). One cluster at a time; disks only (``PP_SHAPES``); a pair
+with one body in a moving cluster is refused (``PP_HELD``: no closed-form motion to
+search); a member leaving while others stay in contact (``PP_SPLIT``) and feature switches
+(``PP_FEATURE``) are not built. State: ``cbod``, ``ccon``, ``cw``, ``cid``
+(``cluster_sizes``), arguments of the loop after ``err``.
 """
 import functools
 import math
@@ -158,8 +184,11 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
-                   PR_HIT, PR_OFF, PR_ON, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
+                   PM_CLUSTER, PP_CLUSTER, PP_FEATURE, PP_NO_MODE, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
+                   PP_TWO,
+                   PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
+from . import cluster2d as cl
 from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  # noqa: F401
                         pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
                         touching_rate)
@@ -531,9 +560,9 @@ def _recompute_planes(pivot, shapes, i, t_now, st, tref, bint, bflt, verts, plan
     ea = bflt[i, B_EA]
     eb = bflt[i, B_EB]
     row = st[i]
-    if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
+    if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED or pm[i, M_MODE] == PM_CLUSTER:
         # integrated contact: its impacts are events of the integration (ttr); a wedged
-        # body does not move
+        # body does not move (a cluster: its candidates)
         for p in range(planes.shape[0]):
             bp_t[i, p] = INF
         return 0
@@ -655,7 +684,7 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 @_inner
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err):
+                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
@@ -666,9 +695,22 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         pr_t[q] = INF
         return 0
     hit = pr_off[q] == PR_HIT
+    rel = pr_off[q] == PR_REL
     pr_off[q] = PR_ON
     a = pairs[q, 0]
     b = pairs[q, 1]
+    # persistent body-body contact (PM_CLUSTER): a pair inside the cluster is its
+    # contact or candidate; a pair with one body in a moving cluster has no closed-form
+    # motion to search (refused, PP_HELD); a frozen cluster's bodies are at rest
+    ina = pm[a, M_MODE] == PM_CLUSTER
+    inb = pm[b, M_MODE] == PM_CLUSTER
+    if ina and inb:
+        pr_t[q] = INF
+        return 0
+    if (ina or inb) and cid[CL_FROZEN] == 0:
+        i = a if ina else b
+        _set_err(err, t_now, a, b, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
+        return ERR_PERSISTENT_PAIR
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
         for j in range(2):
@@ -700,6 +742,12 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     S = tl - t_now
     if disks:
         R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+        s0 = 0.0
+        if rel:
+            # released from persistent contact at a tangency of order three: search from
+            # the first s0 (doubling from REL_S0 sqrt(R / |g|)) where the gap and its rate
+            # are both positive (a re-contact within s0 of the release is not seen)
+            s0 = _released_pair_s0(tmp, R, S, tolf[TF_GAP_TOL])
         d0 = tmp[0, X] - tmp[1, X]
         d1 = tmp[0, Y] - tmp[1, Y]
         u0 = tmp[0, VX] - tmp[1, VX]
@@ -715,8 +763,10 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             u0 -= un * d0 / dist
             u1 -= un * d1 / dist
         s, code = disk_disk_toi(d0, d1, u0, u1, tmp[0, AX] - tmp[1, AX],
-                                tmp[0, AY] - tmp[1, AY], R, t_now, S, tolf[TF_TOI_RTOL],
-                                tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+                                tmp[0, AY] - tmp[1, AY], R, t_now + s0, S - s0,
+                                tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                                toli[TI_TOI_MAXIT])
+        s += s0
         if hit and code == TOI_OK and s < INF:
             # the rule of _pair_persists on the closed form: a re-contact within a rise of
             # rest_length (s = 0: a round-off approach left by a plastic impact) is the
@@ -730,6 +780,11 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                   + abs(tmp[1, OMEGA]) * bflt[b, B_RADIUS])
             vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
             if pair_persistence(v, s, True, vz, INF, tolf[TF_REST_LENGTH]) == PP_CHATTER:
+                if cid[CL_PEND] < 0 or cid[CL_PEND] == q:
+                    # the pair stays in contact: a cluster from the next pass (run_loop)
+                    cid[CL_PEND] = q
+                    pr_t[q] = INF
+                    return 0
                 rb = bflt[b, B_RADIUS]
                 _set_err(err, t_now, a, b, tmp[1, X] + rb * dx / dist,
                          tmp[1, Y] + rb * dy / dist, PP_CHATTER, v, s)
@@ -755,6 +810,39 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
+
+
+REL_S0 = 1e-7
+"""First offset (in units of sqrt(R / |g|)) of the search of a pair of disks released from
+persistent contact (``_released_pair_s0``; doubled until the gap opens)."""
+
+
+@_inner
+def _released_pair_s0(tmp, R, S, gtol):
+    """Offset s0 (s) from which to search a pair of disks just released from persistent
+    contact (rows tmp[0], tmp[1] at the release, moved to s0 in place): the first of
+    ``REL_S0 T 2^k`` (``T = sqrt(R / |a|)``, a the relative acceleration, or R / |v|) where
+    the gap exceeds gap_tol and grows, at most S (a tangency of order three: searched from
+    a gap of zero, the conservative advancement would crawl)."""
+    da = math.hypot(tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY])
+    dv = math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
+    T = math.sqrt(R / da) if da > 0.0 else (R / dv if dv > 0.0 else S)
+    s = REL_S0 * T
+    for _ in range(60):
+        if s >= S:
+            s = S
+            break
+        h = 0.5 * s * s
+        dx = tmp[0, X] - tmp[1, X] + (tmp[0, VX] - tmp[1, VX]) * s + (tmp[0, AX] - tmp[1, AX]) * h
+        dy = tmp[0, Y] - tmp[1, Y] + (tmp[0, VY] - tmp[1, VY]) * s + (tmp[0, AY] - tmp[1, AY]) * h
+        ux = tmp[0, VX] - tmp[1, VX] + (tmp[0, AX] - tmp[1, AX]) * s
+        uy = tmp[0, VY] - tmp[1, VY] + (tmp[0, AY] - tmp[1, AY]) * s
+        if math.hypot(dx, dy) - R > gtol and dx * ux + dy * uy > 0.0:
+            break
+        s *= 2.0
+    fly_into(tmp[0], s, tmp[0])
+    fly_into(tmp[1], s, tmp[1])
+    return s
 
 
 @_inner
@@ -795,7 +883,7 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
 
 @njit(cache=True, _nrt=False, inline="always")
 def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err):
+                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err, cid):
     """Recompute the candidates of the pairs of every marked body (states at t_now), after
     those of its planes (run_loop: ``_recompute_planes`` of each marked body, then this;
     each inlined into it on its own, see ``_mark_pairs``). ``pair``, ``pgen``: those
@@ -805,7 +893,7 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
             if pair is not None:
                 rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
                                      pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                     tmp, err)
+                                     tmp, err, cid)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
@@ -2756,7 +2844,7 @@ def _accumulating(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes,
 
 @njit(cache=True, _nrt=False, inline="always")
 def _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav, law_par,
-             bp_law, pm, sched, tolf, c_i, c_f, w, ev, cnt, err):
+             bp_law, pm, sched, tolf, c_i, c_f, w, ev, cnt, err, pairs, cid):
     """Body i in flight whose impacts did not schedule an accumulation point: impacts
     accumulating at one point, a polygon (or rod) vertex, or an ellipse's boundary, on a
     plane, are held there (integrated pivot contact, ``_pivot_enter``); the most strongly
@@ -2765,6 +2853,9 @@ def _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav
     ``sched``, ``ev``: as ``_persisting``."""
     ev_t, ev_i, ev_f = ev
     tz, zp, ttr = sched
+    q = cid[CL_PEND]
+    if q >= 0 and (pairs[q, 0] == i or pairs[q, 1] == i):
+        return 0    # it enters persistent contact with its pair (a cluster, run_loop)
     hold = -1
     amin = 0.0
     for c in range(nc):
@@ -2778,6 +2869,12 @@ def _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav
         vN, vT = _contact_velocity(st, c_i, c_f, c)
         acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes)
         if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+            if c_i[c, CI_TYPE] != 0 and cid[CL_PEND] < 0:
+                # two disks whose impacts accumulate: persistent contact (a cluster of
+                # them, their planes and the disks touching them, entered at the next
+                # pass of run_loop)
+                cid[CL_PEND] = -2 - c_i[c, CI_FEAT]
+                return 0
             if c_i[c, CI_TYPE] != 0:
                 _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX],
                          c_f[c, CF_PY], vN, acc, 0.0)
@@ -2839,6 +2936,571 @@ def _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark, seg, cnt, tmp, er
     return 0
 
 
+# ------------------------------------------------------------------ persistent body-body contact
+
+
+# Persistent contact between bodies (issue 16 item 2, PM_CLUSTER): when the impacts of a
+# pair of disks accumulate (decisions.pair_persistence: PP_CHATTER), the bodies touching
+# them (through disk-disk contacts within gap_tol) and their planes (within gap_tol) form
+# a *cluster* integrated by ``kernels/cluster2d.py``: one cluster at a time, stored in
+# ``cbod`` (its body rows), ``ccon`` (KMAX active contact rows, then NCAND candidates),
+# ``cw`` (cluster2d's la, then its w) and ``cid`` (header CL_*, the stepper index of each
+# cluster row, then the stepper source of each contact row: a plane p >= 0, or -2 - q for
+# pair q). Its leader (the first member) carries the next pass time in ttr; every member
+# is PM_CLUSTER (its plane and pair searches are off; a pair with a body outside a moving
+# cluster is refused, PP_HELD). Events: a contact leaving (CE_LEAVE: it becomes a
+# candidate; when no body-body contact is left the cluster dissolves, each member settling
+# on its plane contact or flying), stick/slip (CE_SLIP, CE_STOP: cluster_after_event), a
+# candidate gap closing (CE_GAP: the cluster dissolves into flight at that instant, its
+# contacts in the instant's impact cluster with the closing one; the persistence rule then
+# re-enters it), rest (CS_REST: frozen, velocities zero, until a body outside hits it:
+# then it dissolves into the instant as at CE_GAP).
+CL_N = 0         # members (0: no cluster)
+CL_NK = 1        # active contacts
+CL_NC = 2        # candidates
+CL_EV = 3        # event pending at the leader's ttr (cluster2d.CE_*)
+CL_IDX = 4       # its index
+CL_LEAD = 5      # the leader (stepper body index), -1
+CL_FROZEN = 6    # 1: at rest (frozen)
+CL_PEND = 7      # pair whose impacts accumulate (enter a cluster at the next pass), -1
+CL_CHAT = 8      # consecutive mode events closer than CL_CHAT_RTOL T (stick-slip chatter)
+CL_HDR = 10
+CL_CHAT_RTOL = 1e-6
+"""Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
+CL_CHAT_MAX = 50
+"""Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
+NCAND = 16       # candidate rows
+
+
+def cluster_sizes(nb):
+    """``(cbod shape, ccon shape, cw size, cid size)`` of a scene of nb bodies (cw: la, w,
+    then two spare slots, the last the time of the last mode event)."""
+    return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC),
+            cl.N_LA + int(cl.work_size(nb, NCAND)) + 2, CL_HDR + nb + cl.KMAX + NCAND)
+
+
+@_inner
+def _cl_speed(bod):
+    v = 0.0
+    for r in range(bod.shape[0]):
+        v = max(v, math.hypot(bod[r, 3], bod[r, 4]))
+    return v
+
+
+@_inner
+def _cl_scale(cid, bflt):
+    """The cluster's length scale L (m): the sum of its members' diameters."""
+    L = 0.0
+    for r in range(cid[CL_N]):
+        L += 2.0 * bflt[cid[CL_HDR + r], B_RADIUS]
+    return L
+
+
+@_inner
+def _cl_row(cbod, ccon, cid, nb, k, kind, a, b, ra, rb, nx, ny, d, mu, src):
+    """Fill contact row k of ccon (round features at the centres, unbounded cones)."""
+    for j in range(cl.N_CC):
+        ccon[k, j] = 0.0
+    ccon[k, cl.CC_KIND] = kind
+    ccon[k, cl.CC_A] = a
+    ccon[k, cl.CC_B] = b
+    ccon[k, cl.CC_RA] = ra
+    ccon[k, cl.CC_RB] = rb
+    ccon[k, cl.CC_NX] = nx
+    ccon[k, cl.CC_NY] = ny
+    ccon[k, cl.CC_D] = d
+    ccon[k, cl.CC_MU] = mu
+    ccon[k, cl.CC_MODE] = cl.MODE_SLIP_POS
+    ccon[k, cl.CC_ALO] = -INF
+    ccon[k, cl.CC_AHI] = INF
+    ccon[k, cl.CC_BLO] = -INF
+    ccon[k, cl.CC_BHI] = INF
+    cid[CL_HDR + nb + k] = src
+
+
+@_inner
+def _cl_copy(ccon, cid, nb, dst, src):
+    for j in range(cl.N_CC):
+        ccon[dst, j] = ccon[src, j]
+    cid[CL_HDR + nb + dst] = cid[CL_HDR + nb + src]
+
+
+@_inner
+def _cl_lift(ccon, cid, nb, k, err):
+    """Move active contact k to the candidates. Returns 0 or -1 (no candidate row left)."""
+    nk = cid[CL_NK]
+    nc = cid[CL_NC]
+    if nc >= NCAND:
+        return -1
+    _cl_copy(ccon, cid, nb, cl.KMAX + nc, k)
+    cid[CL_NC] = nc + 1
+    if k != nk - 1:
+        _cl_copy(ccon, cid, nb, k, nk - 1)
+    cid[CL_NK] = nk - 1
+    return 0
+
+
+@_inner
+def _cl_pairs_left(ccon, cid):
+    """Active body-body contacts of the cluster."""
+    c = 0
+    for k in range(cid[CL_NK]):
+        if ccon[k, cl.CC_KIND] != cl.KIND_PLANE:
+            c += 1
+    return c
+
+
+@_inner
+def _cl_refuse(err, t, a, b, st, why, x1, x2):
+    _set_err(err, t, a, b, st[a, X], st[a, Y], why, x1, x2)
+    return ERR_PERSISTENT_PAIR
+
+
+@_inner
+def _cl_energy(st, bflt, grav, cid):
+    e = 0.0
+    for r in range(cid[CL_N]):
+        e += _energy(st, bflt, grav, cid[CL_HDR + r])
+    return e
+
+
+@_inner
+def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off, pairs,
+                   pr_off, pr_t, bp_t, pm, tz, zp, ttr, tolf, cbod, ccon, cw, cid, bmark, tmp,
+                   ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err):
+    """Enter persistent contact for pair ``cid[CL_PEND]`` (its impacts accumulate at t):
+    gather the cluster, project it onto g = dg/dt = 0, select the modes
+    (``cluster2d.cluster_select_modes``) and schedule its first pass at t. Returns 0 (a
+    cluster, or none when every body-body contact lifts: the members fly or settle) or an
+    error code (a named refusal, ``ERR_PERSISTENT_PAIR``)."""
+    nb = st.shape[0]
+    q = cid[CL_PEND]
+    cid[CL_PEND] = -1
+    a = pairs[q, 0]
+    b = pairs[q, 1]
+    if cid[CL_N] > 0:
+        return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
+    gtol = tolf[TF_GAP_TOL]
+    # members: the connected bodies through disk-disk contacts within gap_tol at t
+    cid[CL_HDR] = a
+    cid[CL_HDR + 1] = b
+    n = 2
+    head = 0
+    while head < n:
+        i = cid[CL_HDR + head]
+        head += 1
+        if bint[i, B_KIND] != SH_DISK:
+            return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(i), 0.0)
+        if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
+            return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
+        # bring it to t (a pending accumulation jump is cancelled: its held motion)
+        if tz[i] < INF:
+            _held_into(st[i], bint[i, B_KIND], planes[zp[i], 0], planes[zp[i], 1], st[i])
+            tz[i] = INF
+            fly_row(st, i, t - tref[i])
+            st[i, AX] = grav[0]
+            st[i, AY] = grav[1]
+        else:
+            fly_row(st, i, t - tref[i])
+        tref[i] = t
+        for q2 in range(pairs.shape[0]):
+            if pr_off[q2] == PR_OFF:
+                continue
+            j = -1
+            if pairs[q2, 0] == i:
+                j = pairs[q2, 1]
+            elif pairs[q2, 1] == i:
+                j = pairs[q2, 0]
+            if j < 0:
+                continue
+            known = False
+            for r in range(n):
+                if cid[CL_HDR + r] == j:
+                    known = True
+            if known or bint[j, B_KIND] != SH_DISK or pm[j, M_MODE] == PM_PIVOT:
+                continue
+            if tz[j] < INF:
+                _held_into(st[j], bint[j, B_KIND], planes[zp[j], 0], planes[zp[j], 1], tmp[0])
+                fly_into(tmp[0], t - tref[j], tmp[0])
+            else:
+                fly_into(st[j], t - tref[j], tmp[0])
+            g = (math.hypot(tmp[0, X] - st[i, X], tmp[0, Y] - st[i, Y]) - bflt[i, B_RADIUS]
+                 - bflt[j, B_RADIUS])
+            if g <= gtol:
+                if n >= nb:
+                    break
+                cid[CL_HDR + n] = j
+                n += 1
+    cid[CL_N] = n
+    ids = cid[CL_HDR:CL_HDR + n]
+    for r in range(n):
+        i = ids[r]
+        for j in range(6):
+            cbod[r, j] = st[i, j]
+        cbod[r, cl.CB_M] = bflt[i, B_MASS]
+        cbod[r, cl.CB_I] = bflt[i, B_INERTIA]
+        cbod[r, cl.CB_FIXED] = 0.0
+    # contacts (active within gap_tol) and candidates
+    nk = 0
+    nc = 0
+    for q2 in range(pairs.shape[0]):
+        if pr_off[q2] == PR_OFF:
+            continue
+        ra = -1
+        rb = -1
+        for r in range(n):
+            if ids[r] == pairs[q2, 0]:
+                ra = r
+            if ids[r] == pairs[q2, 1]:
+                rb = r
+        if ra < 0 or rb < 0:
+            continue
+        i = pairs[q2, 0]
+        j = pairs[q2, 1]
+        g = (math.hypot(st[i, X] - st[j, X], st[i, Y] - st[j, Y]) - bflt[i, B_RADIUS]
+             - bflt[j, B_RADIUS])
+        mu = law_par[pairs[q2, 2], P_MU]
+        if g <= gtol:
+            if nk >= cl.KSEL_MAX:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 0.0)
+            _cl_row(cbod, ccon, cid, nb, nk, cl.KIND_ROUND, ra, rb, bflt[i, B_RADIUS],
+                    bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
+            nk += 1
+        else:
+            if nc >= NCAND:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+            _cl_row(cbod, ccon, cid, nb, cl.KMAX + nc, cl.KIND_ROUND, ra, rb,
+                    bflt[i, B_RADIUS], bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
+            nc += 1
+    for r in range(n):
+        i = ids[r]
+        for p in range(planes.shape[0]):
+            if bp_off[i, p] != 0:
+                continue
+            nx = planes[p, 0]
+            ny = planes[p, 1]
+            g = nx * st[i, X] + ny * st[i, Y] - planes[p, 2] - bflt[i, B_RADIUS]
+            mu = law_par[bp_law[i, p], P_MU]
+            if g <= gtol:
+                if nk >= cl.KSEL_MAX:
+                    cid[CL_N] = 0
+                    return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 0.0)
+                _cl_row(cbod, ccon, cid, nb, nk, cl.KIND_PLANE, r, -1, bflt[i, B_RADIUS], 0.0,
+                        nx, ny, planes[p, 2], mu, p)
+                nk += 1
+            else:
+                if nc >= NCAND:
+                    cid[CL_N] = 0
+                    return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+                _cl_row(cbod, ccon, cid, nb, cl.KMAX + nc, cl.KIND_PLANE, r, -1,
+                        bflt[i, B_RADIUS], 0.0, nx, ny, planes[p, 2], mu, p)
+                nc += 1
+    cid[CL_NK] = nk
+    cid[CL_NC] = nc
+    e0 = _cl_energy(st, bflt, grav, cid)
+    L = _cl_scale(cid, bflt)
+    la = cw[:cl.N_LA]
+    w = cw[cl.N_LA:]
+    bod = cbod[:n]
+    con = ccon[:cl.KMAX]
+    cs = cl.cluster_project(bod, con, nk, grav[0], grav[1], L, w, la)
+    if cs == cl.CS_OK:
+        cs = cl.cluster_select_modes(bod, con, nk, grav[0], grav[1], L, w, la)
+    if cs != cl.CS_OK:
+        cid[CL_N] = 0
+        return _cl_refuse(err, t, a, b, st, PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                          float(cs), 0.0)
+    k = 0
+    while k < cid[CL_NK]:
+        if ccon[k, cl.CC_MODE] == cl.MODE_LIFT:
+            src = cid[CL_HDR + nb + k]
+            if src < 0:
+                pr_off[-2 - src] = PR_REL
+            if _cl_lift(ccon, cid, nb, k, err) < 0:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+        else:
+            k += 1
+    for r in range(n):
+        i = ids[r]
+        for j in range(6):
+            st[i, j] = cbod[r, j]
+        st[i, AX] = 0.0
+        st[i, AY] = 0.0
+        st[i, ALPHA] = 0.0
+        pm[i, M_MODE] = PM_CLUSTER
+        tz[i] = INF
+        ttr[i] = INF
+        for p in range(planes.shape[0]):
+            bp_t[i, p] = INF
+    for q2 in range(pairs.shape[0]):
+        if pm[pairs[q2, 0], M_MODE] == PM_CLUSTER and pm[pairs[q2, 1], M_MODE] == PM_CLUSTER:
+            pr_t[q2] = INF
+            if pr_off[q2] == PR_HIT:
+                pr_off[q2] = PR_ON
+    cid[CL_LEAD] = ids[0]
+    cid[CL_EV] = cl.CE_NONE
+    cid[CL_FROZEN] = 0
+    cid[CL_CHAT] = 0
+    dx = st[a, X] - st[b, X]
+    dy = st[a, Y] - st[b, Y]
+    dist = math.hypot(dx, dy)
+    nx = dx / dist
+    ny = dy / dist
+    rb_ = bflt[b, B_RADIUS]
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, a, b, PM_CLUSTER, n, st[b, X] + rb_ * nx,
+         st[b, Y] + rb_ * ny, nx, ny, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+         _cl_energy(st, bflt, grav, cid) - e0)
+    if _cl_pairs_left(ccon, cid) == 0:
+        # every body-body contact lifts at once: no cluster
+        return _cluster_dissolve(shapes, True, t, st, tref, bint, bflt, verts, planes,
+                                 grav, law_par, bp_law, pm, tz, ttr, tolf, cbod, ccon, cid,
+                                 bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+    ttr[ids[0]] = t
+    for r in range(n):
+        bmark[ids[r]] = 1
+    return 0
+
+
+@_inner
+def _cluster_dissolve(shapes, settle, t, st, tref, bint, bflt, verts, planes, grav, law_par,
+                      bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f,
+                      seg_t, seg_b, seg_s, cnt, err):
+    """End the cluster at t (states in cbod): every member flies from t, or (``settle``)
+    settles on a plane it still touches through an active contact (``_settle``: rest, roll
+    or slide on it). Records their segments. Returns 0 or an error code."""
+    n = cid[CL_N]
+    nb = st.shape[0]
+    for r in range(n):
+        i = cid[CL_HDR + r]
+        for j in range(6):
+            st[i, j] = cbod[r, j]
+        st[i, AX] = grav[0]
+        st[i, AY] = grav[1]
+        st[i, ALPHA] = 0.0
+        tref[i] = t
+        pm[i, M_MODE] = PM_FLIGHT
+        pm[i, M_AUX] = -1
+        tz[i] = INF
+        ttr[i] = INF
+        bmark[i] = 1
+    cid[CL_N] = 0
+    cid[CL_LEAD] = -1
+    cid[CL_EV] = cl.CE_NONE
+    cid[CL_FROZEN] = 0
+    for r in range(n):
+        i = cid[CL_HDR + r]
+        if settle:
+            for k in range(cid[CL_NK]):
+                if (ccon[k, cl.CC_KIND] == cl.KIND_PLANE and int(ccon[k, cl.CC_A]) == r
+                        and pm[i, M_MODE] == PM_FLIGHT):
+                    p = cid[CL_HDR + nb + k]
+                    rc = _settle(shapes, i, p, t, st, bint, bflt, verts, planes, grav,
+                                 law_par, bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
+                    if rc < 0:
+                        return rc
+                    if rc != 0:     # no rest there: it flies
+                        pm[i, M_MODE] = PM_FLIGHT
+                        st[i, AX] = grav[0]
+                        st[i, AY] = grav[1]
+                        st[i, ALPHA] = 0.0
+                        ttr[i] = INF
+        if not _finite(st, i):
+            _set_err(err, t, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE
+        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+    return 0
+
+
+@_inner
+def _cluster_to_instant(t, extra, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod, ccon, cid,
+                        bmark):
+    """The cluster dissolves into flight at t for an impact there: its active contacts
+    (and candidate ``extra`` >= 0) are scheduled at t, so that the impact step resolves
+    them in one cluster of the instant (the closing contact with the held ones at
+    v_N = 0). Segments: logged by the impact step (every member is marked)."""
+    n = cid[CL_N]
+    nb = st.shape[0]
+    for r in range(n):
+        i = cid[CL_HDR + r]
+        for j in range(6):
+            st[i, j] = cbod[r, j]
+        st[i, AX] = grav[0]
+        st[i, AY] = grav[1]
+        st[i, ALPHA] = 0.0
+        tref[i] = t
+        pm[i, M_MODE] = PM_FLIGHT
+        pm[i, M_AUX] = -1
+        tz[i] = INF
+        ttr[i] = INF
+        bmark[i] = 1
+    for kk in range(cid[CL_NK] + 1):
+        k = kk
+        if kk == cid[CL_NK]:
+            if extra < 0:
+                break
+            k = cl.KMAX + extra
+        src = cid[CL_HDR + nb + k]
+        if src >= 0:
+            bp_t[cid[CL_HDR + int(ccon[k, cl.CC_A])], src] = t
+        else:
+            pr_t[-2 - src] = t
+    cid[CL_N] = 0
+    cid[CL_LEAD] = -1
+    cid[CL_EV] = cl.CE_NONE
+    cid[CL_FROZEN] = 0
+
+
+@_inner
+def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
+                  tz, ttr, bp_t, pr_t, pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i, ev_f,
+                  seg_t, seg_b, seg_s, cnt, err):
+    """The cluster's event due at t (its leader's ttr), then its next integration pass
+    (``cluster2d.cluster_advance``, recorded). Returns (rc, action): action 0 a pass ran,
+    1 the cluster dissolved or froze (segments recorded, members marked), 2 an impact is
+    pending at t (the impact step)."""
+    nb = st.shape[0]
+    n = cid[CL_N]
+    lead = cid[CL_LEAD]
+    ttr[lead] = INF
+    ev = cid[CL_EV]
+    idx = cid[CL_IDX]
+    cid[CL_EV] = cl.CE_NONE
+    L = _cl_scale(cid, bflt)
+    la = cw[:cl.N_LA]
+    w = cw[cl.N_LA:]
+    bod = cbod[:n]
+    con = ccon[:cl.KMAX]
+    cand = ccon[cl.KMAX:]
+    ids = cid[CL_HDR:CL_HDR + n]
+    gx = grav[0]
+    gy = grav[1]
+    if ev == cl.CE_GAP:
+        _cluster_to_instant(t, idx, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod, ccon, cid,
+                            bmark)
+        return 0, 2
+    if ev == cl.CE_FEATURE:
+        return _cl_refuse(err, t, lead, lead, st, PP_FEATURE, float(idx), 0.0), 0
+    if ev == cl.CE_LEAVE or ev == cl.CE_SLIP or ev == cl.CE_STOP:
+        k = idx
+        a = ids[int(ccon[k, cl.CC_A])]
+        src = cid[CL_HDR + nb + k]
+        b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
+        # stick-slip chatter: mode events of the cluster closer than CL_CHAT_RTOL T apart
+        # (T = sqrt(L / |g|)); from the third, the modes of every contact are chosen again
+        # (cluster_select_modes: the event's own trend rule can flip one contact back and
+        # forth while another one's mode is what changed); CL_CHAT_MAX of them: refused
+        gl = math.hypot(gx, gy)
+        T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
+        ti = cw.shape[0] - 1
+        if cid[CL_CHAT] > 0 and t - cw[ti] <= CL_CHAT_RTOL * T:
+            cid[CL_CHAT] += 1
+        else:
+            cid[CL_CHAT] = 1
+        cw[ti] = t
+        if cid[CL_CHAT] >= CL_CHAT_MAX:
+            return _cl_refuse(err, t, a, a, st, PP_STICK_SLIP, float(cid[CL_CHAT]), t), 0
+        if cid[CL_CHAT] >= 3 and ev != cl.CE_LEAVE:
+            cs = cl.cluster_select_modes(bod, con, cid[CL_NK], gx, gy, L, w, la)
+            if cs != cl.CS_OK:
+                return _cl_refuse(err, t, a, a, st,
+                                  PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                                  float(cs), 0.0), 0
+            for kk in range(cid[CL_NK]):
+                if ccon[kk, cl.CC_MODE] == cl.MODE_LIFT:
+                    k = kk
+                    ev = cl.CE_LEAVE       # handled below as a contact leaving
+                    a = ids[int(ccon[k, cl.CC_A])]
+                    src = cid[CL_HDR + nb + k]
+                    b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
+                    break
+        else:
+            cs = cl.cluster_after_event(bod, con, cid[CL_NK], ev, k, gx, gy, L, w, la)
+            if cs != cl.CS_OK:
+                return _cl_refuse(err, t, a, a, st, PP_CLUSTER, float(cs), 0.0), 0
+        mode = ccon[k, cl.CC_MODE]
+        kind = EV_RELEASE
+        if ev == cl.CE_SLIP or (ev == cl.CE_STOP and mode != cl.MODE_STICK):
+            kind = EV_SLIDE
+        elif ev == cl.CE_STOP:
+            kind = EV_STICK
+        _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, PM_CLUSTER, n, 0.0, 0.0, 0.0, 0.0, 0.0,
+             0.0, 0.0, 0.0, ccon[k, cl.CC_LAMN], ccon[k, cl.CC_LAMT], 0.0)
+        if ev == cl.CE_LEAVE:
+            if src < 0:
+                pr_off[-2 - src] = PR_REL
+            if _cl_lift(ccon, cid, nb, k, err) < 0:
+                return _cl_refuse(err, t, a, a, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 1.0), 0
+            if _cl_pairs_left(ccon, cid) == 0:
+                rc = _cluster_dissolve(shapes, True, t, st, tref, bint, bflt, verts, planes,
+                                       grav, law_par, bp_law, pm, tz, ttr, tolf, cbod, ccon,
+                                       cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
+                                       err)
+                return rc, 1
+            # a member with no active contact left would fly inside the cluster: not built
+            for r in range(n):
+                held = False
+                for kk in range(cid[CL_NK]):
+                    if int(ccon[kk, cl.CC_A]) == r or int(ccon[kk, cl.CC_B]) == r:
+                        held = True
+                if not held:
+                    return _cl_refuse(err, t, ids[r], ids[r], st, PP_SPLIT, 0.0, 0.0), 0
+    cs, ev, idx, ts = cl.cluster_advance(bod, con, cid[CL_NK], cand, cid[CL_NC], gx, gy, L,
+                                         t, tolf[TF_T_END], w, la, seg_t, seg_b, seg_s, cnt,
+                                         ids)
+    if cs == cl.CS_REST:
+        # frozen: nothing moves until a body outside hits it
+        for r in range(n):
+            i = ids[r]
+            for j in range(3):
+                st[i, j] = cbod[r, j]
+            for j in range(3, 9):
+                st[i, j] = 0.0
+            for j in range(3, 6):
+                cbod[r, j] = 0.0
+            tref[i] = t
+            bmark[i] = 1
+            _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+        if cid[CL_FROZEN] == 0:
+            i = ids[0]
+            _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, ids[1] if n > 1 else i, PM_CLUSTER, n,
+                 st[i, X], st[i, Y], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        cid[CL_FROZEN] = 1
+        return 0, 1
+    if cs != cl.CS_OK:
+        return _cl_refuse(err, t, lead, lead, st, PP_CLUSTER, float(cs), 0.0), 0
+    for r in range(n):
+        i = ids[r]
+        for j in range(6):
+            st[i, j] = cbod[r, j]
+        if not _finite(st, i):
+            _set_err(err, ts, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE, 0
+        tref[i] = ts
+    cid[CL_EV] = ev
+    cid[CL_IDX] = idx
+    ttr[lead] = INF if (ev == cl.CE_NONE and ts >= tolf[TF_T_END]) else ts
+    return 0, 0
+
+
+@_inner
+def _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bp_t, pr_t, tolf, cbod, ccon, cid,
+                 bmark):
+    """A body outside a frozen cluster meets a member within this instant: the cluster
+    dissolves into the instant (``_cluster_to_instant``). Returns 1 if it did."""
+    tw = t + tolf[TF_SIMUL_TIME]
+    for q in range(pairs.shape[0]):
+        if pr_t[q] <= tw and (pm[pairs[q, 0], M_MODE] == PM_CLUSTER
+                              or pm[pairs[q, 1], M_MODE] == PM_CLUSTER):
+            _cluster_to_instant(t, -1, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod, ccon,
+                                cid, bmark)
+            return 1
+    return 0
+
+
 PAIR_DISKS = "disks"   # the pair switch of a scene whose body pairs are all two disks
 PAIR_ALL = "all"       # ... of a scene with a pair of other shapes (pair2d, pair2d_toi)
 
@@ -2894,7 +3556,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
     def run_loop(bint, bflt, verts, planes, grav, law_ids, law_par, bp_law, pairs, tolf,
                  toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
                  ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
-                 bmark, v2, W2, P2, tmp, err):
+                 bmark, v2, W2, P2, tmp, err, cbod, ccon, cw, cid):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
         contract. The first call (cnt[3] == 0) initialises the run at glob[0]. Compile-time
         constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint``, ``shapes``
@@ -2926,7 +3588,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                             return rc
                 rc = _recompute_pairs(pair, pgen, glob[0], st, tref, bint, bflt, verts, planes,
                                       pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                      bmark, tmp, err)
+                                      bmark, tmp, err, cid)
                 if rc < 0:
                     return rc
             t_now = glob[0]
@@ -2958,6 +3620,8 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
             for q in range(npr):
                 if pr_t[q] < tmin:
                     tmin = pr_t[q]
+            if pair is not None and cid[CL_PEND] >= 0:
+                tmin = t_now        # a pair whose impacts accumulate enters a cluster now
             if tmin > t_end:
                 glob[0] = t_end
                 return RC_DONE
@@ -2981,7 +3645,38 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
             # ---- scheduled switches: accumulation points, the end of slip, pivot passes (at
             # most one per pass of this loop: its pieces fit the segment margin)
             did = False
+            cact = -1
+            if pair is not None:
+                if cid[CL_PEND] >= 0:
+                    rc = _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav,
+                                        law_par, bp_law, bp_off, pairs, pr_off, pr_t, bp_t,
+                                        pm, tz, zp, ttr, tolf, cbod, ccon, cw, cid,
+                                        bmark, tmp, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
+                                        err)
+                    if rc < 0:
+                        return rc
+                    pend = True
+                    continue
+                if cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t:
+                    rc, cact = _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes,
+                                             grav, law_par, bp_law, pm, tz, ttr, bp_t, pr_t,
+                                             pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i,
+                                             ev_f, seg_t, seg_b, seg_s, cnt, err)
+                    if rc < 0:
+                        return rc
+                    if cact != 2:
+                        pend = cact == 1
+                        if cact == 0:
+                            # its pieces fill this pass's segment margin
+                            pass
+                        pend = True
+                        continue
+                elif cid[CL_N] > 0 and cid[CL_FROZEN] != 0:
+                    _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bp_t, pr_t, tolf,
+                                 cbod, ccon, cid, bmark)
             for i in range(nb):
+                if cact == 2:
+                    break
                 if ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
                     if pivot is not None:
                         rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
@@ -3081,7 +3776,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                     if rc == 0:
                         rc = _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts,
                                       planes, grav, law_par, bp_law, pm, (tz, zp, ttr), tolf,
-                                      c_i, c_f, w, (ev_t, ev_i, ev_f), cnt, err)
+                                      c_i, c_f, w, (ev_t, ev_i, ev_f), cnt, err, pairs, cid)
                 if rc < 0:
                     return rc
             rc = _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark,

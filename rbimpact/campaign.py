@@ -93,7 +93,8 @@ ENERGY_RTOL = 1e-12
 in a scene whose motion is exact (closed-form flight, impacts, rest, slide, roll)."""
 ENERGY_RTOL_INTEGRATED = 1e-9
 """The same for a scene with integrated motion (a pivot phase, or 3D flight with general
-inertia), whose integrators hold energy per step to their own tolerances (2D pivot pieces
+inertia, or a 2D cluster of bodies in persistent contact: cluster2d pieces ``PIECE_ETOL``
+1e-11 M V^2), whose integrators hold energy per step to their own tolerances (2D pivot pieces
 ``PIECE_ETOL`` 1e-13 m V^2; 3D ``contact_tol`` 1e-10, ``rot_tol`` 1e-12): a long frictionless
 3D phase drifts by a few ``contact_tol`` (5e-10 seen on a 3 s capsule slide)."""
 PEN_RTOL_INTEGRATED = 1e-7
@@ -397,6 +398,7 @@ def _supports(sim, s, k, dim, L):
 def check_result(spec, sim, res, note):
     """The invariants of one finished (or partial) run. Returns
     ``(problems, penetration, pen_tol, energy_gain)``: ``problems`` a list of strings."""
+    from .kernels.codes import PM_CLUSTER
     from .stability import (NEVER_GAIN, _energy_from_sample, _gaps_2d, _gaps_3d, _refine,
                             kinetic_from_sample)
     dim, L = spec["dim"], spec["size"]
@@ -406,7 +408,11 @@ def check_result(spec, sim, res, note):
     t = _sample_times(res, N_SAMPLES)
     s = res.sample(t)
     gaps = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
-    integrated = bool(np.any(res.events["kind"] == "pivot")) or (
+    ev = res.events
+    # integrated motion: a pivot phase, a 2D cluster of bodies in persistent contact
+    # (stepper2d PM_CLUSTER: a "contact" event of mode PM_CLUSTER), 3D general inertia
+    integrated = bool(np.any(ev["kind"] == "pivot")) or bool(
+        dim == 2 and np.any((ev["kind"] == "contact") & (ev["mode"] == PM_CLUSTER))) or (
         dim == 3 and spec["shape"] != "sphere")
     pen_tol = (PEN_RTOL_INTEGRATED if integrated else PEN_RTOL) * L + PEN_ATOL
     worst = 0.0

@@ -143,8 +143,7 @@ import warnings
 import numpy as np
 
 from ._setup import (Arena, call_loop, check_law, check_painleve, check_run_args, check_scene,
-                     check_tolerances, compiled_loop, pack_laws,
-                     persistent_pair_message, run_status)
+                     check_tolerances, compiled_loop, pack_laws, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -376,6 +375,10 @@ class Simulation:
         pm[:, 1:] = -1
         M = k.MAXC
         F, I = float, int
+        cb_shape, cc_shape, cw_size, cid_size = k.cluster_sizes(nb)
+        cid0 = np.zeros(cid_size, np.int64)
+        cid0[k.CL_PEND] = -1
+        cid0[k.CL_LEAD] = -1
         return Arena([
             ("tolf", (k.N_TF,), F, tolf), ("toli", (k.N_TI,), I, toli),
             # dynamic state
@@ -389,7 +392,10 @@ class Simulation:
             ("Wb", (2 * M, 2 * M), F, 0.0), ("Pb", (2 * M,), F, 0.0),
             ("vb", (2 * M,), F, 0.0), ("tb", (2 * M,), F, 0.0), ("comp", (2 * M,), I, 0),
             ("bmark", (nb,), I, 0), ("v2", (2,), F, 0.0), ("W2", (2, 2), F, 0.0),
-            ("P2", (2,), F, 0.0), ("tmp", (2, 9), F, 0.0), ("err", (8,), F, 0.0)])
+            ("P2", (2,), F, 0.0), ("tmp", (2, 9), F, 0.0), ("err", (8,), F, 0.0),
+            # persistent body-body contact (stepper2d.cluster_sizes)
+            ("cbod", cb_shape, F, 0.0), ("ccon", cc_shape, F, 0.0), ("cw", (cw_size,), F, 0.0),
+            ("cid", (cid_size,), I, cid0)])
 
     def run(self, t_end, max_events=1_000_000, record="all", observer=None, snapshot_dt=None):
         """Run from t = 0 to ``t_end`` (s) and return a ``Result``.
@@ -446,7 +452,7 @@ class Simulation:
 
     def _run(self, k, arena, t_end, max_events, rec):
         (tolf, toli, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob, cnt,
-         c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err) = arena.reset()
+         c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err, *clu) = arena.reset()
         tolf[k.TF_T_END] = t_end
         toli[k.TI_MAX_EVENTS] = max_events
         nb = st.shape[0]
@@ -460,13 +466,13 @@ class Simulation:
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         args = (*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t, pr_off, glob,
                 cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v2, W2, P2, tmp, err,
-                *switches)
+                *clu, *switches)
         rc = call_loop(run_loop, args)
         while rc == k.RC_BUFFER_FULL:
             bufs = rec.on_full(bufs, cnt, glob, toli, me, ms, _grow_all)
             rc = run_loop(*scene_arrays, st, tref, pm, tz, zp, ttr, bp_t, bp_off, pr_t,
                           pr_off, glob, cnt, *bufs, c_i, c_f, Wb, Pb, vb, tb, comp, bmark,
-                          v2, W2, P2, tmp, err, *switches)
+                          v2, W2, P2, tmp, err, *clu, *switches)
         status = run_status(k, rc)
         *kept, recording = rec.finish(bufs, cnt, glob)
         result = self._result(*kept, glob, status, t_end, recording)
@@ -539,10 +545,54 @@ class Simulation:
                 f"that point in persistent contact: integrated at a vertex of a box or a rod "
                 f"and on an ellipse (pivot), not supported for a disk")
         elif rc == k.ERR_PERSISTENT_PAIR:
-            held = self._where(int(err[6])) if err[5] == k.PP_HELD else ""
-            exc = SimulationError(persistent_pair_message(
-                k, err[5], body, self._where(b), held, at, pt, err[6], err[7],
-                self.tolerances["rest_length"]))
+            why = err[5]
+            other = self._where(b)
+            if why == k.PP_HELD:
+                held = self._where(int(err[6]))
+                detail = (f"{held} is held by an integrated (pivot) contact or in a moving "
+                          f"cluster of bodies in persistent contact {at} "
+                          f"while it can meet the other body of the pair, {body} and {other}"
+                          f"; body-body contact with a body in an integrated contact")
+            elif why == k.PP_NO_MODE:
+                detail = (f"{body} and {other} in persistent contact {at}: no consistent "
+                          f"stick/slip/lift-off mode of the cluster found (the enumeration "
+                          f"of cluster2d.cluster_select_modes; a Painleve inconsistency is "
+                          f"not proven)")
+            elif why == k.PP_CLUSTER:
+                detail = (f"the persistent contact of {body} and {other} {at} failed in "
+                          f"cluster2d (status CS {int(err[6])}: 2 singular, 3 Painleve, 4 "
+                          f"step limit, 6 too many contacts)")
+            elif why == k.PP_SHAPES:
+                detail = (f"{body} and {other} stay in contact {at} with "
+                          f"{self._where(int(err[6]))} in the cluster: persistent contact "
+                          f"is built for disks only")
+            elif why == k.PP_FEATURE:
+                detail = (f"a contact point of the cluster of {body} leaves its feature {at} "
+                          f"(contact switch not built)")
+            elif why == k.PP_TWO:
+                detail = (f"{body} and {other} stay in contact {at} while "
+                          f"{self._where(int(err[6]))} is in another cluster or held by "
+                          f"an integrated contact (one cluster at a time)")
+            elif why == k.PP_STICK_SLIP:
+                detail = (f"the stick-slip events of the cluster of {body} accumulate {at} "
+                          f"({int(err[6])} mode changes closer than {k.CL_CHAT_RTOL:g} "
+                          f"sqrt(L / |g|) apart; no consistent lasting mode found)")
+            elif why == k.PP_SPLIT:
+                detail = (f"{body} leaves the cluster {at} while other bodies stay in "
+                          f"contact (splitting a cluster is not built)")
+            elif why == k.PP_TOGETHER:
+                detail = (f"{body} and {other} stay together after their impact {at}, {pt} "
+                          f"(normal speed {err[6]:.3g} m/s, the round-off of a plastic "
+                          f"impact; no separation found)")
+            else:
+                detail = (f"impacts accumulate at a single contact point of {body} on "
+                          f"{other} {at}, {pt}: normal speed after the impact {err[6]:.3g} "
+                          f"m/s, next impact of the pair {err[7]:.3g} s later (the bodies "
+                          f"part by less than rest_length = "
+                          f"{self.tolerances['rest_length']:g} m)")
+            exc = SimulationError(f"persistent body-body contact (resting, sliding, pivoting "
+                                  f"or rolling on another body) is not supported yet (issue "
+                                  f"16): {detail}")
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
                 f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "

@@ -370,8 +370,16 @@ def test_plastic_sticking_disks_part():
     flipped with the compiled code's rounding: a re-contact at once, which used to stall,
     then a refusal); it is zero now (decisions.touching_rate), and the disks part: 'done',
     one impact, no overlap, no energy created."""
-    from rbimpact.campaign import run_drop
+    from rbimpact.campaign import build_pair_scene, draw_pair_scene, run_drop
     row = run_drop(2, 3487199531, bodies=2)
     assert row.verdict == "OK" and row.status == "done", row.note
     assert row.impacts == 1
     assert row.penetration <= row.pen_tol
+    sim, t_end, me = build_pair_scene(draw_pair_scene(2, 3487199531))
+    res = sim.run(t_end, max_events=me)
+    t0 = float(res.events["t"][0])
+    ts = t0 + np.linspace(0.0, t_end - t0, 201)[1:]
+    s = res.sample(ts)
+    gap = (np.hypot(s["x"][:, 0] - s["x"][:, 1], s["y"][:, 0] - s["y"][:, 1])
+           - sim._bflt[0, 2] - sim._bflt[1, 2])
+    assert np.all(np.diff(gap) > 0.0) and gap[0] >= 0.0
