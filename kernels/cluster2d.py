@@ -246,6 +246,10 @@ CS_PAINLEVE = 3         # a sliding contact's effective normal mass <= 0
 CS_TOO_MANY_STEPS = 4   # MAX_ATTEMPTS step attempts, or a step that cannot be taken
 CS_NO_MODE = 5          # mode selection: no consistent stick/slip/lift-off combination
 CS_TOO_MANY_CONTACTS = 6  # more than KMAX active (KSEL_MAX for the selection)
+CS_INCONSISTENT = 7     # cluster_advance called with modes whose forces are not consistent
+#                         at the start (a pulling normal force, a sticking force outside its
+#                         cone, friction along the slip): integrating them could create
+#                         energy; the caller's mode choice is wrong (a bug, never physics)
 
 # ---- event kinds --------------------------------------------------------------------------
 CE_NONE = 0         # t_max reached (or a failure: see the status)
@@ -1023,11 +1027,11 @@ def _consistent(c, nk, w, la, nopt):
 
 
 @njit(cache=True, _nrt=False)
-def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
-    """Choose a consistent mode for each of ``contacts[:nk]`` (every one at g = dg/dt = 0)
-    by the enumeration of the module docstring; the modes go to ``CC_MODE`` (``MODE_LIFT``
-    for the contacts that leave), the forces to ``CC_LAMN / CC_LAMT``. Returns CS_OK or
-    CS_NO_MODE (modes left as the last tried) or CS_TOO_MANY_CONTACTS."""
+def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix):
+    """The enumeration of ``cluster_select_modes`` with contact ``kfix`` held in mode
+    ``mfix`` (its only option, no trend check: the caller's event rule chose it; ``kfix``
+    -1: every contact free). Returns CS_OK (modes and forces written), CS_NO_MODE or
+    CS_TOO_MANY_CONTACTS."""
     if nk > KSEL_MAX:
         return CS_TOO_MANY_CONTACTS
     nb = bodies.shape[0]
@@ -1042,7 +1046,10 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
     for k in range(nk):
         _fill(contacts, k, w, yo, la, k)
         vt = la[LA_K + k * LK_S + LK_VT]
-        if contacts[k, CC_MU] == 0.0:
+        if k == kfix:
+            w[sv + k] = mfix
+            w[nopt + k] = 1.0
+        elif contacts[k, CC_MU] == 0.0:
             w[sv + k] = 1.0     # frictionless: "slip" (lam_T = 0) or lift
             w[nopt + k] = 2.0
         elif abs(vt) > STICK_VTOL * V:
@@ -1059,7 +1066,9 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
             no = int(w[nopt + k])
             opt = r % no
             r //= no
-            if no == 2:
+            if no == 1:
+                contacts[k, CC_MODE] = w[sv + k]
+            elif no == 2:
                 contacts[k, CC_MODE] = w[sv + k] if opt == 0 else MODE_LIFT
             else:
                 if opt == 0:
@@ -1082,30 +1091,48 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
 
 
 @njit(cache=True, _nrt=False)
+def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
+    """Choose a consistent mode for each of ``contacts[:nk]`` (every one at g = dg/dt = 0)
+    by the enumeration of the module docstring; the modes go to ``CC_MODE`` (``MODE_LIFT``
+    for the contacts that leave), the forces to ``CC_LAMN / CC_LAMT``. Returns CS_OK or
+    CS_NO_MODE (modes left as the last tried) or CS_TOO_MANY_CONTACTS."""
+    return _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0)
+
+
+@njit(cache=True, _nrt=False)
 def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
-    """The mode of contact k after ``cluster_advance`` returned event ``ev`` there (the
-    state and forces as returned): ``CE_LEAVE`` -> ``MODE_LIFT`` (the stepper moves it to the
-    candidates); ``CE_SLIP`` -> slip opposite to the sticking force, ``sig = -sign(lam_T)``;
-    ``CE_STOP`` -> stick if its force is inside the cone, else slip reverses
-    (``sig = -sign(lam_T)`` of the sticking trial); ``CE_GAP`` (an impact) and
-    ``CE_FEATURE`` (the contact moves to another feature): nothing, the stepper's. At an
-    event the new mode is the one the trend calls for: the enumeration of
+    """The modes after ``cluster_advance`` returned event ``ev`` at contact k (the state and
+    forces as returned). Contact k takes the mode the trend calls for: ``CE_LEAVE`` ->
+    ``MODE_LIFT`` (the stepper moves it to the candidates); ``CE_SLIP`` -> slip opposite to
+    the sticking force, ``sig = -sign(lam_T)``; ``CE_STOP`` -> stick if its force is inside
+    the cone, else slip reverses (``sig = -sign(lam_T)`` of the sticking trial). At an event
+    the new mode is the one the trend calls for: the enumeration of
     ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
-    Returns the status of the forces in the new modes (forces written as by
+    The other contacts' modes are then chosen again by the enumeration with contact k held
+    (a contact stopping can pull its neighbours' normal forces below zero: they lift); if
+    no combination is consistent with k's trend mode, by the full enumeration; none:
+    CS_NO_MODE. ``CE_GAP`` (an impact) and ``CE_FEATURE`` (the contact moves to another
+    feature): nothing, the stepper's. Returns the status (forces written as by
     ``cluster_forces``)."""
+    if ev != CE_LEAVE and ev != CE_SLIP and ev != CE_STOP:
+        return _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
     if ev == CE_LEAVE:
-        contacts[k, CC_MODE] = MODE_LIFT
+        mode = MODE_LIFT
     elif ev == CE_SLIP:
-        contacts[k, CC_MODE] = MODE_SLIP_NEG if contacts[k, CC_LAMT] > 0.0 else MODE_SLIP_POS
-    elif ev == CE_STOP:
+        mode = MODE_SLIP_NEG if contacts[k, CC_LAMT] > 0.0 else MODE_SLIP_POS
+    else:
         contacts[k, CC_MODE] = MODE_STICK
         st = _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
-        if st != CS_OK:
+        if st != CS_OK and st != CS_SINGULAR and st != CS_PAINLEVE:
             return st
         lt = contacts[k, CC_LAMT]
-        if abs(lt) > contacts[k, CC_MU] * contacts[k, CC_LAMN]:
-            contacts[k, CC_MODE] = MODE_SLIP_NEG if lt > 0.0 else MODE_SLIP_POS
-    return _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
+        mode = MODE_STICK
+        if st == CS_OK and abs(lt) > contacts[k, CC_MU] * contacts[k, CC_LAMN]:
+            mode = MODE_SLIP_NEG if lt > 0.0 else MODE_SLIP_POS
+    st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, k, mode)
+    if st == CS_NO_MODE:
+        st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0)
+    return st
 
 
 # ------------------------------------------------------------------ integration
@@ -1455,6 +1482,35 @@ def _emit(bodies, w, NY, nc, sa, sb, hp, budget, t0, seg_t, seg_b, seg_s, cnt, i
 
 
 @njit(cache=True, _nrt=False)
+def _phase_consistent(c, nk, w, la):
+    """The forces just solved (la) consistent with the modes a
+    phase starts in: every active ``lam_N >= -FORCE_ARM F``, every sticking force within
+    ``FORCE_ARM F`` of its cone, every sliding contact's friction against its slip
+    (``sig vT >= -STICK_VTOL V``). The arms are the event functions' own: a phase that
+    starts beyond them would never see its event (an armed function fires only below its
+    start) and would integrate pulling or driving forces."""
+    F = w[H_F]
+    V = w[H_V]
+    for k in range(nk):
+        mode = c[k, CC_MODE]
+        if mode == MODE_LIFT:
+            continue
+        o = LA_K + k * LK_S
+        ln = la[o + LK_LN]
+        if not ln >= -FORCE_ARM * F:
+            return False
+        mu = c[k, CC_MU]
+        if mu == 0.0:
+            continue
+        if mode == MODE_STICK:
+            if abs(la[o + LK_LT]) > mu * ln + FORCE_ARM * F:     # (mu = inf: never)
+                return False
+        elif not mode * la[o + LK_VT] >= -STICK_VTOL * V:
+            return False
+    return True
+
+
+@njit(cache=True, _nrt=False)
 def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la, seg_t,
                     seg_b, seg_s, cnt, ids):
     """Integrate the cluster (state ``bodies``, active ``contacts[:nk]`` in their modes
@@ -1505,6 +1561,9 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, L, t0, t_max, w, la
     if st != CS_OK:
         _store(bodies, contacts, nk, w, Y, la)
         return st, CE_NONE, -1, t0
+    if not _phase_consistent(contacts, nk, w, la):
+        _store(bodies, contacts, nk, w, Y, la)
+        return CS_INCONSISTENT, CE_NONE, -1, t0
     att = 0
     rec = seg_t.shape[0] > 0
     hp = math.inf

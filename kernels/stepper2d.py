@@ -3404,36 +3404,41 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
             return _cl_refuse(err, t, a, a, st, PP_STICK_SLIP, float(cid[CL_CHAT]), t), 0
         if cid[CL_CHAT] >= 3 and ev != cl.CE_LEAVE:
             cs = cl.cluster_select_modes(bod, con, cid[CL_NK], gx, gy, L, w, la)
-            if cs != cl.CS_OK:
-                return _cl_refuse(err, t, a, a, st,
-                                  PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
-                                  float(cs), 0.0), 0
-            for kk in range(cid[CL_NK]):
-                if ccon[kk, cl.CC_MODE] == cl.MODE_LIFT:
-                    k = kk
-                    ev = cl.CE_LEAVE       # handled below as a contact leaving
-                    a = ids[int(ccon[k, cl.CC_A])]
-                    src = cid[CL_HDR + nb + k]
-                    b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
-                    break
         else:
             cs = cl.cluster_after_event(bod, con, cid[CL_NK], ev, k, gx, gy, L, w, la)
-            if cs != cl.CS_OK:
-                return _cl_refuse(err, t, a, a, st, PP_CLUSTER, float(cs), 0.0), 0
+        if cs != cl.CS_OK:
+            return _cl_refuse(err, t, a, b, st,
+                              PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                              float(cs), 0.0), 0
         mode = ccon[k, cl.CC_MODE]
-        kind = EV_RELEASE
-        if ev == cl.CE_SLIP or (ev == cl.CE_STOP and mode != cl.MODE_STICK):
-            kind = EV_SLIDE
-        elif ev == cl.CE_STOP:
+        kind = EV_SLIDE
+        if mode == cl.MODE_LIFT:
+            kind = EV_RELEASE
+        elif mode == cl.MODE_STICK:
             kind = EV_STICK
         _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, PM_CLUSTER, n, 0.0, 0.0, 0.0, 0.0, 0.0,
              0.0, 0.0, 0.0, ccon[k, cl.CC_LAMN], ccon[k, cl.CC_LAMT], 0.0)
-        if ev == cl.CE_LEAVE:
+        # every contact the new modes lift leaves (the event's own, or a neighbour whose
+        # normal force the new modes would make pulling)
+        lifted = False
+        kk = 0
+        while kk < cid[CL_NK]:
+            if ccon[kk, cl.CC_MODE] != cl.MODE_LIFT:
+                kk += 1
+                continue
+            lifted = True
+            src = cid[CL_HDR + nb + kk]
+            a2 = ids[int(ccon[kk, cl.CC_A])]
+            b2 = -1 - src if src >= 0 else ids[int(ccon[kk, cl.CC_B])]
+            if not (a2 == a and b2 == b):
+                _log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, a2, b2, PM_CLUSTER, n, 0.0, 0.0,
+                     0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             if src < 0:
                 pr_off[-2 - src] = PR_REL
-            if _cl_lift(ccon, cid, nb, k, err) < 0:
-                return _cl_refuse(err, t, a, a, st, PP_CLUSTER,
+            if _cl_lift(ccon, cid, nb, kk, err) < 0:
+                return _cl_refuse(err, t, a2, b2, st, PP_CLUSTER,
                                   float(cl.CS_TOO_MANY_CONTACTS), 1.0), 0
+        if lifted:
             if _cl_pairs_left(ccon, cid) == 0:
                 rc = _cluster_dissolve(shapes, True, t, st, tref, bint, bflt, verts, planes,
                                        grav, law_par, bp_law, pm, tz, ttr, tolf, cbod, ccon,

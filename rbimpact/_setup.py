@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from ._validate import choice, scene_energy_check, validate_run_args, validate_tolerances
+from .kernels import codes
 from .laws import N_PARAMS
 
 __all__ = ["call_loop", "compiled_loop", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
@@ -253,18 +254,49 @@ def call_loop(loop, args):
         return loop(*args)
 
 
-def persistent_pair_message(k, why, body, other, held, at, pt, v, s, rest_length):
-    """The message of a run stopped by ``ERR_PERSISTENT_PAIR`` (2D and 3D): reason ``why``
-    (``k.PP_*``), the pair's bodies as text, the held body (``PP_HELD``), the time and point
-    texts, the post-impact normal speed ``v`` (m/s), the next impact ``s`` (s) after it."""
-    if why == k.PP_HELD:
-        detail = (f"{held} is held on a plane by an integrated (pivot) contact {at} while "
-                  f"it can meet the other body of the pair, {body} and {other}; body-body "
-                  f"contact with a body in an integrated contact")
-    elif why == k.PP_TOGETHER:
+def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_length):
+    """The message of a run stopped by ``ERR_PERSISTENT_PAIR`` (2D and 3D; ``k`` the stepper
+    module): reason ``why`` (``codes.PP_*``), the pair's bodies as text, ``third`` the body
+    the reason names (the held body of ``PP_HELD``, the other member of ``PP_SHAPES`` and
+    ``PP_TWO``; else unused), the time and point texts, the reason's number ``v`` (the post-impact normal speed,
+    m/s; a cluster2d ``CS_*`` status; a count of mode events) and ``s`` (the next impact,
+    s after it)."""
+    if why == codes.PP_NO_MODE:
+        return (f"Painleve: {body} and {other} in persistent contact {at}: no consistent "
+                f"stick/slip/lift-off mode of their cluster exists (every combination of "
+                f"cluster2d's enumeration has a pulling normal force, a force outside its "
+                f"friction cone or a contact accelerating into another, to the tolerances "
+                f"FORCE_TOL and ACC_TOL); the impact without collision that would resolve it "
+                f"is not built for clusters")
+    if why == codes.PP_HELD:
+        detail = (f"{third} is held by an integrated (pivot) contact or in a moving cluster "
+                  f"of bodies in persistent contact {at} while it can meet the other body of "
+                  f"the pair, {body} and {other}; body-body contact with a body in an "
+                  f"integrated contact")
+    elif why == codes.PP_TOGETHER:
         detail = (f"{body} and {other} stay together after their impact {at}, {pt} (normal "
                   f"speed {v:.3g} m/s, the round-off of a plastic impact; no separation "
                   f"found)")
+    elif why == codes.PP_CLUSTER:
+        detail = (f"the persistent contact of {body} and {other} {at} failed in cluster2d "
+                  f"(status CS {int(v)}: 2 singular, 3 Painleve, 4 step limit, 6 too many "
+                  f"contacts, 7 inconsistent modes)")
+    elif why == codes.PP_SHAPES:
+        detail = (f"{body} and {other} stay in contact {at} with {third} in the cluster: "
+                  f"persistent contact is built for disks only")
+    elif why == codes.PP_FEATURE:
+        detail = (f"a contact point of the cluster of {body} leaves its feature {at} "
+                  f"(contact switch not built)")
+    elif why == codes.PP_TWO:
+        detail = (f"{body} and {other} stay in contact {at} while {third} is in another "
+                  f"cluster or held by an integrated contact (one cluster at a time)")
+    elif why == codes.PP_STICK_SLIP:
+        detail = (f"the stick-slip events of the cluster of {body} accumulate {at} "
+                  f"({int(v)} mode changes closer than {k.CL_CHAT_RTOL:g} sqrt(L / |g|) "
+                  f"apart; no consistent lasting mode found)")
+    elif why == codes.PP_SPLIT:
+        detail = (f"{body} leaves the cluster {at} while other bodies stay in contact "
+                  f"(splitting a cluster is not built)")
     else:
         detail = (f"impacts accumulate at a single contact point of {body} on {other} {at}, "
                   f"{pt}: normal speed after the impact {v:.3g} m/s, next impact of the pair "

@@ -143,7 +143,8 @@ import warnings
 import numpy as np
 
 from ._setup import (Arena, call_loop, check_law, check_painleve, check_run_args, check_scene,
-                     check_tolerances, compiled_loop, pack_laws, run_status)
+                     check_tolerances, compiled_loop, pack_laws,
+                     persistent_pair_message, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -545,54 +546,11 @@ class Simulation:
                 f"that point in persistent contact: integrated at a vertex of a box or a rod "
                 f"and on an ellipse (pivot), not supported for a disk")
         elif rc == k.ERR_PERSISTENT_PAIR:
-            why = err[5]
-            other = self._where(b)
-            if why == k.PP_HELD:
-                held = self._where(int(err[6]))
-                detail = (f"{held} is held by an integrated (pivot) contact or in a moving "
-                          f"cluster of bodies in persistent contact {at} "
-                          f"while it can meet the other body of the pair, {body} and {other}"
-                          f"; body-body contact with a body in an integrated contact")
-            elif why == k.PP_NO_MODE:
-                detail = (f"{body} and {other} in persistent contact {at}: no consistent "
-                          f"stick/slip/lift-off mode of the cluster found (the enumeration "
-                          f"of cluster2d.cluster_select_modes; a Painleve inconsistency is "
-                          f"not proven)")
-            elif why == k.PP_CLUSTER:
-                detail = (f"the persistent contact of {body} and {other} {at} failed in "
-                          f"cluster2d (status CS {int(err[6])}: 2 singular, 3 Painleve, 4 "
-                          f"step limit, 6 too many contacts)")
-            elif why == k.PP_SHAPES:
-                detail = (f"{body} and {other} stay in contact {at} with "
-                          f"{self._where(int(err[6]))} in the cluster: persistent contact "
-                          f"is built for disks only")
-            elif why == k.PP_FEATURE:
-                detail = (f"a contact point of the cluster of {body} leaves its feature {at} "
-                          f"(contact switch not built)")
-            elif why == k.PP_TWO:
-                detail = (f"{body} and {other} stay in contact {at} while "
-                          f"{self._where(int(err[6]))} is in another cluster or held by "
-                          f"an integrated contact (one cluster at a time)")
-            elif why == k.PP_STICK_SLIP:
-                detail = (f"the stick-slip events of the cluster of {body} accumulate {at} "
-                          f"({int(err[6])} mode changes closer than {k.CL_CHAT_RTOL:g} "
-                          f"sqrt(L / |g|) apart; no consistent lasting mode found)")
-            elif why == k.PP_SPLIT:
-                detail = (f"{body} leaves the cluster {at} while other bodies stay in "
-                          f"contact (splitting a cluster is not built)")
-            elif why == k.PP_TOGETHER:
-                detail = (f"{body} and {other} stay together after their impact {at}, {pt} "
-                          f"(normal speed {err[6]:.3g} m/s, the round-off of a plastic "
-                          f"impact; no separation found)")
-            else:
-                detail = (f"impacts accumulate at a single contact point of {body} on "
-                          f"{other} {at}, {pt}: normal speed after the impact {err[6]:.3g} "
-                          f"m/s, next impact of the pair {err[7]:.3g} s later (the bodies "
-                          f"part by less than rest_length = "
-                          f"{self.tolerances['rest_length']:g} m)")
-            exc = SimulationError(f"persistent body-body contact (resting, sliding, pivoting "
-                                  f"or rolling on another body) is not supported yet (issue "
-                                  f"16): {detail}")
+            named = err[5] in (k.PP_HELD, k.PP_SHAPES, k.PP_TWO)
+            third = self._where(int(err[6])) if named else ""
+            exc = SimulationError(persistent_pair_message(
+                k, err[5], body, self._where(b), third, at, pt, err[6], err[7],
+                self.tolerances["rest_length"]))
         elif rc == k.ERR_PAINLEVE:
             exc = SimulationError(
                 f"Painleve: {body} held on a vertex (or its boundary) on {self._where(b)} {at} "

@@ -992,3 +992,126 @@ def test_recorded_pieces_follow_the_integrated_motion():
         test_recorded_pieces_follow_the_integrated_motion.figures = getattr(
             test_recorded_pieces_follow_the_integrated_motion, "figures", []) + [
             (nseg, calls, worst_e / (Mf * V * V), worst_g / cl.L)]
+
+
+# ------------------------------------------------------------------ modes after an event
+# Found by the drop campaign (2:2298760360, two disks rolling side by side on the floor,
+# mu = 1): when the larger disk's floor slip stopped, cluster_after_event changed only that
+# contact's mode; the forces of the new modes pulled at the other two contacts (lam_N
+# -1.27 N and -1.37 N), their leave events, armed below a start that was already
+# negative, never fired, and the friction of the pulling contacts drove the slip: the
+# energy grew from 0.007 J to 235 J while the run ended 'done'.
+
+R_BIG, R_SMALL = 0.009853301382100181, 0.0070184221435927435
+M_BIG, M_SMALL = 0.04805832237231507, 0.010202370037936838
+
+
+def side_by_side(vx, w0, w1, mu, r0=R_BIG, r1=R_SMALL, m0=M_BIG, m1=M_SMALL,
+                 modes=(C.MODE_SLIP_POS,) * 3):
+    """Disk 0 (r0) and disk 1 (r1, to its right) on the floor y = 0, touching; common
+    velocity vx, spins w0, w1. Contacts: disk-disk (A = disk 0), floor-disk 0, floor-disk 1."""
+    x1 = math.sqrt((r0 + r1) ** 2 - (r0 - r1) ** 2)
+    bodies = [body(0.0, r0, vx=vx, w=w0, m=m0, I=0.5 * m0 * r0 * r0),
+              body(x1, r1, vx=vx, w=w1, m=m1, I=0.5 * m1 * r1 * r1)]
+    contacts = [contact(C.KIND_ROUND, 0, 1, ra=r0, rb=r1, mu=mu, mode=modes[0]),
+                contact(C.KIND_PLANE, 0, -1, ra=r0, mu=mu, mode=modes[1]),
+                contact(C.KIND_PLANE, 1, -1, ra=r1, mu=mu, mode=modes[2])]
+    return Cluster(bodies, contacts, L=2 * (r0 + r1))
+
+
+def _modes_consistent(cl, tol=1e-9):
+    """Independent check of the forces written by the kernel for the modes in the table:
+    no pulling normal force, sticking forces in their cones, friction against the slip."""
+    F = sum(cl.b[i, C.CB_M] for i in range(cl.b.shape[0])) * G
+    for k in range(cl.nk):
+        mode = cl.c[k, C.CC_MODE]
+        if mode == C.MODE_LIFT:
+            continue
+        ln, lt, mu = cl.c[k, C.CC_LAMN], cl.c[k, C.CC_LAMT], cl.c[k, C.CC_MU]
+        if ln < -tol * F:
+            return f"contact {k} pulls: lam_N = {ln:.3g} N"
+        if mode == C.MODE_STICK and abs(lt) > mu * ln + tol * F:
+            return f"contact {k} sticks outside its cone: {lt:.3g} vs mu lam_N {mu * ln:.3g}"
+        if mode in (C.MODE_SLIP_POS, C.MODE_SLIP_NEG) and mu > 0.0:
+            vt = cl.rates(k)[3]
+            if mode * vt < -1e-9 * (abs(cl.b[:, C.CB_VX]).max() + 1e-3):
+                return f"contact {k} slides against its slip vT = {vt:.3g} m/s"
+    return None
+
+
+def test_jammed_disks_after_a_stop_are_refused_not_driven():
+    """The campaign scene's cluster: disk 0's floor slip stops (CE_STOP at its floor
+    contact). With disk 0 rolling, no mode of the two other contacts is consistent: the
+    disks wedge (pushing disk 1 harder presses it into the floor and its friction, mu = 1,
+    grows faster than the push: a Painleve-type jam): cluster_after_event says CS_NO_MODE.
+    The modes the old rule left (0 slides, 1 sticks, 2 slides) pull, and cluster_advance
+    refuses them (CS_INCONSISTENT) without moving anything."""
+    cl = side_by_side(0.219642456, -20.7370094, 10.2302977, 1.0)
+    assert cl.project() == C.CS_OK and cl.select() == C.CS_OK
+    modes = cl.c[:, C.CC_MODE].copy()
+    assert list(modes) == [C.MODE_SLIP_NEG, C.MODE_SLIP_POS, C.MODE_SLIP_POS]
+    e0 = cl.energy()
+    st, ev, k, t = cl.advance(0.0, 1.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_STOP, 1)
+    assert 5e-4 < t < 6e-4                          # the slip 0.0153 m/s stops
+    assert cl.energy() <= e0 + 1e-12 * e0           # sliding friction only dissipates
+    saved = (cl.b.copy(), cl.c.copy())
+    assert cl.after_event(ev, k) == C.CS_NO_MODE
+    assert cl.select() == C.CS_NO_MODE
+    # the old rule: contact 1 sticks, the others keep sliding; the forces pull
+    cl.b[:], cl.c[:] = saved
+    cl.c[1, C.CC_MODE] = C.MODE_STICK
+    assert cl.forces() == C.CS_OK
+    assert cl.c[0, C.CC_LAMN] < -1.0 and cl.c[2, C.CC_LAMN] < -1.0
+    b0, e1 = cl.b.copy(), cl.energy()
+    st, ev, k, t2 = cl.advance(t, t + 1.0)
+    assert st == C.CS_INCONSISTENT and t2 == t
+    assert np.allclose(cl.b[:, :6], b0[:, :6], rtol=0.0, atol=1e-12)
+    assert abs(cl.energy() - e1) <= 1e-12 * e1
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_random_side_by_side_and_stacked_disks_modes_after_events(seed):
+    """Campaign axis for the event rule: random two-disk clusters (side by side on the
+    floor, or one disk on the other), random radii, masses, spins and mu, run from event to
+    event: after every mode event the new modes are consistent (checked from the written
+    forces and the kinematics, independently of the kernel's own test) or CS_NO_MODE; no
+    pass starts inconsistent; the energy never rises beyond the integration tolerance."""
+    rng = np.random.default_rng(seed)
+    r0, r1 = rng.uniform(0.005, 0.05, 2)
+    m0, m1 = rng.uniform(0.01, 1.0, 2)
+    mu = rng.choice([0.1, 0.3, 1.0, 3.0])
+    V = 0.5
+    if seed % 2 == 0:
+        cl = side_by_side(rng.uniform(-V, V), *rng.uniform(-V, V, 2) / min(r0, r1), mu,
+                          r0, r1, m0, m1)
+    else:
+        phi = rng.uniform(-0.6, 0.6)
+        c1 = np.array([0.0, r0]) + (r0 + r1) * np.array([math.sin(phi), math.cos(phi)])
+        cl = Cluster([body(0.0, r0, vx=rng.uniform(-V, V), w=rng.uniform(-V, V) / r0, m=m0,
+                           I=0.5 * m0 * r0 * r0),
+                      body(*c1, w=rng.uniform(-V, V) / r1, m=m1, I=0.5 * m1 * r1 * r1)],
+                     [contact(C.KIND_PLANE, 0, -1, ra=r0, mu=mu, mode=C.MODE_SLIP_POS),
+                      contact(C.KIND_ROUND, 1, 0, ra=r1, rb=r0, mu=mu, mode=C.MODE_SLIP_POS)],
+                     L=2 * (r0 + r1))
+    assert cl.project() == C.CS_OK
+    if cl.select() != C.CS_OK:
+        return                                      # a jam at the start (named refusal)
+    assert _modes_consistent(cl) is None
+    escale = (m0 + m1) * (V * V + G * (r0 + r1))
+    e_prev, t = cl.energy(), 0.0
+    for n_ev in range(30):
+        st, ev, k, t = cl.advance(t, 0.5)
+        assert st in (C.CS_OK, C.CS_REST), st
+        e = cl.energy()
+        assert e <= e_prev + 1e-9 * escale, (n_ev, e - e_prev)
+        e_prev = e
+        if st == C.CS_REST or ev not in (C.CE_LEAVE, C.CE_SLIP, C.CE_STOP):
+            break
+        st = cl.after_event(ev, k)
+        assert st in (C.CS_OK, C.CS_NO_MODE), st
+        if st == C.CS_NO_MODE:
+            break
+        assert _modes_consistent(cl) is None
+        if np.any(cl.c[:cl.nk, C.CC_MODE] == C.MODE_LIFT):
+            break                                   # the stepper moves it to the candidates
