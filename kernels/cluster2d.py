@@ -126,8 +126,10 @@ Mode selection (``cluster_select_modes``, at the start of a phase, with every co
 contacts, in a fixed order: each contact's options are, when it slips (``|vT| > STICK_VTOL
 V``), slip along its slip then lift-off; when it does not, stick, slip +t, slip -t,
 lift-off (``mu = 0``: frictionless contact, lift-off); the combinations run
-lexicographically with the first contact's option varying slowest, and the first
-consistent one is returned: every active ``lam_N >= -FORCE_TOL F``, every sticking force
+lexicographically with the first contact's option varying slowest (after an event:
+ordered first by the number of contacts whose mode changes), and the first
+consistent one is returned (a sliding contact whose slip its current mode stops within
+``STOP_RTOL sqrt(L / |g|)`` counts as not slipping: near-simultaneous stops are one): every active ``lam_N >= -FORCE_TOL F``, every sticking force
 inside its cone (``|lam_T| <= mu lam_N + FORCE_TOL F``), every contact that starts to slip
 from ``vT = 0`` accelerating along its slip (``sig dvT/dt > ACC_TOL |g|``), every lifted
 contact not approaching (``g'' >= -ACC_TOL |g|``), with ``F = sum m |g|``. None:
@@ -280,6 +282,12 @@ PAINLEVE_RTOL = 1e-12   # slip's JN M^-1 (JN - mu sig JT) <= PAINLEVE_RTOL JN M^
 FORCE_TOL = 1e-10       # force consistency of a mode / rest, relative to F = sum m |g|
 ACC_TOL = 1e-10         # acceleration consistency of a mode, relative to |g|
 STICK_VTOL = 1e-9       # a slip |vT| <= STICK_VTOL V is zero (mode selection)
+STOP_RTOL = 1e-6        # a slip that its current mode's deceleration stops within
+#                         STOP_RTOL T (T = sqrt(L / |g|), or L / V without gravity) stops
+#                         now for the mode selection (its residual slip, <= |dvT/dt|
+#                         STOP_RTOL T, is removed by the velocity projection: kinetic energy
+#                         only taken away): the stops of a symmetric cluster, apart by the
+#                         round-off of their event times, are one transition
 REST_VTOL = 1e-10       # rest: |v| + |omega| L <= REST_VTOL sqrt(|g| L) for every body
 REST_ATOL = 1e-10       # rest: |a| + |alpha| L <= REST_ATOL |g| for every body
 FORCE_ARM = 1e-9        # force events starting below FORCE_ARM F are armed (module doc)
@@ -1026,12 +1034,31 @@ def _consistent(c, nk, w, la, nopt):
     return True
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _option_mode(w, sv, nopt, k, opt):
+    """The mode of option ``opt`` of contact k in the enumeration (``_enumerate``)."""
+    no = int(w[nopt + k])
+    if no == 1:
+        return w[sv + k]
+    if no == 2:
+        return w[sv + k] if opt == 0 else MODE_LIFT
+    if opt == 0:
+        return MODE_STICK
+    if opt == 1:
+        return MODE_SLIP_POS
+    if opt == 2:
+        return MODE_SLIP_NEG
+    return MODE_LIFT
+
+
 @njit(cache=True, _nrt=False)
-def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix):
+def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
     """The enumeration of ``cluster_select_modes`` with contact ``kfix`` held in mode
     ``mfix`` (its only option, no trend check: the caller's event rule chose it; ``kfix``
-    -1: every contact free). Returns CS_OK (modes and forces written), CS_NO_MODE or
-    CS_TOO_MANY_CONTACTS."""
+    -1: every contact free). ``prefer``: the combinations are tried in order of the number
+    of contacts whose mode differs from the table's current one (then in the fixed order):
+    after an event the modes that stay consistent are kept. Returns CS_OK (modes and
+    forces written), CS_NO_MODE or CS_TOO_MANY_CONTACTS."""
     if nk > KSEL_MAX:
         return CS_TOO_MANY_CONTACTS
     nb = bodies.shape[0]
@@ -1041,52 +1068,58 @@ def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix):
     ko = N_H + B_YC * NY
     sv = N_H + B_YA * NY        # per contact: its slip sign at the start (0: not slipping)
     nopt = N_H + B_YB * NY      # per contact: its number of options
+    cur = N_H + B_Y1 * NY       # per contact: its mode on entry
     V = w[H_V]
+    gl = w[H_G]
+    window = STOP_RTOL * (math.sqrt(L / gl) if gl > 0.0 else L / V)
+    # the slip accelerations in the current modes: a slip that stops within the window
+    # stops now (near-simultaneous stops of a symmetric cluster, module docstring)
+    rated = _forces(bodies, contacts, nk, w, yo, la, ko) == CS_OK
     total = 1
     for k in range(nk):
+        o = LA_K + k * LK_S
+        at = la[o + LK_AT] if rated else 0.0     # (_fill does not write LK_AT)
         _fill(contacts, k, w, yo, la, k)
-        vt = la[LA_K + k * LK_S + LK_VT]
+        vt = la[o + LK_VT]
+        w[cur + k] = contacts[k, CC_MODE]
+        mode = contacts[k, CC_MODE]
+        stopping = ((mode == MODE_SLIP_POS or mode == MODE_SLIP_NEG) and mode * vt > 0.0
+                    and vt * at < 0.0 and abs(vt) <= abs(at) * window)
         if k == kfix:
             w[sv + k] = mfix
             w[nopt + k] = 1.0
         elif contacts[k, CC_MU] == 0.0:
             w[sv + k] = 1.0     # frictionless: "slip" (lam_T = 0) or lift
             w[nopt + k] = 2.0
-        elif abs(vt) > STICK_VTOL * V:
+        elif abs(vt) > STICK_VTOL * V and not stopping:
             w[sv + k] = 1.0 if vt > 0.0 else -1.0
             w[nopt + k] = 2.0
         else:
             w[sv + k] = 0.0
             w[nopt + k] = 4.0
         total *= int(w[nopt + k])
-    for combo in range(total):
-        r = combo
-        for kk in range(nk):
-            k = nk - 1 - kk            # the last contact varies fastest
-            no = int(w[nopt + k])
-            opt = r % no
-            r //= no
-            if no == 1:
-                contacts[k, CC_MODE] = w[sv + k]
-            elif no == 2:
-                contacts[k, CC_MODE] = w[sv + k] if opt == 0 else MODE_LIFT
-            else:
-                if opt == 0:
-                    contacts[k, CC_MODE] = MODE_STICK
-                elif opt == 1:
-                    contacts[k, CC_MODE] = MODE_SLIP_POS
-                elif opt == 2:
-                    contacts[k, CC_MODE] = MODE_SLIP_NEG
-                else:
-                    contacts[k, CC_MODE] = MODE_LIFT
-        st = _forces(bodies, contacts, nk, w, yo, la, ko)
-        if st != CS_OK:
-            continue
-        if _consistent(contacts, nk, w, la, nopt):
-            for k in range(nk):
-                contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
-                contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
-            return CS_OK
+    for d in range(nk + 1 if prefer else 1):
+        for combo in range(total):
+            r = combo
+            diff = 0
+            for kk in range(nk):
+                k = nk - 1 - kk            # the last contact varies fastest
+                no = int(w[nopt + k])
+                mode = _option_mode(w, sv, nopt, k, r % no)
+                r //= no
+                if mode != w[cur + k] and k != kfix:
+                    diff += 1
+                contacts[k, CC_MODE] = mode
+            if prefer and diff != d:
+                continue
+            st = _forces(bodies, contacts, nk, w, yo, la, ko)
+            if st != CS_OK:
+                continue
+            if _consistent(contacts, nk, w, la, nopt):
+                for k in range(nk):
+                    contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+                    contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+                return CS_OK
     return CS_NO_MODE
 
 
@@ -1096,7 +1129,7 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
     by the enumeration of the module docstring; the modes go to ``CC_MODE`` (``MODE_LIFT``
     for the contacts that leave), the forces to ``CC_LAMN / CC_LAMT``. Returns CS_OK or
     CS_NO_MODE (modes left as the last tried) or CS_TOO_MANY_CONTACTS."""
-    return _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0)
+    return _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0, False)
 
 
 @njit(cache=True, _nrt=False)
@@ -1108,9 +1141,10 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     the cone, else slip reverses (``sig = -sign(lam_T)`` of the sticking trial). At an event
     the new mode is the one the trend calls for: the enumeration of
     ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
-    The other contacts' modes are then chosen again by the enumeration with contact k held
-    (a contact stopping can pull its neighbours' normal forces below zero: they lift); if
-    no combination is consistent with k's trend mode, by the full enumeration; none:
+    The other contacts keep their modes if that is consistent; else they are chosen again
+    by the enumeration with contact k held, changing as few modes as possible (a contact
+    stopping can pull its neighbours' normal forces below zero: they lift); if no
+    combination is consistent with k's trend mode, by the full enumeration; none:
     CS_NO_MODE. ``CE_GAP`` (an impact) and ``CE_FEATURE`` (the contact moves to another
     feature): nothing, the stepper's. Returns the status (forces written as by
     ``cluster_forces``)."""
@@ -1129,9 +1163,9 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
         mode = MODE_STICK
         if st == CS_OK and abs(lt) > contacts[k, CC_MU] * contacts[k, CC_LAMN]:
             mode = MODE_SLIP_NEG if lt > 0.0 else MODE_SLIP_POS
-    st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, k, mode)
+    st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, k, mode, True)
     if st == CS_NO_MODE:
-        st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0)
+        st = _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0, True)
     return st
 
 

@@ -135,8 +135,11 @@ projection: removes the round-off approach, never adds energy) and the modes are
 recorded as pivot2d's). Events: a contact's force reaching zero (event "release"; it becomes
 a candidate; when no disk-disk contact is left the cluster dissolves, each member settling
 on the plane it still touches, ``_settle``, or flying; the released pair is searched past
-its tangency, ``PR_REL``), stick/slip ("stick", "slide": ``cluster_after_event``; stick-slip
-chatter re-selects every mode, and ``CL_CHAT_MAX`` chattering events are ``PP_STICK_SLIP``),
+its tangency, ``PR_REL``), stick/slip ("stick", "slide": ``cluster_after_event``, which
+keeps the other contacts' modes when they stay consistent and else changes as few as it
+can, lifting the contacts whose force would pull, each logged "release"; none consistent:
+``PP_NO_MODE``, worded as the Painleve inconsistency it is; stick-slip chatter re-selects
+every mode, and ``CL_CHAT_MAX`` chattering events are ``PP_STICK_SLIP``),
 a candidate's gap closing (the cluster dissolves into that impact instant, its contacts in
 the instant's cluster at v_N = 0; the persistence rule then enters it again), rest
 (``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
