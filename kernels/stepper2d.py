@@ -3268,14 +3268,10 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
 
 
 @_inner
-def _cluster_dissolve(shapes, settle, t, st, tref, bint, bflt, verts, planes, grav, law_par,
-                      bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f,
-                      seg_t, seg_b, seg_s, cnt, err):
-    """End the cluster at t (states in cbod): every member flies from t, or (``settle``)
-    settles on a plane it still touches through an active contact (``_settle``: rest, roll
-    or slide on it). Records their segments. Returns 0 or an error code."""
+def _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark):
+    """The cluster ends at t: every member takes its state from cbod and flies from t
+    (marked); the cluster header is cleared. Returns the number of members."""
     n = cid[CL_N]
-    nb = st.shape[0]
     for r in range(n):
         i = cid[CL_HDR + r]
         for j in range(6):
@@ -3293,6 +3289,18 @@ def _cluster_dissolve(shapes, settle, t, st, tref, bint, bflt, verts, planes, gr
     cid[CL_LEAD] = -1
     cid[CL_EV] = cl.CE_NONE
     cid[CL_FROZEN] = 0
+    return n
+
+
+@_inner
+def _cluster_dissolve(shapes, settle, t, st, tref, bint, bflt, verts, planes, grav, law_par,
+                      bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f,
+                      seg_t, seg_b, seg_s, cnt, err):
+    """End the cluster at t (states in cbod): every member flies from t, or (``settle``)
+    settles on a plane it still touches through an active contact (``_settle``: rest, roll
+    or slide on it). Records their segments. Returns 0 or an error code."""
+    n = _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
+    nb = st.shape[0]
     for r in range(n):
         i = cid[CL_HDR + r]
         if settle:
@@ -3324,21 +3332,8 @@ def _cluster_to_instant(t, extra, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod,
     (and candidate ``extra`` >= 0) are scheduled at t, so that the impact step resolves
     them in one cluster of the instant (the closing contact with the held ones at
     v_N = 0). Segments: logged by the impact step (every member is marked)."""
-    n = cid[CL_N]
+    _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
     nb = st.shape[0]
-    for r in range(n):
-        i = cid[CL_HDR + r]
-        for j in range(6):
-            st[i, j] = cbod[r, j]
-        st[i, AX] = grav[0]
-        st[i, AY] = grav[1]
-        st[i, ALPHA] = 0.0
-        tref[i] = t
-        pm[i, M_MODE] = PM_FLIGHT
-        pm[i, M_AUX] = -1
-        tz[i] = INF
-        ttr[i] = INF
-        bmark[i] = 1
     for kk in range(cid[CL_NK] + 1):
         k = kk
         if kk == cid[CL_NK]:
@@ -3350,10 +3345,6 @@ def _cluster_to_instant(t, extra, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod,
             bp_t[cid[CL_HDR + int(ccon[k, cl.CC_A])], src] = t
         else:
             pr_t[-2 - src] = t
-    cid[CL_N] = 0
-    cid[CL_LEAD] = -1
-    cid[CL_EV] = cl.CE_NONE
-    cid[CL_FROZEN] = 0
 
 
 @_inner
