@@ -1218,24 +1218,43 @@ def _pv_slide(st, i, pv, k, fw):
     onset = math.inf                # the continuous onset (SLIP_ONSET_ANGLE) as a fallback
     ophi = phi0
     dphi = 2.0 * math.pi / N_SLIP_SCAN
-    Fa, Da, La = _slip_F(st, i, pv, k, fw, phi0, t1x, t1y, t1z, t2x, t2y, t2z)
+    # the scan starts at phi0, where a continuous onset's root lies (F(phi0) is zero up to
+    # round-off, exactly zero in a symmetric scene) and closes on the same value: the
+    # angle phi0 + 2 pi, evaluated again, can give F of the other sign by round-off, and
+    # the root would then be in no bracket (a capsule falling over, its end starting to
+    # slip: "no consistent stick/slip/lift-off state")
+    F0, D0, L0 = _slip_F(st, i, pv, k, fw, phi0, t1x, t1y, t1z, t2x, t2y, t2z)
+    Fa = F0
     pa = phi0
     for j in range(1, N_SLIP_SCAN + 1):
         pb = phi0 + j * dphi
-        Fb, Db, Lb = _slip_F(st, i, pv, k, fw, pb, t1x, t1y, t1z, t2x, t2y, t2z)
-        if (Fa <= 0.0 < Fb) or (Fb <= 0.0 < Fa) or Fa == 0.0:
+        if j < N_SLIP_SCAN:
+            Fb, Db, Lb = _slip_F(st, i, pv, k, fw, pb, t1x, t1y, t1z, t2x, t2y, t2z)
+        else:
+            Fb = F0
+        if Fa == 0.0:
+            r = pa          # a root at the bracket's end (not a sign change to bisect)
+        elif Fb != 0.0 and (Fa > 0.0) != (Fb > 0.0):
+            # bisection keeping F(lo) of Fa's sign (F(hi) of the other, or zero); a zero
+            # Fb is the next bracket's Fa == 0 root
+            pos = Fa > 0.0
             lo = pa
             hi = pb
-            flo = Fa
             for it in range(60):
                 mid = 0.5 * (lo + hi)
                 Fm, Dm, Lm = _slip_F(st, i, pv, k, fw, mid, t1x, t1y, t1z, t2x, t2y, t2z)
-                if (Fm > 0.0) == (flo > 0.0):
+                if Fm == 0.0:
                     lo = mid
-                    flo = Fm
+                    hi = mid
+                    break
+                if (Fm > 0.0) == pos:
+                    lo = mid
                 else:
                     hi = mid
             r = 0.5 * (lo + hi)
+        else:
+            r = math.nan
+        if r == r:
             Fr, Dr, Lr = _slip_F(st, i, pv, k, fw, r, t1x, t1y, t1z, t2x, t2y, t2z)
             d = abs(math.atan2(math.sin(r - phi0), math.cos(r - phi0)))
             if Dr > gsc and Lr > 0.0:
