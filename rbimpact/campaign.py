@@ -135,8 +135,11 @@ def _draw_law(rng):
     return label, name, params
 
 
-def draw_scene(dim, sseed):
-    """The parameters of one scene (a plain dict) from its seed ``sseed``."""
+def draw_scene(dim, sseed, planar=False):
+    """The parameters of one scene (a plain dict) from its seed ``sseed``. ``planar`` (3D
+    only): the same draw made planar (``_make_planar``)."""
+    if planar and dim != 3:
+        raise ValueError(f"draw_scene: planar scenes are 3D, got dim = {dim!r}")
     rng = np.random.default_rng(sseed)
     label, name, params = _draw_law(rng)
     layout = LAYOUTS[rng.integers(len(LAYOUTS))]
@@ -172,7 +175,29 @@ def draw_scene(dim, sseed):
             spec["orientation"] = ([h, 0.0, h, 0.0] if shape == "capsule"
                                    else [1.0, 0.0, 0.0, 0.0])
     spec["tilt"] = float(rng.uniform(0.2, 1.2))      # groove half-opening (rad from level)
+    if planar:
+        _make_planar(spec)
     return spec
+
+
+PLANAR_STREAM = 7
+"""Second word of the generator seed of a planar scene's pitch angle (``_make_planar``)."""
+
+
+def _make_planar(spec):
+    """The 3D draw made planar, in place: orientation a rotation about y by an angle drawn
+    from ``(seed, PLANAR_STREAM)`` (a resting body keeps its face or side down), velocity in
+    the xz plane, spin about y. The motion stays in the plane: exact zeros (a symmetric
+    contact force, a slip along x, F(phi0) = 0 in a slip-direction scan) where a random
+    draw has round-off, so a decision on the sign of round-off shows (the thin capsule
+    falling over of session 14 was such a scene)."""
+    spec["planar"] = True
+    if spec["layout"] != "resting":
+        th = float(np.random.default_rng([spec["seed"], PLANAR_STREAM]).uniform(0.0,
+                                                                                 2 * math.pi))
+        spec["orientation"] = [math.cos(0.5 * th), 0.0, math.sin(0.5 * th), 0.0]
+    spec["velocity"][1] = 0.0
+    spec["spin"] = [0.0, spec["spin"][1], 0.0]
 
 
 def _polygon_vertices(rng, L, aspect):
@@ -328,10 +353,12 @@ class DropRow:
     energy_gain: float
     wall: float
     note: str
+    planar: bool = False
 
     @property
     def reproducer(self):
         extra = " --bodies 2" if self.layout in PAIR_LAYOUTS else ""
+        extra += " --planar" if self.planar else ""
         return f"rbimpact stability --replay {self.dim}:{self.seed}{extra}"
 
     FIELDS = ("dim", "seed", "shape", "law", "layout", "policy", "e", "mu", "height",
@@ -744,17 +771,18 @@ MECHANICAL = ("Painleve",)
 """Words of a SimulationError message that name a real mechanical cause (a refusal)."""
 
 
-def run_drop(dim, sseed, spec=None, bodies=1):
-    """Build, run and check one scene (``bodies`` 1: a drop scene, ``draw_scene``; 2: a
-    two-body scene, ``draw_pair_scene``); returns a ``DropRow``."""
+def run_drop(dim, sseed, spec=None, bodies=1, planar=False):
+    """Build, run and check one scene (``bodies`` 1: a drop scene, ``draw_scene``, made
+    planar with ``planar``; 2: a two-body scene, ``draw_pair_scene``); returns a
+    ``DropRow``."""
     import warnings
     two = bodies == 2
     if spec is None:
-        spec = draw_pair_scene(dim, sseed) if two else draw_scene(dim, sseed)
+        spec = draw_pair_scene(dim, sseed) if two else draw_scene(dim, sseed, planar)
     p = spec["params"]
     row = dict(dim=dim, seed=int(sseed), shape=spec["shape"], law=spec["law"],
                layout=spec["layout"], policy=spec["policy"], e=p["e"], mu=p["mu"],
-               height=spec["height"])
+               height=spec["height"], planar=bool(spec.get("planar", False)))
     t0 = time.perf_counter()
     note = []
     try:
@@ -855,13 +883,17 @@ class CampaignReport:
                 w.writerow(r.fields())
 
 
-def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1):
+def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=False):
     """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
     seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
     each ``DropRow``. ``bodies``: 1 (the drop scenes) or 2 (the two-body axis,
-    ``draw_pair_scene``, its own seed stream ``pair_scene_seed``)."""
+    ``draw_pair_scene``, its own seed stream ``pair_scene_seed``). ``planar``: the planar
+    axis, the 3D drop scenes of the same seeds made planar (``_make_planar``; 3D, one body)."""
     if bodies not in (1, 2) or isinstance(bodies, bool):
         raise ValueError(f"drop_campaign: bodies must be 1 or 2, got {bodies!r}")
+    if planar and (bodies != 1 or dim not in (3, "3")):
+        raise ValueError(f"drop_campaign: the planar axis is 3D drop scenes (dim 3, bodies 1), "
+                         f"got dim = {dim!r}, bodies = {bodies!r}")
     if isinstance(n_scenes, bool) or not isinstance(n_scenes, (int, np.integer)) \
             or n_scenes < 1:
         raise ValueError(f"drop_campaign: n_scenes must be a positive integer, got "
@@ -874,7 +906,7 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1):
     seeder = pair_scene_seed if bodies == 2 else scene_seed
     for d in dims:
         for k in range(int(n_scenes)):
-            rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies))
+            rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies, planar=planar))
             if progress:
                 progress(rows[-1])
     return CampaignReport(rows, time.perf_counter() - t0)
@@ -893,9 +925,9 @@ def _progress_bar(total):
     return (lambda row: bar.update(1)), bar
 
 
-def replay_text(dim, sseed, bodies=1):
+def replay_text(dim, sseed, bodies=1, planar=False):
     """One scene, run again and explained: what was drawn, how it ended, the checks."""
-    spec = draw_pair_scene(dim, sseed) if bodies == 2 else draw_scene(dim, sseed)
+    spec = draw_pair_scene(dim, sseed) if bodies == 2 else draw_scene(dim, sseed, planar)
     row = run_drop(dim, sseed, spec, bodies=bodies)
     lines = [f"scene {dim}:{sseed}"]
     for k, v in spec.items():
@@ -909,8 +941,9 @@ def replay_text(dim, sseed, bodies=1):
 
 
 def main(args):
-    """``rbimpact stability --scenes N [--dim 2|3|both] [--seed S] [--out CSV]`` and
-    ``--replay DIM:SEED``: print the table; exit status 1 when a scene FAILs."""
+    """``rbimpact stability --scenes N [--dim 2|3|both] [--seed S] [--bodies 2] [--planar]
+    [--out CSV]`` and ``--replay DIM:SEED``: print the table; exit status 1 when a scene
+    FAILs."""
     if args.replay is not None:
         try:
             d, sd = args.replay.split(":")
@@ -920,14 +953,16 @@ def main(args):
         except ValueError:
             raise ValueError(f"--replay takes DIM:SEED with DIM 2 or 3 and a seed >= 0 (as "
                              f"printed by a failure), got {args.replay!r}") from None
-        text, row = replay_text(d, sd, getattr(args, "bodies", 1))
+        text, row = replay_text(d, sd, getattr(args, "bodies", 1),
+                                getattr(args, "planar", False))
         print(text)
         return 0 if row.verdict != "FAIL" else 1
     dims = 2 if args.dim == "both" and getattr(args, "bodies", 1) == 1 else 1
     cb, bar = _progress_bar(args.scenes * dims)
     try:
         report = drop_campaign(args.scenes, dim=args.dim, seed=args.seed, progress=cb,
-                               bodies=getattr(args, "bodies", 1))
+                               bodies=getattr(args, "bodies", 1),
+                               planar=getattr(args, "planar", False))
     finally:
         if bar is not None:
             bar.close()

@@ -253,6 +253,9 @@ def _parser():
     q.add_argument("--bodies", type=int, choices=(1, 2), default=1,
                    help="campaign: 1 body dropped (default) or 2 bodies thrown at each other "
                    "in flight (2D or 3D, issue 16)")
+    q.add_argument("--planar", action="store_true",
+                   help="campaign: the 3D drop scenes made planar (rotation about y, motion "
+                   "in the xz plane: exact zeros where random scenes have round-off)")
     q.set_defaults(func=_cmd_stability)
 
     q = sub.add_parser("sweep", help="run a scenario over a grid of parameters, laws and "
