@@ -196,6 +196,7 @@ from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  #
                         pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
                         touching_rate)
 from .dispatch import resolve_2d_as
+from .joint_polish import ENUM_MAX_K, enumerate2d, polish_ws
 from .routh import routh_2d_scalar
 from .flight2d import (ALPHA, ANGLE, AX, AY, OMEGA, VX, VY, X, Y, body_energy, fly_into,
                        fly_row)
@@ -1979,6 +1980,68 @@ def _jblock(c, d, bflt, c_i, c_f):
 SIMUL_ACCEPT_RTOL = 1e-9
 
 
+#: the finish of a joint solve whose sweeps cycle (_joint_finish): the semismooth Newton
+#: polish (joint_polish.polish_ws) to simul_tol, then the exact active sets
+#: (joint_polish.enumerate2d, at most ENUM_MAX_K contacts) checked to SIMUL_ACCEPT_RTOL
+#: times the largest pre-impact contact speed. The polish's workspace is Wb beyond the
+#: K contacts' W block: at most JOINT_FINISH_MAXK contacts (3 n <= 2 MAXC and
+#: 2 n + 9 <= 2 MAXC rows, n = 2K).
+JOINT_FINISH_MAXK = 5
+assert 3 * 2 * JOINT_FINISH_MAXK <= 2 * MAXC and 4 * JOINT_FINISH_MAXK + 9 <= 2 * MAXC
+
+
+@_inner
+def _joint_finish(members, K, c_i, c_f, law_par, Wb, Pb, vb, tb, tol, atol, dmax):
+    """Finish the joint solve of ``_joint`` when its Gauss-Seidel sweeps cycle. Gauss-Seidel
+    cycles when the two contacts of a body on two planes (a groove, a corner, a wall) are
+    redundant: W (4 x 4) has rank 3, its null vector z (a squeeze: impulses that change no
+    velocity) lies in both friction cones with mu large, and each sweep pushes the impulses
+    further along z without settling the velocities. Returns 1 (solved: ``Pb`` holds the
+    impulses), 2 (no solution exists: every active set of the contacts checked, a jam of
+    Newton restitution with Coulomb friction) or 0 (not decided). In order: the
+    semismooth Newton polish from the sweeps' iterate to ``tol`` (m/s); the sweeps'
+    own acceptance (their last change ``dmax`` <= ``atol``, m/s); the exact active sets
+    (``enumerate2d``, inequalities to ``atol``; among several solutions the one whose
+    velocities are nearest the sweeps' last ones)."""
+    if K > JOINT_FINISH_MAXK:
+        return 1 if dmax <= atol else 0
+    n = 2 * K
+    J = Wb[n:2 * n, 0:n]
+    A = Wb[n:2 * n, n:2 * n]
+    N = Wb[n:2 * n, 2 * n:3 * n]
+    r = Wb[2 * n, 0:K]
+    F = Wb[2 * n + 1, 0:n]
+    F2 = Wb[2 * n + 2, 0:n]
+    g = Wb[2 * n + 3, 0:n]
+    d = Wb[2 * n + 4, 0:n]
+    X = Wb[2 * n + 5, 0:n]
+    Y = Wb[2 * n + 6, 0:n]
+    v0 = Wb[2 * n + 7, 0:n]
+    mus = Wb[2 * n + 8, 0:K]
+    for a in range(K):
+        c = members[a]
+        v0[2 * a] = c_f[c, CF_VIN]
+        v0[2 * a + 1] = c_f[c, CF_VIT]
+        mus[a] = law_par[c_i[c, CI_LAW], P_MU]
+    solved = polish_ws(Wb, v0, tb, mus, Pb, K, tol, 2, r, F, F2, g, d, X, Y, J, A, N)
+    if not solved and dmax <= atol:
+        return 1
+    if not solved and K <= ENUM_MAX_K:
+        M = Wb[n:2 * n, 0:n + 1]
+        found, undecided = enumerate2d(Wb, v0, tb, mus, K, atol, vb, Pb, M, X)
+        if found == 0:
+            return 2 if undecided == 0 else 0
+        solved = True
+    if not solved:
+        return 0
+    # the impulses on their cones (the polish leaves round-off of tol outside)
+    for a in range(K):
+        pn = max(Pb[2 * a], 0.0)
+        Pb[2 * a] = pn
+        Pb[2 * a + 1] = min(max(Pb[2 * a + 1], -mus[a] * pn), mus[a] * pn)
+    return 1
+
+
 @_inner     # compiled on first use: only scenes with clusters
 def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, toli, ev_t,
            ev_i, ev_f, cnt, err):
@@ -2039,10 +2102,16 @@ def _joint(members, K, t, st, bflt, law_par, c_i, c_f, Wb, Pb, vb, tb, tolf, tol
         if dmax <= tol:
             converged = True
             break
-    if not converged and not dmax <= SIMUL_ACCEPT_RTOL * vmax:
+    jam = 0.0
+    if not converged:
+        rc = _joint_finish(members, K, c_i, c_f, law_par, Wb, Pb, vb, tb, tol,
+                           SIMUL_ACCEPT_RTOL * vmax, dmax)
+        converged = rc == 1
+        jam = 1.0 if rc == 2 else 0.0
+    if not converged:
         c = members[0]
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_PX], c_f[c, CF_PY], K,
-                 dmax, 0.0)
+                 dmax, jam)
         return ERR_PGS
     for a in range(K):
         c = members[a]

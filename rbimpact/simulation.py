@@ -582,6 +582,12 @@ class Simulation:
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[6])} resolutions {at}")
+        elif rc == k.ERR_PGS and err[7] == 1.0:
+            exc = SimulationError(
+                f"Painleve-type jam: simultaneous policy: the joint Newton-restitution/Coulomb "
+                f"impact of {int(err[5])} contacts of {body} {at} has no solution (every "
+                f"stick/slip/lift-off combination of the contacts checked: a jam of redundant "
+                f"frictional contacts); use policy='sequential'")
         elif rc == k.ERR_PGS:
             exc = SimulationError(f"simultaneous policy: the joint solve of {int(err[5])} "
                                   f"contacts of {body} {at} did not reach simul_tol in "
