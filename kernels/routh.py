@@ -786,6 +786,28 @@ def _poly_state(T, N, t):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _poly_state_s(T, N, t):
+    """``_poly_state`` and the series of |v_T| at t, in one interleaved Horner loop (the
+    Newton iterations of ``_wk_root``: one pass over the coefficients instead of two)."""
+    y1 = T[_R_X1, N]
+    y2 = T[_R_X2, N]
+    yp = T[_R_P, N]
+    q1 = T[_R_P1, N]
+    q2 = T[_R_P2, N]
+    yq = T[_R_Q, N]
+    ys = T[_R_S, N]
+    for k in range(N - 1, -1, -1):
+        y1 = y1 * t + T[_R_X1, k]
+        y2 = y2 * t + T[_R_X2, k]
+        yp = yp * t + T[_R_P, k]
+        q1 = q1 * t + T[_R_P1, k]
+        q2 = q2 * t + T[_R_P2, k]
+        yq = yq * t + T[_R_Q, k]
+        ys = ys * t + T[_R_S, k]
+    return y1, y2, yp, q1, q2, yq, ys
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _poly_d2(T, r, N, t):
     """Row r of T as a polynomial of degree N at t, with its first and second derivatives."""
     y = T[r, N]
@@ -865,15 +887,17 @@ def _poly_root(T, r, N, target, t0, h, g_h):
 
 
 @njit(cache=True, error_model="numpy")
-def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2):
+def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2, y1, y2, yp, q1,
+             q2, yq):
     """Root t in [t0, h] of Wk(t) = target (energetic termination), given Wk(t0) < target
     <= Wk(h) (``g_h = Wk(h) - target``), Wk from the work identity (``_wk_at``) on the
     series: safeguarded Newton (dWk/dtau = v_N s, d2Wk/dtau2 = v_N' s + v_N s') from the
     root of the quadratic model at t0, to ROOT_XTOL h or to the rounding level of the
-    identity (ROOT_NOISE)."""
+    identity (ROOT_NOISE). ``(y1, y2, yp, q1, q2, yq)`` is ``_poly_state(T, N, t0)``, which
+    the caller has (the compression end, or the step's start where it is the series'
+    constant terms exactly)."""
     lo = t0
     hi = h
-    y1, y2, yp, q1, q2, yq = _poly_state(T, N, t0)
     vN, dvN, _ = _poly_d2(T, _R_VN, N, t0)
     sv, ds, _ = _poly_d2(T, _R_S, N, t0)
     g0 = _wk_at(vN0, x01, x02, mu, vN, yp, y1, y2, q1, q2, yq) - target
@@ -882,14 +906,14 @@ def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2):
     t = _root_start(g0, vN * sv, dvN * sv + vN * ds, t0, h, g_h)
     noise = ROOT_NOISE * N * 2.220446049250313e-16
     for _ in range(ROOT_MAX_ITER):
-        y1, y2, yp, q1, q2, yq = _poly_state(T, N, t)
+        y1, y2, yp, q1, q2, yq, ys = _poly_state_s(T, N, t)
         vN = c0 + kap * yp + z1 * y1 + z2 * y2
         g = _wk_at(vN0, x01, x02, mu, vN, yp, y1, y2, q1, q2, yq) - target
         mag = (0.5 * (abs(vN0 * yp) + abs(vN * yp) + abs((x01 + y1) * q1)
                       + abs((x02 + y2) * q2)) + mu * abs(yq) + abs(target))
         if abs(g) <= noise * mag:
             return t                               # g is zero to rounding
-        dy = vN * _poly(T, _R_S, N, t)
+        dy = vN * ys
         t, lo, hi, done = _newton_safe(t, g, dy, lo, hi, h)
         if done:
             return t
@@ -1027,6 +1051,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             he = h                                 # end of this step
             have_h = False                         # y* below hold the state at he
             ev = 0                                 # 1: compression end, 2: termination
+            b1, b2, bp, bq1, bq2, bq = x1, x2, p, P1, P2, Q   # _poly_state(T, N, 0) exactly
             gh = _poly(T, _R_VN, N, h)
             if comp and gh >= 0.0:
                 t0 = _poly_root(T, _R_VN, N, 0.0, 0.0, h, gh)
@@ -1034,6 +1059,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
                 if he < h and rest == REST_NEWTON:
                     gh = _poly(T, _R_VN, N, he)
                 y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, t0)
+                b1, b2, bp, bq1, bq2, bq = y1, y2, yp, yq1, yq2, yq   # state at t0
                 comp = False
                 pc = yp
                 Wc = _wk_at(vN0, x01, x02, mu, c0 + kap * yp + z1 * y1 + z2 * y2, yp, y1, y2,
@@ -1059,7 +1085,7 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
                                 yq1, yq2, yq) - target
                     if gh >= 0.0:
                         t0 = _wk_root(T, N, target, t0, he, gh, vN0, x01, x02, mu, c0, kap, z1,
-                                      z2)
+                                      z2, b1, b2, bp, bq1, bq2, bq)
                         ev = 2
                 else:
                     gh = _poly(T, _R_P, N, he) - pf
