@@ -87,6 +87,17 @@ def touching_rate(rate, speed):
     return 0.0 if abs(rate) <= TOUCH_RTOL * speed else rate
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def touching_speed(speed, accel, reach):
+    """The speed scale (m/s) of a touching contact's rate, for ``touching_rate``: the speed
+    it is computed from (``speed``, m/s), and at least ``sqrt(|accel| reach)``, the speed
+    the body's acceleration (``accel``, m/s^2: gravity in flight) gives it over the contact
+    point's reach from its centre (``reach``, m). A body brought to rest within one instant
+    by alternating impacts has no speed of its own left to scale the round-off: a polygon
+    face flat against a wall (2:937134506) went on to 1e-323 m/s and stalled."""
+    return speed + math.sqrt(abs(accel) * reach)
+
+
 #: a body pair's normal speed at most PAIR_VN_RTOL times the speed it is computed from
 #: (|v_A| + |v_B| + |w_A| |r_A| + |w_B| |r_B|, m/s: the round-off of ``v_A - v_B``), or at
 #: most the joint solve's ``simul_tol`` (the residual it leaves at a contact), is zero:

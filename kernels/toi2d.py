@@ -26,6 +26,11 @@ Bounds used: vertex ``|d^2/ds^2 n.R p| <= |p| (omega_max^2 + |alpha|)``; ellipse
 with relative acceleration ``da``: ``|g''| <= (|dv| + |da| H)^2 / (r_A + r_B) + |da|`` over a
 window of length ``H`` (valid up to the first root, where the distance is >= r_A + r_B).
 
+Touching (``g <= 0`` within ``gap_tol``) at the search's start: the feature approaches only
+when its normal rate is below ``-decisions.TOUCH_RTOL`` times the speed the rate is computed
+from (the centre's speed plus ``|omega|`` times the feature's reach); a rate at that speed's
+round-off is zero, never read for its sign.
+
 Return convention: ``(s, code)`` with ``s`` the root (``inf`` if none in ``[0, S]``) and
 ``code`` one of ``TOI_OK``, ``TOI_MISSED`` (the gap is already below ``-gap_tol``: an event
 was missed or the body started inside), ``TOI_NOT_CONVERGED`` (iteration limit).
@@ -34,7 +39,7 @@ import math
 
 from numba import njit
 
-from .decisions import touching_rate
+from .decisions import touching_rate, touching_speed
 
 FEAT_VERTEX = 0
 FEAT_ELLIPSE = 1
@@ -225,9 +230,16 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
         K1 = max(ea, eb)
         K2 = abs(ea * ea - eb * eb) / min(ea, eb)
     rot = K2 > 0.0 and (st[5] != 0.0 or st[8] != 0.0)
+    # the speed scale of a touching rate (decisions.touching_speed): the centre's speed
+    # plus |omega| times the feature's reach, at least sqrt(|a| reach)
+    vt = touching_speed(math.hypot(st[3], st[4]) + abs(st[5]) * K1, math.hypot(st[6], st[7]),
+                        max(K1, rad))
     if not rot:
         # exact quadratic: the rotating part of the gap is constant
         g0, g1 = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, 0.0)
+        if g0 <= 0.0:
+            # touching: a rate at the round-off of the speed is zero (TOUCH_RTOL)
+            g1 = touching_rate(g1, vt)
         return quadratic_descending_root(g0, g1, na, S, gap_tol)
     wmax = abs(st[5]) + abs(st[8]) * S
     M = abs(na) + K2 * wmax * wmax + K1 * abs(st[8])
@@ -235,6 +247,11 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
     g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
     if g <= 0.0:
         code = TOI_MISSED if g < -gap_tol else TOI_OK
+        # touching: a rate at the round-off of its speed scale vt is zero
+        # (decisions.TOUCH_RTOL): a plastic impact leaves -1.1e-16 m/s at a vertex of a
+        # body spinning at 19 rad/s, and an impulse that small no longer changes the
+        # state: 2:2574756275 stalled on it
+        gd = touching_rate(gd, vt)
         if gd < 0.0 or code == TOI_MISSED:
             return 0.0, code
         g = 0.0
@@ -280,6 +297,10 @@ def disk_plane_toi(st, rad, nx, ny, d, S, gap_tol):
     (the loops compiled for disks only call this, not the general search). Returns
     ``(s, code)``."""
     g0, g1 = vertex_gap(st, 0.0, 0.0, rad, nx, ny, d, 0.0)
+    if g0 <= 0.0:
+        # touching: a rate at the round-off of the centre's speed is zero (TOUCH_RTOL)
+        g1 = touching_rate(g1, touching_speed(math.hypot(st[3], st[4]),
+                                              math.hypot(st[6], st[7]), rad))
     return quadratic_descending_root(g0, g1, nx * st[6] + ny * st[7], S, gap_tol)
 
 

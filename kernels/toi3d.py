@@ -36,7 +36,7 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .decisions import touching_rate
+from .decisions import touching_rate, touching_speed
 from .flight3d import RK_OK, ROT_GENERAL, pose_at, rotation_bounds
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK, _safe_step, \
     centres_quadratic_toi, quadratic_descending_root, window_step
@@ -114,8 +114,12 @@ def body_planes_toi(st, rk, axis, I1, I2, I3, ws, feats, f0, nf, rad, planes, sk
                 g0 = gc + nx * wx + ny * wy + nz * wz
                 gd0 = g1
                 if g0 <= 0.0:
-                    # touching: a rate at the round-off of the speed is zero (TOUCH_RTOL)
-                    gd0 = touching_rate(g1, math.sqrt(st[7] ** 2 + st[8] ** 2 + st[9] ** 2))
+                    # touching: a rate at the round-off of the speed is zero (TOUCH_RTOL;
+                    # its scale decisions.touching_speed)
+                    gd0 = touching_rate(g1, touching_speed(
+                        math.sqrt(st[7] ** 2 + st[8] ** 2 + st[9] ** 2),
+                        math.sqrt(st[13] ** 2 + st[14] ** 2 + st[15] ** 2),
+                        math.sqrt(px * px + py * py + pz * pz) + rad))
                 s, code = quadratic_descending_root(g0, gd0, na, S, gap_tol)
                 if code == TOI_MISSED:
                     return 0.0, p, k, TOI_MISSED
@@ -158,9 +162,13 @@ def body_planes_toi(st, rk, axis, I1, I2, I3, ws, feats, f0, nf, rad, planes, sk
                 if g <= 0.0:
                     if g < -gap_tol:
                         return s, p, k, TOI_MISSED
-                    # a rate at the round-off of the point's speed is zero (TOUCH_RTOL)
-                    gd = touching_rate(gd, math.sqrt(pose[7] ** 2 + pose[8] ** 2 + pose[9] ** 2)
-                                       + math.sqrt(ux * ux + uy * uy + uz * uz))
+                    # a rate at the round-off of the point's speed is zero (TOUCH_RTOL;
+                    # its scale decisions.touching_speed)
+                    gd = touching_rate(gd, touching_speed(
+                        math.sqrt(pose[7] ** 2 + pose[8] ** 2 + pose[9] ** 2)
+                        + math.sqrt(ux * ux + uy * uy + uz * uz),
+                        math.sqrt(pose[13] ** 2 + pose[14] ** 2 + pose[15] ** 2),
+                        math.sqrt(px * px + py * py + pz * pz) + rad))
                     if gd < 0.0:
                         return s, p, k, TOI_OK
                     g = 0.0

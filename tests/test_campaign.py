@@ -401,6 +401,33 @@ def test_3d_corner_left_on_a_wall_at_zero_normal_speed_does_not_stall():
     assert row.verdict == "OK", row.note
 
 
+@pytest.mark.parametrize("seed,why", [
+    (2574756275, "a plastic impact leaves -1.1e-16 m/s at a vertex of a polygon spinning at "
+                 "19 rad/s; the impulse of the next 'impact' no longer changes the state"),
+    (3564925253, "an ellipse on a wall, Smith e = 0: its boundary's round-off rate"),
+    (937134506, "a polygon face flat against a wall: alternating impacts at one instant drive "
+                "its speed to 1e-323 m/s, below any relative round-off"),
+])
+def test_2d_touching_feature_at_round_off_rate_does_not_stall(seed, why):
+    """2D: a touching feature's normal rate within decisions.TOUCH_RTOL of its speed scale
+    (decisions.touching_speed: the speed it is computed from, at least sqrt(|g| reach)) is
+    zero, never an approach; each of these scenes stalled ("more than stall_events
+    consecutive events at one instant") when the plane's time of impact read the sign of
+    that round-off."""
+    row = run_drop(2, seed)
+    assert row.verdict == "OK", (why, row.note)
+    assert row.penetration <= row.pen_tol
+
+
+def test_2d_ellipse_in_a_corner_at_round_off_rate_is_a_named_refusal():
+    """2:1694297867 (an ellipse, K&L e = 0, mu = 10, in a corner) stalled on a round-off
+    rate (as above); it now goes on to a state with no consistent contact force, refused
+    by name (Painleve), not a stall."""
+    row = run_drop(2, 1694297867)
+    assert row.verdict == "REFUSED", row.note
+    assert "Painleve" in row.note
+
+
 def test_3d_slip_that_stopped_growing_at_a_phase_start_sticks():
     """A box on an edge (Routh, e = 0.3, mu = 1): its first contact began to slip from
     sticking, then its second contact stuck and a new phase began with the first slip
