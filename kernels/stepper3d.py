@@ -93,8 +93,8 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
 * Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
   ``_wedge_rest``): when the impacts accumulate at three or more features on two planes
-  (a box with an edge on one groove plane and a corner on the other, a face and an edge;
-  or one corner on both) and every touching feature's contact point moves slower than
+  (a box with an edge on one groove plane and a corner on the other; or one corner on
+  both), or on a face of one plane while touching another (a face and an edge), and every touching feature's contact point moves slower than
   the accumulation speed, the body rests there if contact forces in the Coulomb cones
   hold it in static equilibrium (``groove3d.rest_forces``); its velocities are removed
   (events "contact", ``dE`` <= 0, and "rest"). An impulse on it releases it to flight.
@@ -3170,6 +3170,14 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                                              planes, grav, law_par, bp_law, pm, ttr, tz, tolf,
                                              pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
                                              pivot)
+                    if rc != 1:
+                        return rc
+                else:
+                    # a box or capsule on a face or side of p touching q too (a face on one
+                    # groove plane, an edge on the other): a rest on both when consistent
+                    rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                     bp_law, bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f,
+                                     cw)
                     if rc != 1:
                         return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,

@@ -169,5 +169,58 @@ def test_campaign_scene_rests_on_two_planes(seed):
 @pytest.mark.parametrize("seed", MOVING_SEEDS)
 def test_sliding_groove_scenes_still_refuse_loudly(seed):
     row = _run(seed)
-    assert row.verdict == "FAIL"
-    assert "not supported" in row.note
+    assert row.verdict == "FAIL" and row.status == "SimulationError"
+    assert "motion at three or more features on two planes" in row.note
+
+
+def _face_and_edge_scene(alpha, half, mu, drop=1e-9):
+    """The face-and-edge pose of ``_face_and_edge`` as a scene: the box (bottom face on
+    plane 1, upper-left edge on plane 2) placed ``drop`` (m) above both planes, e = 0."""
+    from rbimpact.laws import Law
+    from rbimpact.scene3d import Scene3D
+    from rbimpact.shapes3d import Box3D
+    from rbimpact.simulation3d import Simulation3D
+    arms, normals, *_ = _face_and_edge(alpha, half)
+    n1, n2 = normals[0], normals[4]
+    # body z along n1: a rotation by -alpha about y
+    q = (math.cos(-alpha / 2), 0.0, math.sin(-alpha / 2), 0.0)
+    # the centre x such that the face corners are at drop above plane 1 and the edge
+    # corners at drop above plane 2
+    A = np.array([n1[[0, 2]], n2[[0, 2]]])
+    xz = np.linalg.solve(A, [drop - n1 @ arms[0], drop - n2 @ arms[4]])
+    scene = Scene3D(gravity=(0.0, 0.0, -G))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(n1))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(n2))
+    scene.add_body(Box3D(tuple(2 * h for h in half)), M, (xz[0], 0.0, xz[1]), orientation=q)
+    return Simulation3D(scene, Law("kane_levinson", e=0.0, mu=mu))
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.5])
+def test_box_dropped_onto_face_and_edge_rests_there(mu):
+    """End to end: the box lands on its face and its edge at once and rests on both planes
+    (frictionless too: the pressure centre is inside the face), without sinking and
+    with the kinetic energy of the landing removed."""
+    alpha = math.radians(60.0)
+    half = (0.3, 0.1, 0.05)
+    sim = _face_and_edge_scene(alpha, half, mu)
+    res = sim.run(1.0)
+    assert res.status == "done"
+    ev = res.events
+    assert np.any(ev["kind"] == "rest")
+    t = np.linspace(0.0, 1.0, 201)
+    s = res.sample(t)
+    E = res.energy(t)
+    assert np.all(np.diff(E) <= 1e-12 * M * G * 0.3)
+    # no sinking: every corner stays above both planes (within the gap tolerance)
+    from rbimpact.kernels.flight3d import qrot
+    V = np.array([(sx * half[0], sy * half[1], sz * half[2])
+                  for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    arms, normals, *_ = _face_and_edge(alpha, half)
+    for k in range(len(t)):
+        x = s["position"][k, 0]
+        qq = s["orientation"][k, 0]
+        P = np.array([x + np.array(qrot(*qq, *v)) for v in V])
+        assert (P @ normals[0]).min() > -1e-9
+        assert (P @ normals[4]).min() > -1e-9
+    # at the end it has not moved from where it landed (within the drop)
+    assert np.linalg.norm(s["position"][-1, 0] - s["position"][0, 0]) < 1e-6
