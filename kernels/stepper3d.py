@@ -91,6 +91,15 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
+* Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
+  ``_wedge_rest``): when the impacts accumulate at three or more features on two planes
+  (a box with an edge on one groove plane and a corner on the other; or one corner on
+  both), or on a face of one plane while touching another (a face and an edge), and every touching feature's contact point moves slower than
+  the accumulation speed, the body rests there if contact forces in the Coulomb cones
+  hold it in static equilibrium (``groove3d.rest_forces``); its velocities are removed
+  (events "contact", ``dE`` <= 0, and "rest"). An impulse on it releases it to flight.
+  Otherwise (still moving: integrated contact at three or more points is not built; or
+  no consistent rest) the run stops with ``ERR_UNSUPPORTED``.
 * Three or more features of a box chattering on one plane (a face landing while spinning
   about the normal, or sliding): the body is snapped onto the face as above; when the
   energy removed exceeds the accumulation threshold (its spin) the event is "capture"
@@ -139,6 +148,7 @@ from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound
                         pair_persistence, pair_zero_speed, perforates, touching_rate)
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
+from .groove3d import rest_forces, rest_work_size
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
 from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2, contact_normal,
@@ -219,6 +229,9 @@ GROOVE_SIN = 1e-9
 GROOVE_RTOL = 1e-12
 #: _groove_enter's answer when the sphere slips on the groove's planes (integrate it)
 GROOVE_SLIPS = 2
+#: rest on several points on two or more planes (``_wedge_rest``, ``groove3d``): at most
+#: this many touching features are gathered (a box has 8 vertices, on two planes 16)
+WEDGE_MAXK = 16
 #: a sphere's contact point is at rest (it rolls) when its slip is below ROLL_RTOL times
 #: |v_T| + r |w| (dimensionless: the round-off of the slip, exactly zero in 2D)
 ROLL_RTOL = 1e-12
@@ -2656,6 +2669,11 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
     groove (PM_WEDGED) stays in it on the same rule (``_groove_enter``; ``GROOVE_SLIPS``
     is returned, nothing changed, when it now slips on the groove's planes)."""
     p = pm[i, M_PLANE]
+    if pm[i, M_MODE] == PM_WEDGED and bint[i, B_KIND] != SH_SPHERE:
+        # a box or capsule resting on several points of two planes (_wedge_rest) was hit:
+        # it flies, and its accumulation is decided again (_after_impact)
+        _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
+        return 0
     if pm[i, M_MODE] == PM_WEDGED:
         rc = _groove_enter(i, p, pm[i, M_FEAT], t, st, bflt, planes, grav, law_par, bp_law,
                            pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
@@ -3005,6 +3023,105 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
 
 
 @njit(cache=True)
+def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm, ttr,
+                tolf, ev_t, ev_i, ev_f, cnt, c_f, cw):
+    """Body i (a box or a capsule, in flight after the impacts at t) has impacts
+    accumulating on two or more planes at three or more features (or at one corner on both
+    planes): it rests there (mode PM_WEDGED, ``M_PLANE`` and ``M_FEAT`` the first two
+    planes; events "contact", ``dE`` the kinetic energy removed, and "rest") when
+
+    * every feature touching a plane that pushes it (gap within ``gap_tol``) has a contact
+      point moving slower than that plane's accumulation speed (``_vz2``; normal velocity
+      and slip, as ``_groove_enter``: a slip that slow sticks), and
+    * contact forces in their Coulomb cones hold it in static equilibrium at those points
+      (``groove3d.rest_forces``, within ``groove3d.REST_CONE_RTOL m |g|``).
+
+    Its velocities are then removed (never energy created; the pose is kept, every gap
+    within ``gap_tol``: no snap). Returns 0 (resting) or 1 (no consistent rest found:
+    nothing changed, the caller refuses the state). Allocates its small arrays (a mode
+    entry, once per rest, not the per-event path)."""
+    f0 = bint[i, B_FIRST]
+    nf = bint[i, B_COUNT]
+    rad = bflt[i, B_RADIUS]
+    m = bflt[i, B_MASS]
+    arms = np.empty((WEDGE_MAXK, 3))
+    nrm = np.empty((WEDGE_MAXK, 3))
+    mus = np.empty(WEDGE_MAXK)
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    K = 0
+    p1 = -1
+    p2 = -1
+    for p in range(planes.shape[0]):
+        if bp_off[i, p] != 0:
+            continue
+        nx = planes[p, 0]
+        ny = planes[p, 1]
+        nz = planes[p, 2]
+        gn = nx * grav[0] + ny * grav[1] + nz * grav[2]
+        if not gn < 0.0:
+            continue
+        vz2 = _vz2(tolf, -gn)
+        for k in range(nf):
+            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
+                              feats[f0 + k, 2])
+            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
+                 - planes[p, 3] - rad)
+            if g > tolf[TF_GAP_TOL]:
+                continue
+            cx = rx - rad * nx
+            cy = ry - rad * ny
+            cz = rz - rad * nz
+            ux, uy, uz = _point_vel(st, i, cx, cy, cz)
+            if not ux * ux + uy * uy + uz * uz <= vz2:
+                return 1        # this contact still bounces or slips: not a rest
+            if K == WEDGE_MAXK:
+                return 1
+            arms[K, 0] = cx
+            arms[K, 1] = cy
+            arms[K, 2] = cz
+            nrm[K, 0] = nx
+            nrm[K, 1] = ny
+            nrm[K, 2] = nz
+            mus[K] = law_par[bp_law[i, p], P_MU]
+            K += 1
+            if p1 < 0:
+                p1 = p
+            elif p != p1 and p2 < 0:
+                p2 = p
+    if K < 3 or p2 < 0:
+        return 1
+    f = np.empty((K, 3))
+    work = np.empty(rest_work_size(K))
+    code, margin = rest_forces(K, arms, nrm, mus, m, grav[0], grav[1], grav[2], f, work)
+    if code != 0:
+        return 1
+    e0 = _energy(st, bflt, grav, i)
+    _foot(c_f, cw, st, i, planes, p1)
+    vi0, vi1, vi2 = _contact_velocity_row(st, i, c_f, cw)
+    v0x = st[i, SV]
+    v0y = st[i, SV + 1]
+    v0z = st[i, SV + 2]
+    for j in range(3):
+        st[i, SV + j] = 0.0
+        st[i, SW + j] = 0.0
+        st[i, SA + j] = 0.0
+        st[i, SAL + j] = 0.0
+    pm[i, M_MODE] = PM_WEDGED
+    pm[i, M_PLANE] = p1
+    pm[i, M_FEAT] = p2
+    pm[i, M_AUX] = 0
+    ttr[i] = INF
+    P0 = -m * (v0x * c_f[cw, CF_N] + v0y * c_f[cw, CF_N + 1] + v0z * c_f[cw, CF_N + 2])
+    P1 = -m * (v0x * c_f[cw, CF_T1] + v0y * c_f[cw, CF_T1 + 1] + v0z * c_f[cw, CF_T1 + 2])
+    P2 = -m * (v0x * c_f[cw, CF_T2] + v0y * c_f[cw, CF_T2 + 1] + v0z * c_f[cw, CF_T2 + 2])
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, i, -1 - p1, PM_WEDGED, 0, c_f, cw, vi0, vi1,
+         vi2, 0.0, 0.0, 0.0, P0, P1, P2, _energy(st, bflt, grav, i) - e0)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p1, PM_WEDGED, 0, c_f, cw, 0.0, 0.0, 0.0,
+         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return 0
+
+
+@njit(cache=True)
 def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
                   tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
                   Ii, err, toli, pivot):
@@ -3055,6 +3172,14 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                                              pivot)
                     if rc != 1:
                         return rc
+                else:
+                    # a box or capsule on a face or side of p touching q too (a face on one
+                    # groove plane, an edge on the other): a rest on both when consistent
+                    rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                     bp_law, bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f,
+                                     cw)
+                    if rc != 1:
+                        return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
                          0.0)
                 return ERR_UNSUPPORTED
@@ -3068,6 +3193,10 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         p, K, k1, p2, k2, multi = _persist_candidates(i, st, bint, bflt, feats, planes, grav,
                                                       bp_off, tolf)
         if multi:
+            rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                             bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
+            if rc != 1:
+                return rc
             _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 5.0, 0.0, 0.0)
             return ERR_UNSUPPORTED
         if K >= 3 or (K == 2 and p2 == p and bint[i, B_KIND] == SH_CAPSULE):

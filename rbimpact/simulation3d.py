@@ -497,8 +497,9 @@ class Simulation3D:
                     3.0: "settling on one plane while touching another (a box or capsule "
                          "on a face or side, or a sphere still bouncing on the second): "
                          "persistent contact with two planes at once",
-                    5.0: "persistent contact on two or more planes at once at three or "
-                         "more features, or at one corner touching both",
+                    5.0: "motion at three or more features on two planes, or at one "
+                         "corner touching both, faster than the accumulation speed or "
+                         "with no rest in the friction cones",
                     4.0: "a sphere slipping along the groove of two planes (rolling on both "
                          "needs more friction, or its contact points slip faster than the "
                          "accumulation speed)"}.get(float(err[6]),

@@ -36,6 +36,7 @@ KNOWN_OPEN = {
     "3D persistent contact with two planes (a face on one while touching the other; three "
     "or more features on two), capsule rolling across its axis":
         r"persistent contact with two planes|persistent contact on two or more planes"
+        r"|motion at three or more features on two planes"
         r"|capsule on its side sliding across",
     "3D integrated contact limits": r"integrated contact of body|exceeded rot_max_steps",
 }
