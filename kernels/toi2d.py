@@ -28,8 +28,9 @@ window of length ``H`` (valid up to the first root, where the distance is >= r_A
 
 Touching (``g <= 0`` within ``gap_tol``) at the search's start: the feature approaches only
 when its normal rate is below ``-decisions.TOUCH_RTOL`` times the speed the rate is computed
-from (the centre's speed plus ``|omega|`` times the feature's reach); a rate at that speed's
-round-off is zero, never read for its sign.
+from: the centre's speed plus ``|omega|`` times the feature's reach, and at least
+``sqrt(|a| reach)``, ``decisions.touching_speed``; a rate at that speed's round-off is
+zero, never read for its sign.
 
 Return convention: ``(s, code)`` with ``s`` the root (``inf`` if none in ``[0, S]``) and
 ``code`` one of ``TOI_OK``, ``TOI_MISSED`` (the gap is already below ``-gap_tol``: an event
@@ -162,6 +163,15 @@ def window_step(s, g, gd, dvn, da, R, H, S, t0, rtol, atol):
 
 
 @njit(cache=True, _nrt=False, inline="always")
+def _touching_scale(st, arm, reach):
+    """The speed scale (m/s) of a touching feature's rate (``decisions.touching_speed``):
+    the centre's speed plus ``|omega|`` times the feature's ``arm`` (m: the bound K1 of the
+    rotating part of its gap), at least ``sqrt(|a| reach)`` (``reach`` m)."""
+    return touching_speed(math.hypot(st[3], st[4]) + abs(st[5]) * arm,
+                          math.hypot(st[6], st[7]), reach)
+
+
+@njit(cache=True, _nrt=False, inline="always")
 def vertex_gap(st, px, py, rad, nx, ny, d, s):
     """Gap (m) and its rate (m/s) at ``s`` of the point ``p`` (radius ``rad``) of a body."""
     h = 0.5 * s * s
@@ -230,16 +240,12 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
         K1 = max(ea, eb)
         K2 = abs(ea * ea - eb * eb) / min(ea, eb)
     rot = K2 > 0.0 and (st[5] != 0.0 or st[8] != 0.0)
-    # the speed scale of a touching rate (decisions.touching_speed): the centre's speed
-    # plus |omega| times the feature's reach, at least sqrt(|a| reach)
-    vt = touching_speed(math.hypot(st[3], st[4]) + abs(st[5]) * K1, math.hypot(st[6], st[7]),
-                        max(K1, rad))
     if not rot:
         # exact quadratic: the rotating part of the gap is constant
         g0, g1 = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, 0.0)
         if g0 <= 0.0:
             # touching: a rate at the round-off of the speed is zero (TOUCH_RTOL)
-            g1 = touching_rate(g1, vt)
+            g1 = touching_rate(g1, _touching_scale(st, K1, max(K1, rad)))
         return quadratic_descending_root(g0, g1, na, S, gap_tol)
     wmax = abs(st[5]) + abs(st[8]) * S
     M = abs(na) + K2 * wmax * wmax + K1 * abs(st[8])
@@ -247,11 +253,11 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
     g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
     if g <= 0.0:
         code = TOI_MISSED if g < -gap_tol else TOI_OK
-        # touching: a rate at the round-off of its speed scale vt is zero
+        # touching: a rate at the round-off of its speed scale is zero
         # (decisions.TOUCH_RTOL): a plastic impact leaves -1.1e-16 m/s at a vertex of a
         # body spinning at 19 rad/s, and an impulse that small no longer changes the
         # state: 2:2574756275 stalled on it
-        gd = touching_rate(gd, vt)
+        gd = touching_rate(gd, _touching_scale(st, K1, max(K1, rad)))
         if gd < 0.0 or code == TOI_MISSED:
             return 0.0, code
         g = 0.0
@@ -299,8 +305,7 @@ def disk_plane_toi(st, rad, nx, ny, d, S, gap_tol):
     g0, g1 = vertex_gap(st, 0.0, 0.0, rad, nx, ny, d, 0.0)
     if g0 <= 0.0:
         # touching: a rate at the round-off of the centre's speed is zero (TOUCH_RTOL)
-        g1 = touching_rate(g1, touching_speed(math.hypot(st[3], st[4]),
-                                              math.hypot(st[6], st[7]), rad))
+        g1 = touching_rate(g1, _touching_scale(st, 0.0, rad))
     return quadratic_descending_root(g0, g1, nx * st[6] + ny * st[7], S, gap_tol)
 
 
