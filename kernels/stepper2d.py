@@ -194,7 +194,7 @@ from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
 from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  # noqa: F401
                         pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
-                        touching_rate)
+                        touching_accel, touching_rate)
 from .dispatch import resolve_2d_as
 from .joint_polish import ENUM_MAX_K, enumerate2d, polish_ws
 from .routh import routh_2d_scalar
@@ -545,6 +545,15 @@ def _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes):
     rad = bflt[a, B_RADIUS]
     np_ = nx * c_f[c, CF_RAX] + ny * c_f[c, CF_RAY] + rad   # n . R p
     return gn - w * w * np_
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _reach(i, bint, bflt, c_f, c):
+    """Reach (m) of body i's plane contact c from its centre: the arm to the contact point
+    plus the rounding radius; an ellipse's larger semi-axis."""
+    if bint[i, B_KIND] == SH_ELLIPSE:
+        return max(bflt[i, B_EA], bflt[i, B_EB])
+    return math.hypot(c_f[c, CF_RAX], c_f[c, CF_RAY]) + bflt[i, B_RADIUS]
 
 
 # ------------------------------------------------------------------ candidates
@@ -2940,6 +2949,11 @@ def _holding(pivot, wedge, shapes, i, nc, t, st, bint, bflt, verts, planes, grav
             continue    # not two disks: checked by its next search (_pair_persists)
         vN, vT = _contact_velocity(st, c_i, c_f, c)
         acc = _gap_accel(st, bint, bflt, c_i, c_f, c, verts, grav, shapes)
+        if c_i[c, CI_TYPE] == 0:
+            # a plane contact's gap acceleration at its round-off is zero: not pushed
+            # into the plane, not held (decisions.touching_accel)
+            acc = touching_accel(acc, math.hypot(st[i, AX], st[i, AY]), st[i, OMEGA],
+                                 _reach(i, bint, bflt, c_f, c))
         if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
             if c_i[c, CI_TYPE] != 0 and cid[CL_PEND] < 0:
                 # two disks whose impacts accumulate: persistent contact (a cluster of

@@ -40,7 +40,7 @@ import math
 
 from numba import njit
 
-from .decisions import touching_rate, touching_speed
+from .decisions import TOUCH_RTOL, touching_rate, touching_speed
 
 FEAT_VERTEX = 0
 FEAT_ELLIPSE = 1
@@ -224,6 +224,34 @@ def feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s):
     return ellipse_gap(st, ea, eb, nx, ny, d, s)
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M, K1, wmax):
+    """A time (s) over which the rate ``gd`` (m/s, ``|gd| <= thr``) of a feature touching
+    at ``s`` stays above ``-thr``: ``(thr + gd) / M``, ``M`` the bound of ``|g''|``; for a
+    vertex also the root of ``gd + g''(s) h - M3 h^2 / 2 = -thr`` with its own ``g''(s)``
+    and ``M3 = K1 (wmax^3 + 3 |alpha| wmax)``, a bound of ``|g'''|`` (``g = n.x - d + n.R p
+    - rad``, x and the angle quadratic in s): a vertex touching at a third-order tangency
+    (a rod pivoting on its end, ``g'' = 0``) has a rate that falls as ``s^2``, not ``M s``."""
+    h = (thr + gd) / M if M > 0.0 else INF
+    if kind != FEAT_VERTEX:
+        return h
+    th = st[2] + st[5] * s + 0.5 * st[8] * s * s
+    w = st[5] + st[8] * s
+    c = math.cos(th)
+    sn = math.sin(th)
+    nr = nx * (c * px - sn * py) + ny * (sn * px + c * py)       # n . R p
+    njr = -nx * (sn * px + c * py) + ny * (c * px - sn * py)     # n . J R p
+    g2 = nx * st[6] + ny * st[7] + st[8] * njr - w * w * nr
+    M3 = K1 * (wmax * wmax * wmax + 3.0 * abs(st[8]) * wmax)
+    if M3 > 0.0:
+        h3 = (g2 + math.sqrt(g2 * g2 + 2.0 * M3 * (thr + gd))) / M3
+    elif g2 < 0.0:
+        h3 = (thr + gd) / -g2
+    else:
+        h3 = INF
+    return max(h, h3)
+
+
 @njit(cache=True, _nrt=False)
 def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, atol, gap_tol,
                       maxit):
@@ -249,6 +277,7 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
         return quadratic_descending_root(g0, g1, na, S, gap_tol)
     wmax = abs(st[5]) + abs(st[8]) * S
     M = abs(na) + K2 * wmax * wmax + K1 * abs(st[8])
+    scale = _touching_scale(st, K1, max(K1, rad))
     s = 0.0
     g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
     if g <= 0.0:
@@ -257,7 +286,7 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
         # (decisions.TOUCH_RTOL): a plastic impact leaves -1.1e-16 m/s at a vertex of a
         # body spinning at 19 rad/s, and an impulse that small no longer changes the
         # state: 2:2574756275 stalled on it
-        gd = touching_rate(gd, _touching_scale(st, K1, max(K1, rad)))
+        gd = touching_rate(gd, scale)
         if gd < 0.0 or code == TOI_MISSED:
             return 0.0, code
         g = 0.0
@@ -276,20 +305,31 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
                     if gd < 0.0:
                         return s, TOI_OK
                     g = 0.0
+    thr = TOUCH_RTOL * scale
     for _ in range(maxit):
-        h = _safe_step(g, gd, M)
         tol = atol + rtol * abs(t0 + s)
-        if h <= tol:
-            if gd < 0.0:
-                r = s + h
-                return (r if r <= S else INF), TOI_OK
-            h = tol  # tangency (grazing without crossing): step past it
+        if g == 0.0 and abs(gd) <= thr and thr > 0.0:
+            # touching at a round-off rate (an impact is a rate below -thr): |g''| <= M
+            # keeps the rate above -thr for (thr + gd) / M, over which the gap sinks at
+            # most thr h, kept within gap_tol / 2. A capsule flat on a wall that gravity
+            # does not push, sliding at a round-off spin, stepped tol at a time and never
+            # ended (2:441169314)
+            h = max(tol, min(_round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M,
+                                                  K1, wmax),
+                             0.5 * gap_tol / thr))
+        else:
+            h = _safe_step(g, gd, M)
+            if h <= tol:
+                if gd < 0.0:
+                    r = s + h
+                    return (r if r <= S else INF), TOI_OK
+                h = tol  # tangency (grazing without crossing): step past it
         s += h
         if s > S:
             return INF, TOI_OK
         g, gd = feature_gap(kind, st, px, py, rad, ea, eb, nx, ny, d, s)
         if g <= 0.0:
-            if gd < 0.0:
+            if touching_rate(gd, scale) < 0.0:
                 return s, TOI_OK
             g = 0.0
     return s, TOI_NOT_CONVERGED

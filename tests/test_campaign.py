@@ -420,6 +420,23 @@ def test_2d_touching_feature_at_round_off_rate_does_not_stall(seed, why):
     assert row.penetration <= row.pen_tol
 
 
+@pytest.mark.parametrize("seed, why", [
+    (441169314, "a capsule (C&R, e = 0) flat against a wall, sliding down it: its gap "
+                "acceleration -1.4e-20 m/s^2, omega^2 times the round-off of its tilt"),
+    (1307965570, "a rod flat against a wall, the same"),
+])
+def test_2d_body_flat_on_a_wall_gravity_does_not_push_flies_on(seed, why):
+    """2D: a body whose impacts left it flat against a wall that gravity does not push was
+    held on one end for the sign of a round-off gap acceleration and refused ("impacts
+    accumulate at a single contact point"). Read as zero (decisions.touching_accel) it is
+    not held; it slides down the wall, its ends touching at round-off rates, which the time
+    of impact now steps over in a few steps (toi2d._round_off_rate_time), not toi_atol at
+    a time for ever (2:441169314 then filled 20 GB with trajectory segments)."""
+    row = run_drop(2, seed)
+    assert row.verdict == "OK", (why, row.note)
+    assert row.penetration <= row.pen_tol
+
+
 def test_2d_ellipse_in_a_corner_at_round_off_rate_is_a_named_refusal():
     """2:1694297867 (an ellipse, K&L e = 0, mu = 10, in a corner) stalled on a round-off
     rate (as above); it now goes on to a state with no consistent contact force, refused
