@@ -40,7 +40,7 @@ import math
 
 from numba import njit
 
-from .decisions import TOUCH_RTOL, touching_rate, touching_speed
+from .decisions import TOUCH_RTOL, touching_accel, touching_rate, touching_speed
 
 FEAT_VERTEX = 0
 FEAT_ELLIPSE = 1
@@ -231,7 +231,9 @@ def _round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M, K1, wmax):
     vertex also the root of ``gd + g''(s) h - M3 h^2 / 2 = -thr`` with its own ``g''(s)``
     and ``M3 = K1 (wmax^3 + 3 |alpha| wmax)``, a bound of ``|g'''|`` (``g = n.x - d + n.R p
     - rad``, x and the angle quadratic in s): a vertex touching at a third-order tangency
-    (a rod pivoting on its end, ``g'' = 0``) has a rate that falls as ``s^2``, not ``M s``."""
+    (a rod pivoting on its end, ``g'' = 0``) has a rate that falls as ``s^2``, not ``M s``.
+    0 when the vertex is pushed into the plane (``g''`` below its round-off,
+    ``decisions.touching_accel``): it meets the plane now."""
     h = (thr + gd) / M if M > 0.0 else INF
     if kind != FEAT_VERTEX:
         return h
@@ -242,6 +244,8 @@ def _round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M, K1, wmax):
     nr = nx * (c * px - sn * py) + ny * (sn * px + c * py)       # n . R p
     njr = -nx * (sn * px + c * py) + ny * (c * px - sn * py)     # n . J R p
     g2 = nx * st[6] + ny * st[7] + st[8] * njr - w * w * nr
+    if touching_accel(g2, math.hypot(st[6], st[7]) + abs(st[8]) * K1, w, K1) < 0.0:
+        return 0.0      # pushed into the plane: an impact now
     M3 = K1 * (wmax * wmax * wmax + 3.0 * abs(st[8]) * wmax)
     if M3 > 0.0:
         h3 = (g2 + math.sqrt(g2 * g2 + 2.0 * M3 * (thr + gd))) / M3
@@ -313,10 +317,13 @@ def plane_feature_toi(kind, st, px, py, rad, ea, eb, nx, ny, d, t0, S, rtol, ato
             # keeps the rate above -thr for (thr + gd) / M, over which the gap sinks at
             # most thr h, kept within gap_tol / 2. A capsule flat on a wall that gravity
             # does not push, sliding at a round-off spin, stepped tol at a time and never
-            # ended (2:441169314)
-            h = max(tol, min(_round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M,
-                                                  K1, wmax),
-                             0.5 * gap_tol / thr))
+            # ended (2:441169314). A vertex pushed into the plane (its g'' below round-off)
+            # meets it one step on, as before
+            h = _round_off_rate_time(kind, st, px, py, nx, ny, s, gd, thr, M, K1, wmax)
+            if h == 0.0:
+                r = s + tol
+                return (r if r <= S else INF), TOI_OK
+            h = max(tol, min(h, 0.5 * gap_tol / thr))
         else:
             h = _safe_step(g, gd, M)
             if h <= tol:

@@ -34,21 +34,23 @@ def test_capsule_flat_on_a_wall_gravity_does_not_push_has_no_impact():
 
 def test_rod_pivoting_on_its_end_meets_the_wall_when_its_rate_leaves_round_off():
     """A rod upright on the wall x = 0 turning about its lower end (that end's normal rate
-    exactly 0, g'' = 0): its gap is -L (w s - sin w s), a third-order tangency, and its rate
-    -L w (1 - cos w s) passes -thr (thr = TOUCH_RTOL times the speed scale) at
-    s* = sqrt(2 thr / (L w^3)). The search reaches it in a few steps (a step bound from
-    |g''| alone needs ~1e5) and reports the impact there, not at the round-off instant."""
+    exactly 0, its gap acceleration 0 to round-off): its gap is -L (w s - sin w s), a
+    third-order tangency, and its rate -L w (1 - cos w s) passes -thr (thr = TOUCH_RTOL
+    times the speed scale) at s* = sqrt(2 thr / (L w^3)). The search steps there at once
+    (from the gap acceleration at 0 and the bound L w^3 of its derivative; a step from the
+    bound M of the gap acceleration alone, thr / M, needs ~1e5 steps) and reports the
+    impact there, the gap -L (w s*)^3 / 6."""
     w = 0.186
     st = np.array([0.0, 0.2, 0.5 * math.pi, -w * L, -0.97, w, 0.0, -G, 0.0])
-    scale = toi2d._touching_scale(st, L, L)
-    thr = TOUCH_RTOL * scale
+    thr = TOUCH_RTOL * toi2d._touching_scale(st, L, L)
     s_star = math.sqrt(2.0 * thr / (L * w ** 3))
     s, code = _toi(st, -L, 0.0, maxit=50)
     assert code == toi2d.TOI_OK
     assert s_star * (1.0 - 1e-6) <= s <= 1.5 * s_star, (s, s_star)
     g, gd = toi2d.vertex_gap(st, -L, 0.0, 0.0, 1.0, 0.0, 0.0, s)
-    assert gd < -thr and -1e-9 < g < 0.0
-    assert math.isclose(g, -L * (w * s - math.sin(w * s)), rel_tol=1e-3, abs_tol=1e-18)
+    assert gd < -(1.0 - 1e-6) * thr
+    # to the round-off of L cos(angle) near pi / 2 (1e-16 L)
+    assert math.isclose(g, -L * (w * s) ** 3 / 6.0, abs_tol=2e-16 * L), g
 
 
 def test_touching_accel_removes_round_off_only():
