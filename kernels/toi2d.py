@@ -30,7 +30,13 @@ Touching (``g <= 0`` within ``gap_tol``) at the search's start: the feature appr
 when its normal rate is below ``-decisions.TOUCH_RTOL`` times the speed the rate is computed
 from: the centre's speed plus ``|omega|`` times the feature's reach, and at least
 ``sqrt(|a| reach)``, ``decisions.touching_speed``; a rate at that speed's round-off is
-zero, never read for its sign.
+zero, never read for its sign. The same holds inside a plane feature's search: wherever the
+gap is at or below 0, an impact is a rate below ``-thr`` (``thr = TOUCH_RTOL`` times that
+speed), and a feature touching at a rate within ``thr`` is stepped over by the time its
+rate needs to fall below ``-thr`` (``_round_off_rate_time``; for a vertex from its own g''
+and the bound ``|p| (omega_max^3 + 3 |alpha| omega_max)`` of its third derivative), sinking
+at most ``gap_tol / 2`` meanwhile, unless it is pushed into the plane (g'' below its
+round-off, ``decisions.touching_accel``): then it meets the plane one step on.
 
 Return convention: ``(s, code)`` with ``s`` the root (``inf`` if none in ``[0, S]``) and
 ``code`` one of ``TOI_OK``, ``TOI_MISSED`` (the gap is already below ``-gap_tol``: an event
