@@ -3610,6 +3610,10 @@ def scene_features(bint, planes, grav, n_pairs):
             True if joint else None, True if shapes else None)
 
 
+#: the feature switches of the general loop, every mode compiled (``loop_for``)
+ALL_FEATURES = (True, True, PAIR_ALL, True, True)
+
+
 def loop_for(law, pivot=True, wedge=True, pair=True, joint=True, shapes=True):
     """The event loop compiled for one law (a ``LAW_*`` of ``common``, or ``LAW_ANY`` for a
     scene with several laws: dispatched per contact) and one pattern of the feature switches

@@ -3261,6 +3261,10 @@ def scene_features(bint, planes, grav, n_pairs):
     return tuple(True if on else None for on in (pivot, pair, pgen, joint))
 
 
+#: the feature switches of the general loop, every mode compiled (``scene_features``)
+ALL_FEATURES = (True, True, True, True)
+
+
 @njit(cache=True)
 def _not_compiled(err, t, i, feature):
     """A handler of ``feature`` reached in a loop compiled without it (``scene_features``

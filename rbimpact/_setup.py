@@ -14,7 +14,7 @@ from ._validate import choice, scene_energy_check, validate_run_args, validate_t
 from .kernels import codes
 from .laws import N_PARAMS
 
-__all__ = ["call_loop", "compiled_loop", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
+__all__ = ["call_loop", "check_loop", "compiled_loop", "loop_kind", "check_tolerances", "check_law", "check_run_args", "check_scene", "pack_laws", "run_status"]
 
 
 def check_tolerances(who, table, tolerances):
@@ -203,20 +203,47 @@ def run_status(k, rc):
 
 
 
+#: the environment variable that selects the event loop simulations run (``loop_kind``)
+LOOP_ENV = "RBIMPACT_LOOP"
+#: the event loops: "scene" (the default) is compiled for the scene's law and the modes it
+#: can reach, the least a new process compiles (issue 14); "general" has every law
+#: (dispatched per contact) and every mode: one compile serves every scene of a process
+#: or of a warm cache (the test suite, whose scenes reach 45 2D and 21 3D scene loops).
+#: Both give the same results, bit for bit (``tests/test_loop_kinds.py``).
+LOOP_KINDS = ("scene", "general")
+
+
+def loop_kind():
+    """The event loop simulations run, from ``$RBIMPACT_LOOP`` ("scene" when unset);
+    ``ValueError`` for any other value than those of ``LOOP_KINDS``."""
+    import os
+    return choice(f"${LOOP_ENV}", os.environ.get(LOOP_ENV, "scene"), LOOP_KINDS)
+
+
+def check_loop(who, loop):
+    """``loop`` (None, or one of ``LOOP_KINDS``) for the ``loop`` keyword of ``who``."""
+    return None if loop is None else choice(f"{who}: loop", loop, LOOP_KINDS)
+
+
 def compiled_loop(sim, k):
     """``(run_loop, switches)`` of a ``Simulation`` or ``Simulation3D`` ``sim`` with stepper
-    module ``k``: the event loop compiled for the scene's one law (``k.loop_for``; every
-    law when its contacts have different laws) and the scene's feature switches
-    (``k.scene_features``: the modes the loop compiles), found once per simulation
-    (issue 14). A stepper whose loop takes the switches as compile-time constants
-    (``k.SWITCHES_IN_LOOP``, 2D) gets them in ``loop_for``, and ``switches`` is empty;
-    otherwise they are the loop's last arguments (3D)."""
+    module ``k``, found once per simulation (at its first run): of kind ``sim.loop``, or
+    ``loop_kind()`` when that is None. The scene loop is compiled for the
+    scene's one law (``k.loop_for``; every law when its contacts have different laws) and
+    the scene's feature switches (``k.scene_features``: the modes the loop compiles); the
+    general loop for ``LAW_ANY`` and ``k.ALL_FEATURES``. A stepper whose loop takes the
+    switches as compile-time constants (``k.SWITCHES_IN_LOOP``, 2D) gets them in
+    ``loop_for``, and ``switches`` is empty; otherwise they are the loop's last arguments
+    (3D)."""
     loop = sim.__dict__.get("_loop_switches")
     if loop is None:
         from .kernels.dispatch import LAW_ANY
-        laws = {int(x) for x in sim._law_ids}
-        law = laws.pop() if len(laws) == 1 else LAW_ANY
-        switches = k.scene_features(sim._bint, sim._planes, sim._grav, len(sim._pairs))
+        if (sim.loop or loop_kind()) == "general":
+            law, switches = LAW_ANY, k.ALL_FEATURES
+        else:
+            laws = {int(x) for x in sim._law_ids}
+            law = laws.pop() if len(laws) == 1 else LAW_ANY
+            switches = k.scene_features(sim._bint, sim._planes, sim._grav, len(sim._pairs))
         if getattr(k, "SWITCHES_IN_LOOP", False):
             loop = (k.loop_for(law, *switches), ())
         else:

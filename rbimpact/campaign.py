@@ -771,10 +771,18 @@ MECHANICAL = ("Painleve",)
 """Words of a SimulationError message that name a real mechanical cause (a refusal)."""
 
 
-def run_drop(dim, sseed, spec=None, bodies=1, planar=False):
+def _loop_choice(who, loop):
+    """``loop`` if it is one of ``_setup.LOOP_KINDS``, else ``ValueError``."""
+    from ._setup import LOOP_KINDS
+    from ._validate import choice
+    return choice(f"{who}: loop", loop, LOOP_KINDS)
+
+
+def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
     """Build, run and check one scene (``bodies`` 1: a drop scene, ``draw_scene``, made
     planar with ``planar``; 2: a two-body scene, ``draw_pair_scene``); returns a
-    ``DropRow``."""
+    ``DropRow``. ``loop``: the event loop it runs on, "scene" or "general"
+    (``_setup.LOOP_KINDS``; the same results), None for ``$RBIMPACT_LOOP``'s."""
     import warnings
     two = bodies == 2
     if spec is None:
@@ -792,6 +800,8 @@ def run_drop(dim, sseed, spec=None, bodies=1, planar=False):
                        penetration=0.0, pen_tol=0.0, energy_gain=0.0,
                        wall=time.perf_counter() - t0,
                        note=f"scene not built: {type(exc).__name__}: {exc}"[:300])
+    if loop is not None:
+        sim.loop = _loop_choice("run_drop", loop)
     verdict, res = "OK", None
     try:
         with warnings.catch_warnings():
@@ -883,12 +893,14 @@ class CampaignReport:
                 w.writerow(r.fields())
 
 
-def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=False):
+def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=False,
+                  loop=None):
     """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
     seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
     each ``DropRow``. ``bodies``: 1 (the drop scenes) or 2 (the two-body axis,
     ``draw_pair_scene``, its own seed stream ``pair_scene_seed``). ``planar``: the planar
-    axis, the 3D drop scenes of the same seeds made planar (``_make_planar``; 3D, one body)."""
+    axis, the 3D drop scenes of the same seeds made planar (``_make_planar``; 3D, one body).
+    ``loop``: the event loop of every scene (``run_drop``)."""
     if bodies not in (1, 2) or isinstance(bodies, bool):
         raise ValueError(f"drop_campaign: bodies must be 1 or 2, got {bodies!r}")
     if planar and (bodies != 1 or dim not in (3, "3")):
@@ -898,6 +910,8 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=
             or n_scenes < 1:
         raise ValueError(f"drop_campaign: n_scenes must be a positive integer, got "
                          f"{n_scenes!r}")
+    if loop is not None:
+        _loop_choice("drop_campaign", loop)
     dims = {2: (2,), 3: (3,), "2": (2,), "3": (3,), "both": (2, 3)}.get(dim)
     if dims is None:
         raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")
@@ -906,7 +920,8 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=
     seeder = pair_scene_seed if bodies == 2 else scene_seed
     for d in dims:
         for k in range(int(n_scenes)):
-            rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies, planar=planar))
+            rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies, planar=planar,
+                                 loop=loop))
             if progress:
                 progress(rows[-1])
     return CampaignReport(rows, time.perf_counter() - t0)

@@ -142,8 +142,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import (Arena, call_loop, check_law, check_painleve, check_run_args, check_scene,
-                     check_tolerances, compiled_loop, pack_laws,
+from ._setup import (Arena, call_loop, check_law, check_loop, check_painleve, check_run_args,
+                     check_scene, check_tolerances, compiled_loop, pack_laws,
                      persistent_pair_message, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
@@ -237,6 +237,11 @@ class Simulation:
     paradox, ``W_NN - mu s W_NT <= 0`` -- takes an impact without collision, event
     "painleve"; "error": the run stops with status "painleve"; a
     Painleve state met otherwise, e.g. during an integrated slide, always stops the run),
+    ``loop`` (the compiled event loop, ``_setup.LOOP_KINDS``: "scene", compiled for this
+    scene's law and the contact modes it can reach, the fewest compiles for one scene;
+    "general", every law and mode, one compile for every scene of a process or of the warm
+    disk cache; both give the same results bit for bit; None, the default: the
+    ``RBIMPACT_LOOP`` environment variable, else "scene"; read at the first ``run``),
     and the tolerances of ``TOLERANCES`` (name: default, unit):
     rest_length 1e-10 m; zeno_speed None (m/s); gap_tol 1e-9 m; toi_rtol 1e-14;
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
@@ -253,7 +258,8 @@ class Simulation:
         return super().__new__(cls)
 
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
-                 ignore_unsupported_pairs=False, painleve="impact", **tolerances):
+                 ignore_unsupported_pairs=False, painleve="impact", loop=None,
+                 **tolerances):
         if not isinstance(scene, Scene2D):
             raise ValueError(f"Simulation: scene must be a Scene2D or a Scene3D, got {scene!r}")
         if not scene.bodies:
@@ -266,6 +272,7 @@ class Simulation:
         self.tolerances = tol
         self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
         self.painleve = check_painleve("Simulation", painleve)
+        self.loop = check_loop("Simulation", loop)
         self._pack(pair_laws or {})
         self._check_initial()
 

@@ -59,7 +59,8 @@ import warnings
 
 import numpy as np
 
-from ._setup import (call_loop, check_law, check_painleve, check_run_args, check_scene,
+from ._setup import (call_loop, check_law, check_loop, check_painleve, check_run_args,
+                     check_scene,
                      check_tolerances, compiled_loop, pack_laws,
                      persistent_pair_message, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
@@ -167,7 +168,8 @@ class Simulation3D:
     Keywords: ``policy`` ("simultaneous" or "sequential"), ``ignore_unsupported_pairs``
     (bool), ``capture`` (bool, default True: see the module docstring), ``painleve``
     ("impact", default, or "error": as for ``Simulation``; in 3D the impact without
-    collision is taken where impacts accumulate at one sliding point) and the tolerances
+    collision is taken where impacts accumulate at one sliding point), ``loop`` ("scene",
+    "general" or None: as for ``Simulation``) and the tolerances
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
@@ -178,7 +180,7 @@ class Simulation3D:
 
     def __init__(self, scene, law, pair_laws=None, *, policy="simultaneous",
                  ignore_unsupported_pairs=False, capture=True, painleve="impact",
-                 **tolerances):
+                 loop=None, **tolerances):
         if not isinstance(scene, Scene3D):
             raise ValueError(f"Simulation3D: scene must be a Scene3D, got {scene!r}")
         if not scene.bodies:
@@ -192,6 +194,7 @@ class Simulation3D:
         self.policy = policy
         self.capture = bool(capture)
         self.painleve = check_painleve("Simulation3D", painleve)
+        self.loop = check_loop("Simulation3D", loop)
         self.tolerances = tol
         self.ignore_unsupported_pairs = bool(ignore_unsupported_pairs)
         self._pack(pair_laws or {})
