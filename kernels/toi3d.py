@@ -36,8 +36,8 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .decisions import touching_rate, touching_speed
-from .flight3d import RK_OK, ROT_GENERAL, pose_at, rotation_bounds
+from .decisions import TOUCH_RTOL, touching_accel, touching_rate, touching_speed
+from .flight3d import RK_OK, ROT_GENERAL, ROT_SPHERICAL, pose_at, qrot, qrot_inv, rotation_bounds
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK, _safe_step, \
     centres_quadratic_toi, quadratic_descending_root, window_step
 
@@ -69,6 +69,49 @@ def tangent_basis(nx, ny, nz):
     by = nz * ax - nx * az
     bz = nx * ay - ny * ax
     return ax, ay, az, bx, by, bz
+
+
+@njit(cache=True, inline="always")
+def _round_off_rate_time(pose, rk, I1, I2, I3, nx, ny, nz, rx, ry, rz, gd, thr, wmax, almax,
+                         slack):
+    """A time (s) over which the rate ``gd`` (m/s, ``gd >= -thr``) of a feature point at
+    arm ``r = R p`` touching a plane ``n`` stays above ``-thr``: the root of
+    ``gd + g2 h - M3 h^2 / 2 = -thr`` with the point's own gap acceleration ``g2`` (m/s^2:
+    ``n . (a + al x r + w x (w x r))``, ``al`` the row's prescribed angular acceleration or
+    the torque-free ``I^-1 ((I w) x w)``) and ``M3 = |p| (wmax^3 + 3 almax wmax + (2 imax /
+    imin + 1) wmax almax)`` (times ``slack``), a bound of the gap's third derivative
+    (``|d al / ds| <= (2 imax / imin + 1) |w| |al|`` from Euler's equations). 0 when the point
+    is pushed into the plane (``g2`` below its round-off, ``decisions.touching_accel``): the
+    caller keeps its ``toi_atol`` steps there. The 3D counterpart of
+    ``toi2d._round_off_rate_time``: a box released from a pivot starts at a third-order
+    tangency, where ``toi_atol`` steps never reach the separation (3:3522406362)."""
+    wx, wy, wz = pose[10], pose[11], pose[12]
+    alx, aly, alz = pose[16], pose[17], pose[18]
+    if alx == 0.0 and aly == 0.0 and alz == 0.0 and rk != ROT_SPHERICAL:
+        q0, q1, q2, q3 = pose[3], pose[4], pose[5], pose[6]
+        bx, by, bz = qrot_inv(q0, q1, q2, q3, wx, wy, wz)
+        alx, aly, alz = qrot(q0, q1, q2, q3, (I2 - I3) * by * bz / I1,
+                             (I3 - I1) * bz * bx / I2, (I1 - I2) * bx * by / I3)
+    wr = wx * rx + wy * ry + wz * rz
+    w2 = wx * wx + wy * wy + wz * wz
+    nr = nx * rx + ny * ry + nz * rz
+    g2 = (nx * pose[13] + ny * pose[14] + nz * pose[15]
+          + nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz) + nz * (alx * ry - aly * rx)
+          + (nx * wx + ny * wy + nz * wz) * wr - nr * w2)
+    reach = math.sqrt(rx * rx + ry * ry + rz * rz)
+    al = math.sqrt(alx * alx + aly * aly + alz * alz)
+    lin = math.sqrt(pose[13] ** 2 + pose[14] ** 2 + pose[15] ** 2)
+    if touching_accel(g2, lin + al * reach, math.sqrt(w2), reach) < 0.0:
+        return 0.0
+    imin = min(I1, min(I2, I3))
+    imax = max(I1, max(I2, I3))
+    M3 = reach * slack * (wmax * wmax * wmax + 3.0 * almax * wmax
+                          + (2.0 * imax / imin + 1.0) * wmax * almax)
+    if M3 > 0.0:
+        return (g2 + math.sqrt(g2 * g2 + 2.0 * M3 * (thr + gd))) / M3
+    if g2 < 0.0:
+        return (thr + gd) / -g2
+    return INF
 
 
 @njit(cache=True)
@@ -164,14 +207,33 @@ def body_planes_toi(st, rk, axis, I1, I2, I3, ws, feats, f0, nf, rad, planes, sk
                         return s, p, k, TOI_MISSED
                     # a rate at the round-off of the point's speed is zero (TOUCH_RTOL;
                     # its scale decisions.touching_speed)
-                    gd = touching_rate(gd, touching_speed(
+                    scale = touching_speed(
                         math.sqrt(pose[7] ** 2 + pose[8] ** 2 + pose[9] ** 2)
                         + math.sqrt(ux * ux + uy * uy + uz * uz),
                         math.sqrt(pose[13] ** 2 + pose[14] ** 2 + pose[15] ** 2),
-                        math.sqrt(px * px + py * py + pz * pz) + rad))
+                        math.sqrt(px * px + py * py + pz * pz) + rad)
+                    thr = TOUCH_RTOL * scale
+                    gd0 = gd
+                    gd = touching_rate(gd, scale)
                     if gd < 0.0:
                         return s, p, k, TOI_OK
                     g = 0.0
+                    if thr > 0.0:
+                        # touching (or inside by at most gap_tol) at a rate above -thr, not
+                        # pushed into the plane: no impact while the rate stays above -thr
+                        # (a separating rate too: from a gap at -7.8e-13 m, safe steps from
+                        # a gap of 0 crept by 2 g' / M = 1.8e-13 s); the gap sinks at most
+                        # thr h meanwhile, kept within gap_tol / 2
+                        h = _round_off_rate_time(pose, rk, I1, I2, I3, nx, ny, nz, rx, ry, rz,
+                                                 gd0, thr, wmax, almax, slack)
+                        if h > 0.0:
+                            h = min(h, 0.5 * gap_tol / thr)
+                            if h < hmin:
+                                hmin = h
+                                hp = p
+                                hk = k
+                                hgd = 0.0
+                            continue
                 M = na + math.sqrt(px * px + py * py + pz * pz) * wb
                 h = _safe_step(g, gd, M)
                 if h < hmin:
