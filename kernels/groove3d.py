@@ -35,8 +35,8 @@ from numba import njit
 
 REST_CONE_RTOL = 1e-12
 """A force is in its cone when ``mu N - |T| >= -REST_CONE_RTOL m |g|`` and ``N >=
--REST_CONE_RTOL m |g|``, and the equilibrium residual ``|G f - b|`` is below the same
-(N: round-off of the force balance)."""
+-REST_CONE_RTOL m |g|``, and the equilibrium residual is below the same (N: round-off of
+the force balance; the residual's moments, N m, divided by the body's longest arm)."""
 REST_SHRINK = 1e-6
 """The iterates are projected onto the cones ``mu (1 - REST_SHRINK)`` shifted inwards by
 ``REST_SHRINK m |g| / K`` along the normal (dimensionless): a strictly feasible rest is
@@ -75,9 +75,10 @@ def _cone_project(fx, fy, fz, nx, ny, nz, mu, shift):
 
 
 @njit(cache=True)
-def _affine(K, arms, f, work, bx, by, bz):
+def _affine(K, arms, f, work, bx, by, bz, L):
     """Project f (in place) onto the equilibrium set G f = b (b = (bx, by, bz, 0, 0, 0));
-    work[0:36] holds the Cholesky factor of G G^T. Returns the residual |G f - b| before."""
+    work[0:36] holds the Cholesky factor of G G^T. Returns the residual before, in N: the
+    force residual and the moment residual (N m) divided by ``L`` (m, the longest arm)."""
     y = work[36:42]
     # residual G f - b
     for j in range(6):
@@ -94,9 +95,9 @@ def _affine(K, arms, f, work, bx, by, bz):
     y[0] -= bx
     y[1] -= by
     y[2] -= bz
-    res = 0.0
-    for j in range(6):
-        res += y[j] * y[j]
+    res = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
+    for j in range(3, 6):
+        res += (y[j] / L) ** 2
     # solve (L L^T) z = y
     for r in range(6):
         s = y[r]
@@ -174,7 +175,7 @@ def rest_forces(K, arms, normals, mu, m, gx, gy, gz, f, work):
         f[k, 0] = 0.0
         f[k, 1] = 0.0
         f[k, 2] = 0.0
-    _affine(K, arms, f, work, bx, by, bz)
+    _affine(K, arms, f, work, bx, by, bz, L)
     margin = -math.inf
     for it in range(REST_ITER + 1):
         # f is an equilibrium (to round-off): in the true cones?
@@ -194,12 +195,12 @@ def rest_forces(K, arms, normals, mu, m, gx, gy, gz, f, work):
                 sv[3 * k] = f[k, 0]
                 sv[3 * k + 1] = f[k, 1]
                 sv[3 * k + 2] = f[k, 2]
-            res = _affine(K, arms, f, work, bx, by, bz)
+            res = _affine(K, arms, f, work, bx, by, bz, L)
             for k in range(K):
                 f[k, 0] = sv[3 * k]
                 f[k, 1] = sv[3 * k + 1]
                 f[k, 2] = sv[3 * k + 2]
-            if res <= tol * max(1.0, L):
+            if res <= tol:
                 return 0, margin
         if it == REST_ITER:
             break
@@ -207,5 +208,5 @@ def rest_forces(K, arms, normals, mu, m, gx, gy, gz, f, work):
             f[k, 0], f[k, 1], f[k, 2] = _cone_project(
                 f[k, 0], f[k, 1], f[k, 2], normals[k, 0], normals[k, 1], normals[k, 2],
                 mu[k] * (1.0 - REST_SHRINK), shift)
-        _affine(K, arms, f, work, bx, by, bz)
+        _affine(K, arms, f, work, bx, by, bz, L)
     return 1, margin
