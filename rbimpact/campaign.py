@@ -771,13 +771,6 @@ MECHANICAL = ("Painleve",)
 """Words of a SimulationError message that name a real mechanical cause (a refusal)."""
 
 
-def _loop_choice(who, loop):
-    """``loop`` if it is one of ``_setup.LOOP_KINDS``, else ``ValueError``."""
-    from ._setup import LOOP_KINDS
-    from ._validate import choice
-    return choice(f"{who}: loop", loop, LOOP_KINDS)
-
-
 def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
     """Build, run and check one scene (``bodies`` 1: a drop scene, ``draw_scene``, made
     planar with ``planar``; 2: a two-body scene, ``draw_pair_scene``); returns a
@@ -801,7 +794,8 @@ def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
                        wall=time.perf_counter() - t0,
                        note=f"scene not built: {type(exc).__name__}: {exc}"[:300])
     if loop is not None:
-        sim.loop = _loop_choice("run_drop", loop)
+        from ._setup import check_loop
+        sim.loop = check_loop("run_drop", loop)
     verdict, res = "OK", None
     try:
         with warnings.catch_warnings():
@@ -910,8 +904,8 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=
             or n_scenes < 1:
         raise ValueError(f"drop_campaign: n_scenes must be a positive integer, got "
                          f"{n_scenes!r}")
-    if loop is not None:
-        _loop_choice("drop_campaign", loop)
+    from ._setup import check_loop
+    check_loop("drop_campaign", loop)
     dims = {2: (2,), 3: (3,), "2": (2,), "3": (3,), "both": (2, 3)}.get(dim)
     if dims is None:
         raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")

@@ -60,8 +60,7 @@ import warnings
 import numpy as np
 
 from ._setup import (call_loop, check_law, check_loop, check_painleve, check_run_args,
-                     check_scene,
-                     check_tolerances, compiled_loop, pack_laws,
+                     check_scene, check_tolerances, compiled_loop, pack_laws,
                      persistent_pair_message, run_status)
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
