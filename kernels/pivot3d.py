@@ -903,7 +903,8 @@ def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
         st = int(cp[CP_S1 + k])
         if st == 1:
             vals[2 + k] = fw[FW_MARG + k] - vfl[2 + k]
-        else:
+        elif contact_mu(cp, k) != 0.0:
+            # (a frictionless contact slides for ever: no stop event)
             co = FW_C1 + 3 * k
             c = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2)
             vals[4 + k] = c - cp[CP_EPS]

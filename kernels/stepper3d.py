@@ -84,8 +84,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   normal speed below ``sqrt(2 |g''| rest_length)`` (or ``zeno_speed``) while their gap
   accelerates into it, the impacts would accumulate there (a corner or an edge the body
   tumbles over, a cap it rocks on; or one feature on each of two planes, in a groove or
-  a corner; three or more features on two planes, or one sharp corner on both:
-  ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by normal impulses
+  a corner, or a corner or cap held on the floor with another against a wall that
+  gravity does not press, ``_second_plane``; three or more features on two planes, or one
+  sharp corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by normal impulses
   (event "pivot", ``dE`` reported) and the body moves with those features held on their
   planes, each sticking or sliding under Coulomb friction, integrated with error
   control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
@@ -151,8 +152,8 @@ from .routh import routh_3d_scalar
 from .groove3d import rest_forces, rest_work_size
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
-from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2, contact_normal,
-                      contact_plane, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
+from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2,
+                      contact_mu, contact_normal, contact_plane, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
                       CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
                       FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE,
                       PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
@@ -1448,7 +1449,7 @@ def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
     kmin = -1
     cmin = vmax
     for k in range(int(pv[i, CP_K])):
-        if pv[i, CP_S1 + k] != 0.0:
+        if pv[i, CP_S1 + k] != 0.0 or contact_mu(pv[i], k) == 0.0:
             continue
         _pv_frame(c_f, cw, st, i, pv, k)
         vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
@@ -1479,7 +1480,7 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     for k in range(int(pv[i, CP_K])):
         uo = CP_U1 + 3 * k
         if pv[i, CP_S1 + k] == 0.0 and pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 \
-                and pv[i, uo + 2] == 0.0:
+                and pv[i, uo + 2] == 0.0 and contact_mu(pv[i], k) != 0.0:
             _pv_frame(c_f, cw, st, i, pv, k)
             vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
             if v1 * v1 + v2 * v2 <= pv[i, CP_EPS] ** 2:
@@ -1664,12 +1665,16 @@ def _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, 
 def _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii):
     """Each held contact of body i slides along its own slip (no stored direction) when
     that slip exceeds slip_eps, else sticks, its slip removed by ``_pv_unslip``; decided
-    in order (``_pv_unslip`` reads the statuses already set)."""
+    in order (``_pv_unslip`` reads the statuses already set). A frictionless contact
+    (mu = 0) always slides: it has no sticking state (its force is normal whatever the
+    slip; sticking would add a tangential constraint no force can hold)."""
     K = int(pv[i, CP_K])
     eps = pv[i, CP_EPS]
     for k in range(K):
         pv[i, CP_S1 + k] = 0.0
     for k in range(K):
+        if contact_mu(pv[i], k) == 0.0:
+            continue
         _pv_frame(c_f, cw, st, i, pv, k)
         vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
         c = math.sqrt(v1 * v1 + v2 * v2)
@@ -1866,8 +1871,9 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
     second feature row, unsupported?): one plane with any count, or two features on two
-    planes (a groove, a corner); more features on two or more planes, or one sharp corner
-    on two planes (a single point held twice), are unsupported."""
+    planes (a groove, a corner; or one feature on a pressed plane and one on a wall,
+    ``_second_plane``); more features on two or more planes, or one sharp corner on two
+    planes (a single point held twice), are unsupported."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
@@ -1879,6 +1885,7 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     cnt = 0
     k1 = -1
     k2 = -1
+    acc1 = 0.0
     multi = False
     for p in range(planes.shape[0]):
         if bp_off[i, p] != 0:
@@ -1907,17 +1914,64 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
             if cnt == 0:
                 bp = p
                 k1 = f0 + k
+                acc1 = acc
             elif cnt == 1:
                 bp2 = p
                 k2 = f0 + k
             elif p != bp or bp2 != bp:
                 multi = True
             cnt += 1
+    if cnt == 1:
+        bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, k1, acc1, bp_off, tolf)
+        if k2 >= 0:
+            cnt = 2
     if cnt < 2:
         bp2 = bp
     elif cnt == 2 and k2 == k1 and rad == 0.0:
         multi = True        # one corner on both planes (the groove's edge): one point
     return bp, cnt, k1, bp2, k2, multi
+
+
+@njit(cache=True)
+def _second_plane(i, st, bint, bflt, feats, planes, p, k1, acc1, bp_off, tolf):
+    """A feature of body i touching a plane other than p (a wall: gravity need not press
+    it) while feature row k1 is held on p: (plane, feature row), or (-1, -1). It counts
+    when it is the only one, within gap_tol, with a normal speed below the accumulation
+    speed of the held contact (``_vz2`` of ``acc1``, k1's gap acceleration in m/s^2). Its
+    free gap acceleration is not asked for: the held contact's force is what drives a
+    corner or a cap into a wall while the body pivots (3:2681066003: a capsule rocking on
+    the floor against a wall took an impact on each every 1e-6 s). Whether the wall's
+    contact stays is the held motion's decision: ``_pv_validate`` drops a contact whose
+    force would pull."""
+    f0 = bint[i, B_FIRST]
+    nf = bint[i, B_COUNT]
+    rad = bflt[i, B_RADIUS]
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    vz2 = _vz2(tolf, -acc1)
+    bq = -1
+    kq = -1
+    for q in range(planes.shape[0]):
+        if q == p or bp_off[i, q] != 0:
+            continue
+        nx = planes[q, 0]
+        ny = planes[q, 1]
+        nz = planes[q, 2]
+        for k in range(nf):
+            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
+                              feats[f0 + k, 2])
+            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
+                 - planes[q, 3] - rad)
+            if g > tolf[TF_GAP_TOL]:
+                continue
+            ux, uy, uz = _point_vel(st, i, rx, ry, rz)
+            vn = nx * ux + ny * uy + nz * uz
+            if not vn * vn < vz2:
+                continue
+            if kq >= 0:
+                return -1, -1       # two or more: not a pivot on two points
+            bq = q
+            kq = f0 + k
+    return bq, kq
 
 
 # ------------------------------------------------------------------ rest configurations
