@@ -146,17 +146,18 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PR_CHECK, PR_HIT, PR_OFF, PR_ON)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
 from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound,
-                        pair_persistence, pair_zero_speed, perforates, touching_rate)
+                        pair_persistence, pair_zero_speed, perforates, touching_accel,
+                        touching_rate)
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
 from .groove3d import rest_forces, rest_work_size
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
 from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2,
-                      contact_mu, contact_normal, contact_plane, CP_EPS, CP_F1, CP_F2, CP_G, CP_I, CP_K, CP_L, CP_M,
-                      CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD, CP_S1, CP_S2, CP_U1, CP_U2,
-                      FW_B1, FW_F1, FW_LAM, FW_MARG, N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE,
-                      PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
+                      contact_mu, contact_normal, contact_plane, CP_EPS, CP_F1, CP_F2, CP_G,
+                      CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD,
+                      CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL, FW_B1, FW_F1, FW_LAM, FW_MARG,
+                      N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
                       PW_JAM, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
                       FW_C1, slip_growth)
@@ -1669,19 +1670,64 @@ def _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii):
     (mu = 0) always slides: it has no sticking state (its force is normal whatever the
     slip; sticking would add a tangential constraint no force can hold)."""
     K = int(pv[i, CP_K])
-    eps = pv[i, CP_EPS]
     for k in range(K):
         pv[i, CP_S1 + k] = 0.0
     for k in range(K):
-        if contact_mu(pv[i], k) == 0.0:
-            continue
-        _pv_frame(c_f, cw, st, i, pv, k)
-        vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
-        c = math.sqrt(v1 * v1 + v2 * v2)
-        if c <= eps:
-            pv[i, CP_S1 + k] = 1.0
-            if c > 0.0:
-                _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+        _pv_stick_or_slip_one(st, i, bflt, pv, k, c_f, cw, Ii)
+
+
+@njit(cache=True)
+def _pv_stick_or_slip_one(st, i, bflt, pv, k, c_f, cw, Ii):
+    """Held contact k of body i (status sliding on entry) sticks when its slip is at most
+    slip_eps and it has friction, its slip removed by ``_pv_unslip``; else it slides."""
+    if contact_mu(pv[i], k) == 0.0:
+        return
+    _pv_frame(c_f, cw, st, i, pv, k)
+    vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
+    c = math.sqrt(v1 * v1 + v2 * v2)
+    if c <= pv[i, CP_EPS]:
+        pv[i, CP_S1 + k] = 1.0
+        if c > 0.0:
+            _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
+
+
+@njit(cache=True)
+def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
+    """Body i held at one contact (``pv``, validated); feature row kq touches plane q (a
+    wall candidate of ``_second_plane``). When the held motion accelerates that feature's
+    gap into q (beyond round-off, ``decisions.touching_accel``), q holds it too: its normal
+    velocity is removed with the first's (``_pv_zero_normals``), it sticks or slides.
+    Returns whether it was added (then validate again)."""
+    pivot_forces(st[i], pv[i], fw)
+    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
+    sx, sy, sz = qrot(q0, q1, q2, q3, feats[kq, 0], feats[kq, 1], feats[kq, 2])
+    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
+    alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
+    ws = wx * sx + wy * sy + wz * sz
+    w2 = wx * wx + wy * wy + wz * wz
+    ax = fw[FW_A] + aly * sz - alz * sy + wx * ws - sx * w2
+    ay = fw[FW_A + 1] + alz * sx - alx * sz + wy * ws - sy * w2
+    az = fw[FW_A + 2] + alx * sy - aly * sx + wz * ws - sz * w2
+    acc = planes[q, 0] * ax + planes[q, 1] * ay + planes[q, 2] * az
+    reach = math.sqrt(sx * sx + sy * sy + sz * sz)
+    # the scale of the terms acc is computed from: |a_cm| + |alpha| reach (+ w^2 reach)
+    body = (math.sqrt(fw[FW_A] ** 2 + fw[FW_A + 1] ** 2 + fw[FW_A + 2] ** 2)
+            + math.sqrt(alx * alx + aly * aly + alz * alz) * reach)
+    if not touching_accel(acc, body, math.sqrt(w2), reach) < 0.0:
+        return False
+    for j in range(3):
+        pv[i, CP_N2 + j] = planes[q, j]
+        pv[i, CP_P2 + j] = feats[kq, j]
+        pv[i, CP_U2 + j] = 0.0
+    pv[i, CP_D2] = planes[q, 3]
+    pv[i, CP_MU2] = law_par[bp_law[i, q], P_MU]
+    pv[i, CP_PLANE2] = q
+    pv[i, CP_F2] = kq
+    pv[i, CP_K] = 2.0
+    pv[i, CP_S2] = 0.0
+    _pv_zero_normals(st, i, bflt, pv, Ii)
+    _pv_stick_or_slip_one(st, i, bflt, pv, 1, c_f, cw, Ii)
+    return True
 
 
 @njit(cache=True)
@@ -1694,7 +1740,11 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
     contact (event "pivot"). One sliding contact with no consistent force (Painleve) takes
     an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
     the body then flies off (return 2) or, leaving slower than the accumulation speed, is
-    held again (once). Returns 0, 1 (no contact can persist), 2 or an error."""
+    held again (once). With K == 1, kf2 >= 0 is a wall candidate on plane p2
+    (``_second_plane``), held too when the motion on kf1 drives it into p2
+    (``_pv_add_wall``). Returns 0, 1 (no contact can persist), 2 or an error."""
+    pwall = p2
+    kwall = kf2 if K == 1 else -1
     if K < 2:
         p2 = p
     pv[i, CP_M] = bflt[i, B_MASS]
@@ -1737,6 +1787,9 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
                         cw, Ii, ev_t, ev_i, ev_f, cnt, False)):
         # (validation may have dropped one of two contacts: the one left is contact 0)
         rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
+    if rc == 0 and kwall >= 0 and pv[i, CP_K] == 1.0 and _pv_add_wall(
+            i, pwall, kwall, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
+        rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if rc != 0:
         return rc
     pm[i, M_MODE] = PM_PIVOT
@@ -1871,9 +1924,9 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
     second feature row, unsupported?): one plane with any count, or two features on two
-    planes (a groove, a corner; or one feature on a pressed plane and one on a wall,
-    ``_second_plane``); more features on two or more planes, or one sharp corner on two
-    planes (a single point held twice), are unsupported."""
+    planes (a groove, a corner); more features on two or more planes, or one sharp corner
+    on two planes (a single point held twice), are unsupported. With one feature, the
+    second plane and feature are a wall candidate (``_second_plane``) or (plane, -1)."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
@@ -1922,10 +1975,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
                 multi = True
             cnt += 1
     if cnt == 1:
+        # a wall candidate (or -1): held by _pivot_enter if the held motion drives it in
         bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, k1, acc1, bp_off, tolf)
-        if k2 >= 0:
-            cnt = 2
-    if cnt < 2:
+        if k2 < 0:
+            bp2 = bp
+    elif cnt < 2:
         bp2 = bp
     elif cnt == 2 and k2 == k1 and rad == 0.0:
         multi = True        # one corner on both planes (the groove's edge): one point
@@ -1940,9 +1994,8 @@ def _second_plane(i, st, bint, bflt, feats, planes, p, k1, acc1, bp_off, tolf):
     speed of the held contact (``_vz2`` of ``acc1``, k1's gap acceleration in m/s^2). Its
     free gap acceleration is not asked for: the held contact's force is what drives a
     corner or a cap into a wall while the body pivots (3:2681066003: a capsule rocking on
-    the floor against a wall took an impact on each every 1e-6 s). Whether the wall's
-    contact stays is the held motion's decision: ``_pv_validate`` drops a contact whose
-    force would pull."""
+    the floor against a wall took an impact on each every 1e-6 s). Whether it is held is
+    the held motion's decision (``_pv_add_wall``)."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
