@@ -864,8 +864,14 @@ def contact_accel(y, fw, k):
     with ``w x (w x s) = w (w.s) - s |w|^2``."""
     ro = FW_R1 + 3 * k
     so = FW_S1 + 3 * k
-    rx, ry, rz = fw[ro], fw[ro + 1], fw[ro + 2]
-    sx, sy, sz = fw[so], fw[so + 1], fw[so + 2]
+    return point_accel(y, fw, fw[ro], fw[ro + 1], fw[ro + 2], fw[so], fw[so + 1], fw[so + 2])
+
+
+@njit(cache=True, inline="always")
+def point_accel(y, fw, rx, ry, rz, sx, sy, sz):
+    """Acceleration (m/s^2, world) of the material point at arm ``r`` (m) of the body in
+    state ``y`` under the forces in ``fw``: ``a_cm + alpha x r + w x (w x s)``, ``s`` the
+    arm whose centripetal term applies (a feature centre; ``r`` its contact point)."""
     wx, wy, wz = y[10], y[11], y[12]
     alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
     ws = wx * sx + wy * sy + wz * sz

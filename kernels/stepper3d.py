@@ -160,6 +160,7 @@ from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_P
                       N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
                       PW_JAM, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
+                      point_accel,
                       FW_C1, slip_growth)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
@@ -1699,21 +1700,17 @@ def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f
     velocity is removed with the first's (``_pv_zero_normals``), it sticks or slides.
     Returns whether it was added (then validate again)."""
     pivot_forces(st[i], pv[i], fw)
-    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
-    sx, sy, sz = qrot(q0, q1, q2, q3, feats[kq, 0], feats[kq, 1], feats[kq, 2])
-    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
-    alx, aly, alz = fw[FW_AL], fw[FW_AL + 1], fw[FW_AL + 2]
-    ws = wx * sx + wy * sy + wz * sz
-    w2 = wx * wx + wy * wy + wz * wz
-    ax = fw[FW_A] + aly * sz - alz * sy + wx * ws - sx * w2
-    ay = fw[FW_A + 1] + alz * sx - alx * sz + wy * ws - sy * w2
-    az = fw[FW_A + 2] + alx * sy - aly * sx + wz * ws - sz * w2
+    sx, sy, sz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], feats[kq, 0],
+                      feats[kq, 1], feats[kq, 2])
+    # the feature centre's acceleration (its contact point's normal part is the same)
+    ax, ay, az = point_accel(st[i], fw, sx, sy, sz, sx, sy, sz)
     acc = planes[q, 0] * ax + planes[q, 1] * ay + planes[q, 2] * az
     reach = math.sqrt(sx * sx + sy * sy + sz * sz)
     # the scale of the terms acc is computed from: |a_cm| + |alpha| reach (+ w^2 reach)
     body = (math.sqrt(fw[FW_A] ** 2 + fw[FW_A + 1] ** 2 + fw[FW_A + 2] ** 2)
-            + math.sqrt(alx * alx + aly * aly + alz * alz) * reach)
-    if not touching_accel(acc, body, math.sqrt(w2), reach) < 0.0:
+            + math.sqrt(fw[FW_AL] ** 2 + fw[FW_AL + 1] ** 2 + fw[FW_AL + 2] ** 2) * reach)
+    w = math.sqrt(st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2)
+    if not touching_accel(acc, body, w, reach) < 0.0:
         return False
     for j in range(3):
         pv[i, CP_N2 + j] = planes[q, j]
@@ -1918,6 +1915,21 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, law_par, bp_law, pm, ttr, tz,
     return _pivot_settled(rc, i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw)
 
 
+@njit(cache=True, inline="always")
+def _feature_contact(st, i, feats, f, planes, p, rad):
+    """Feature row f of body i (radius rad, m) against plane p: (gap (m), world arm of the
+    feature centre (m, 3 values), normal velocity of that point (m/s))."""
+    rx, ry, rz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], feats[f, 0],
+                      feats[f, 1], feats[f, 2])
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
+         - planes[p, 3] - rad)
+    ux, uy, uz = _point_vel(st, i, rx, ry, rz)
+    return g, rx, ry, rz, nx * ux + ny * uy + nz * uz
+
+
 @njit(cache=True)
 def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     """Features of body i (in flight) that touch a plane pushing it with a normal speed
@@ -1930,7 +1942,6 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
-    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
     wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
     alx, aly, alz = _free_alpha(st, i, bflt)
     bp = -1
@@ -1949,14 +1960,9 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
         if not (nx * grav[0] + ny * grav[1] + nz * grav[2] < 0.0):
             continue
         for k in range(nf):
-            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
-                              feats[f0 + k, 2])
-            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
-                 - planes[p, 3] - rad)
+            g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
             if g > tolf[TF_GAP_TOL]:
                 continue
-            ux, uy, uz = _point_vel(st, i, rx, ry, rz)
-            vn = nx * ux + ny * uy + nz * uz
             acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
             acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
                     + nz * (alx * ry - aly * rx))
@@ -1999,25 +2005,16 @@ def _second_plane(i, st, bint, bflt, feats, planes, p, k1, acc1, bp_off, tolf):
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
-    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
     vz2 = _vz2(tolf, -acc1)
     bq = -1
     kq = -1
     for q in range(planes.shape[0]):
         if q == p or bp_off[i, q] != 0:
             continue
-        nx = planes[q, 0]
-        ny = planes[q, 1]
-        nz = planes[q, 2]
         for k in range(nf):
-            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
-                              feats[f0 + k, 2])
-            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
-                 - planes[q, 3] - rad)
+            g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, q, rad)
             if g > tolf[TF_GAP_TOL]:
                 continue
-            ux, uy, uz = _point_vel(st, i, rx, ry, rz)
-            vn = nx * ux + ny * uy + nz * uz
             if not vn * vn < vz2:
                 continue
             if kq >= 0:
@@ -3154,7 +3151,6 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
     arms = np.empty((WEDGE_MAXK, 3))
     nrm = np.empty((WEDGE_MAXK, 3))
     mus = np.empty(WEDGE_MAXK)
-    q0, q1, q2, q3 = st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3]
     K = 0
     p1 = -1
     p2 = -1
@@ -3169,10 +3165,7 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
             continue
         vz2 = _vz2(tolf, -gn)
         for k in range(nf):
-            rx, ry, rz = qrot(q0, q1, q2, q3, feats[f0 + k, 0], feats[f0 + k, 1],
-                              feats[f0 + k, 2])
-            g = (nx * (st[i, SX] + rx) + ny * (st[i, SX + 1] + ry) + nz * (st[i, SX + 2] + rz)
-                 - planes[p, 3] - rad)
+            g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
             if g > tolf[TF_GAP_TOL]:
                 continue
             cx = rx - rad * nx
