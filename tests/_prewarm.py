@@ -1,0 +1,75 @@
+"""Warm Numba's on-disk cache for the test suite, one list of compiles per process.
+
+The suite's slowest compiles are independent of one another: the general event loop of
+each dimension (``$RBIMPACT_LOOP=general``, set by ``conftest``) and the many-body
+engine's entries ``gas_entries.entries_for(D, law, sleep)`` the suite runs. One pytest
+process compiles them one after the other on one core; ``conftest`` runs this script in
+``PREWARM_WORKERS`` processes at once before the first test, each compiling its share
+into the cache, where the suite then loads them. It changes no result: a compile the
+warm-up misses happens in the test that needs it, as before.
+
+``python tests/_prewarm.py K N`` runs the tasks ``K, K + N, K + 2N, ...`` of ``TASKS``
+(the heaviest first, so that the shares balance) and prints one line per task (its wall
+seconds).
+"""
+import sys
+import time
+
+#: (name, dimension, what): "loop" runs a small scene on the general loop and samples it
+#: (the loop, its sampler); ("gas", law, sleep) runs a small gas of that law and sleep
+#: option. Ordered by decreasing compile time (measured on the development machine: the
+#: loops 150-250 s each, a gas entry 40-100 s).
+TASKS = (
+    ("loop", 2, None),
+    ("loop", 3, None),
+    ("gas", 2, ("kane_levinson", True)),
+    ("gas", 3, ("kane_levinson", True)),
+    ("gas", 2, ("kane_levinson", False)),
+    ("gas", 3, ("kane_levinson", False)),
+    ("gas", 2, ("chatterjee_ruina", True)),
+)
+
+
+def _loop(dim):
+    from rbimpact import Law
+    if dim == 2:
+        from rbimpact.scene import Scene2D
+        from rbimpact.shapes import Disk
+        from rbimpact.simulation import Simulation
+        sc = Scene2D()
+        sc.add_floor()
+        sc.add_body(Disk(0.1), 1.0, (0.0, 0.3))
+        sim = Simulation(sc, Law("kane_levinson", e=0.5, mu=0.3), loop="general")
+    else:
+        from rbimpact.scene3d import Scene3D
+        from rbimpact.shapes3d import Sphere
+        from rbimpact.simulation3d import Simulation3D
+        sc = Scene3D()
+        sc.add_floor()
+        sc.add_body(Sphere(0.1), 1.0, (0.0, 0.0, 0.3))
+        sim = Simulation3D(sc, Law("kane_levinson", e=0.5, mu=0.3), loop="general")
+    res = sim.run(0.5)
+    res.sample([0.0, 0.25])
+    res.energy([0.0, 0.25])
+
+
+def _gas(dim, law, sleep):
+    from rbimpact.manybody import random_gas, run_gas
+    params = {"mu": 0.3} if law == "chatterjee_ruina" else {}
+    s = random_gas(8, dim=dim, packing=0.05, law=law, e=0.7, gravity=1.0, seed=0, **params)
+    run_gas(s, max_impacts=50, sleep=sleep)
+
+
+def main(k, n):
+    for kind, dim, arg in TASKS[k::n]:
+        t0 = time.perf_counter()
+        if kind == "loop":
+            _loop(dim)
+        else:
+            _gas(dim, *arg)
+        print(f"prewarm {kind} {dim}D {arg or ''}: {time.perf_counter() - t0:.1f} s",
+              flush=True)
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]), int(sys.argv[2]))
