@@ -1,8 +1,9 @@
 """Warm Numba's on-disk cache for the test suite, one list of compiles per process.
 
 The suite's slowest compiles are independent of one another: the general event loop of
-each dimension (``$RBIMPACT_LOOP=general``, set by ``conftest``) and the many-body
-engine's entries ``gas_entries.entries_for(D, law, sleep)`` the suite runs. One pytest
+each dimension (``$RBIMPACT_LOOP=general``, set by ``conftest``), the many-body engine's
+entries ``gas_entries.entries_for(D, law, sleep)`` the suite runs, the batch kernels of
+the laws and the scene loops of ``test_loop_kinds``. One pytest
 process compiles them one after the other on one core; ``conftest`` runs this script in
 ``PREWARM_WORKERS`` processes at once before the first test, each compiling its share
 into the cache, where the suite then loads them. It changes no result: a compile the
@@ -15,18 +16,30 @@ seconds).
 import sys
 import time
 
-#: (name, dimension, what): "loop" runs a small scene on the general loop and samples it
-#: (the loop, its sampler); ("gas", law, sleep) runs a small gas of that law and sleep
-#: option. Ordered by decreasing compile time (measured on the development machine: the
-#: loops 150-250 s each, a gas entry 40-100 s).
+#: (kind, dimension, argument): "loop" runs a small scene on the general loop and samples it
+#: (the loop, its sampler); "gas" (law, sleep) runs a small gas of that law and sleep
+#: option; "batch" resolves a few contacts with every law (``Law.resolve_batch``); "scene"
+#: runs scene k of ``test_loop_kinds.SCENES`` on its scene loop. Ordered by decreasing
+#: compile time (measured on the development machine: a general loop 150-250 s, a gas
+#: entry 40-100 s, the batch kernels of one dimension about 50 s, a scene loop 15-35 s);
+#: the workers take every n-th task.
 TASKS = (
-    ("loop", 2, None),
     ("loop", 3, None),
+    ("loop", 2, None),
     ("gas", 2, ("kane_levinson", True)),
     ("gas", 3, ("kane_levinson", True)),
     ("gas", 2, ("kane_levinson", False)),
     ("gas", 3, ("kane_levinson", False)),
+    ("batch", 2, None),
     ("gas", 2, ("chatterjee_ruina", True)),
+    ("batch", 3, None),
+    ("gas", 2, ("smith", False)),
+    ("scene", 3, 4),
+    ("scene", 3, 5),
+    ("scene", 2, 1),
+    ("scene", 2, 2),
+    ("scene", 3, 3),
+    ("scene", 2, 0),
 )
 
 
@@ -56,8 +69,27 @@ def _loop(dim):
 def _gas(dim, law, sleep):
     from rbimpact.manybody import random_gas, run_gas
     params = {"mu": 0.3} if law == "chatterjee_ruina" else {}
-    s = random_gas(8, dim=dim, packing=0.05, law=law, e=0.7, gravity=1.0, seed=0, **params)
+    s = random_gas(8, dim=dim, packing=0.05, law=law, e=0.7, gravity=1.0 if sleep else 0.0,
+                   seed=0, **params)
     run_gas(s, max_impacts=50, sleep=sleep)
+
+
+def _batch(dim):
+    import numpy as np
+    from rbimpact import Law
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(4, dim, dim))
+    W = a @ np.transpose(a, (0, 2, 1)) + dim * np.eye(dim)
+    v = rng.normal(size=(4, dim))
+    v[:, 0] = -np.abs(v[:, 0]) - 0.1
+    for name in ("kane_levinson", "brach", "smith", "routh", "chatterjee_ruina"):
+        Law(name, e=0.5, mu=0.3).resolve_batch(v, W)
+
+
+def _scene(k):
+    import test_loop_kinds as lk
+    dim, bodies, sseed, _ = lk.SCENES[k]
+    lk._run(dim, bodies, sseed, "scene")
 
 
 def main(k, n):
@@ -65,10 +97,14 @@ def main(k, n):
         t0 = time.perf_counter()
         if kind == "loop":
             _loop(dim)
-        else:
+        elif kind == "gas":
             _gas(dim, *arg)
-        print(f"prewarm {kind} {dim}D {arg or ''}: {time.perf_counter() - t0:.1f} s",
-              flush=True)
+        elif kind == "batch":
+            _batch(dim)
+        else:
+            _scene(arg)
+        what = "" if arg is None else arg
+        print(f"prewarm {kind} {dim}D {what}: {time.perf_counter() - t0:.1f} s", flush=True)
 
 
 if __name__ == "__main__":
