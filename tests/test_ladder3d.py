@@ -5,11 +5,10 @@ on a frictionless wall, tilted by ``THETA0`` from the vertical, and is let go. B
 slide: the floor and the wall hold it (``pivot3d`` with one contact on each plane) until
 the wall's normal force falls to zero, and the upper end leaves the wall.
 
-Closed form (the classical sliding ladder; e.g. Routh, *Dynamics of a System of Rigid
-Bodies*, 1905, part I, §§ 166-167). While both ends touch, the cap centres slide on the two
-planes offset by the radius ``r``, so the centre of mass moves on a circle of radius
-``a`` (half the cap-centre distance) about the offset corner, at angle ``theta`` from the
-vertical. Energy: ``(a^2 + k^2) theta'^2 = 2 g a (cos theta0 - cos theta)``; the wall's
+Closed form (the classical sliding ladder, derived here from energy and the wall's force).
+While both ends touch, the cap centres slide on the two planes offset by the radius ``r``,
+so the centre of mass moves on a circle of radius ``a`` (half the cap-centre distance)
+about the offset corner, at angle ``theta`` from the vertical. Energy: ``(a^2 + k^2) theta'^2 = 2 g a (cos theta0 - cos theta)``; the wall's
 force ``m x''`` vanishes when ``theta'' cos theta = theta'^2 sin theta``, that is at
 ``cos theta = (2/3) cos theta0``, whatever the radius of gyration ``k``: the upper end
 leaves the wall when the centre's height above the offset floor is 2/3 of its initial
