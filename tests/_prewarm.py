@@ -19,7 +19,10 @@ import time
 #: (kind, dimension, argument): "loop" runs a small scene on the general loop and samples it
 #: (the loop, its sampler); "gas" (law, sleep) runs a small gas of that law and sleep
 #: option; "batch" resolves a few contacts with every law (``Law.resolve_batch``); "scene"
-#: runs scene k of ``test_loop_kinds.SCENES`` on its scene loop. Ordered by decreasing
+#: runs scene k of ``test_loop_kinds.SCENES`` on its scene loop; "test" (module, function,
+#: arguments) calls a test without fixtures whose compiles are its own (the pair kernels'
+#: known poses, the scene loops of the pay-for-what-you-use rows and of the disk-only
+#: switch). Ordered by decreasing
 #: compile time (measured on the development machine: a general loop 150-250 s, a gas
 #: entry 40-100 s, the batch kernels of one dimension about 50 s, a scene loop 15-35 s);
 #: the workers take every n-th task.
@@ -40,6 +43,14 @@ TASKS = (
     ("scene", 2, 2),
     ("scene", 3, 3),
     ("scene", 2, 0),
+    ("test", 3, ("test_pair3d", "test_features_of_known_poses", {})),
+    ("test", 2, ("test_bench", "test_pay_only_for_what_is_used_a_2d_scene_touches_no_3d_kernel",
+                 {})),
+    ("test", 2, ("test_shapes_switch2d", "test_disk_loop_is_the_general_loop",
+                 {"vx": 1.0, "mu": 0.3, "e": 0.8})),
+    ("test", 2, ("test_shapes_switch2d", "test_disk_loop_refuses_other_shapes", {})),
+    ("test", 3, ("test_bad_input", "test_resolve_refuses_a_contact_whose_energy_overflows",
+                 {"d": 3})),
 )
 
 
@@ -92,20 +103,37 @@ def _scene(k):
     lk._run(dim, bodies, sseed, "scene")
 
 
+def _test(module, function, kwargs):
+    import importlib
+    getattr(importlib.import_module(module), function)(**kwargs)
+
+
 def main(k, n):
+    """Run tasks k, k + n, ...; a task that fails is reported and the next one runs (its
+    test, run by pytest afterwards, reports the failure). Returns the number failed."""
+    failed = 0
     for kind, dim, arg in TASKS[k::n]:
         t0 = time.perf_counter()
-        if kind == "loop":
-            _loop(dim)
-        elif kind == "gas":
-            _gas(dim, *arg)
-        elif kind == "batch":
-            _batch(dim)
-        else:
-            _scene(arg)
-        what = "" if arg is None else arg
+        what = "" if arg is None else arg[:2] if kind == "test" else arg
+        try:
+            if kind == "loop":
+                _loop(dim)
+            elif kind == "gas":
+                _gas(dim, *arg)
+            elif kind == "batch":
+                _batch(dim)
+            elif kind == "scene":
+                _scene(arg)
+            else:
+                _test(*arg)
+        except Exception as exc:    # noqa: BLE001 (reported; pytest runs the real tests)
+            failed += 1
+            print(f"prewarm {kind} {dim}D {what}: failed ({type(exc).__name__}: {exc})",
+                  flush=True)
+            continue
         print(f"prewarm {kind} {dim}D {what}: {time.perf_counter() - t0:.1f} s", flush=True)
+    return failed
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]), int(sys.argv[2]))
+    sys.exit(1 if main(int(sys.argv[1]), int(sys.argv[2])) else 0)
