@@ -86,10 +86,10 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   tumbles over, a cap it rocks on; or one feature on each of two planes, in a groove or
   a corner, or a corner or cap held on the floor with another against a wall that
   gravity does not press, ``_second_plane``; three or more features on two planes, or one
-  sharp corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by normal impulses
-  (event "pivot", ``dE`` reported) and the body moves with those features held on their
-  planes, each sticking or sliding under Coulomb friction, integrated with error
-  control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
+  sharp corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by
+  normal impulses (event "pivot", ``dE`` reported) and the body moves with those features
+  held on their planes, each sticking or sliding under Coulomb friction, integrated with
+  error control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
 * Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
@@ -157,8 +157,8 @@ from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_P
                       contact_mu, contact_normal, contact_plane, CP_EPS, CP_F1, CP_F2, CP_G,
                       CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD,
                       CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL, FW_B1, FW_F1, FW_LAM, FW_MARG,
-                      N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PV_PAINLEVE, PE_SLIP, PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK,
-                      PW_JAM, PW_S0, PW_WHY, PW_Y,
+                      N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PV_PAINLEVE, PE_SLIP, PE_STOP,
+                      PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_JAM, PW_S0, PW_WHY, PW_Y,
                       contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
                       point_accel,
                       FW_C1, slip_growth)
@@ -1692,6 +1692,20 @@ def _pv_stick_or_slip_one(st, i, bflt, pv, k, c_f, cw, Ii):
             _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
 
 
+@njit(cache=True, inline="always")
+def _pv_set_second(pv, i, q, kq, feats, planes, law_par, bp_law):
+    """Contact 2 of body i's integrated contact: feature row kq on plane q (its normal,
+    offset and mu; no stored slip direction). kq = -1: the slot is unused (K = 1)."""
+    for j in range(3):
+        pv[i, CP_N2 + j] = planes[q, j]
+        pv[i, CP_P2 + j] = feats[kq, j] if kq >= 0 else 0.0
+        pv[i, CP_U2 + j] = 0.0
+    pv[i, CP_D2] = planes[q, 3]
+    pv[i, CP_MU2] = law_par[bp_law[i, q], P_MU]
+    pv[i, CP_PLANE2] = q
+    pv[i, CP_F2] = kq
+
+
 @njit(cache=True)
 def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
     """Body i held at one contact (``pv``, validated); feature row kq touches plane q (a
@@ -1712,14 +1726,7 @@ def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f
     w = math.sqrt(st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2)
     if not touching_accel(acc, body, w, reach) < 0.0:
         return False
-    for j in range(3):
-        pv[i, CP_N2 + j] = planes[q, j]
-        pv[i, CP_P2 + j] = feats[kq, j]
-        pv[i, CP_U2 + j] = 0.0
-    pv[i, CP_D2] = planes[q, 3]
-    pv[i, CP_MU2] = law_par[bp_law[i, q], P_MU]
-    pv[i, CP_PLANE2] = q
-    pv[i, CP_F2] = kq
+    _pv_set_second(pv, i, q, kq, feats, planes, law_par, bp_law)
     pv[i, CP_K] = 2.0
     pv[i, CP_S2] = 0.0
     _pv_zero_normals(st, i, bflt, pv, Ii)
@@ -1749,22 +1756,16 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
         pv[i, CP_I + j] = bflt[i, 1 + j]
         pv[i, CP_G + j] = grav[j]
         pv[i, CP_N + j] = planes[p, j]
-        pv[i, CP_N2 + j] = planes[p2, j]
         pv[i, CP_P1 + j] = feats[kf1, j]
-        pv[i, CP_P2 + j] = feats[kf2, j] if K == 2 else 0.0
         pv[i, CP_U1 + j] = 0.0
-        pv[i, CP_U2 + j] = 0.0
     pv[i, CP_D] = planes[p, 3]
     pv[i, CP_MU] = law_par[bp_law[i, p], P_MU]
-    pv[i, CP_D2] = planes[p2, 3]
-    pv[i, CP_MU2] = law_par[bp_law[i, p2], P_MU]
-    pv[i, CP_PLANE2] = p2
+    _pv_set_second(pv, i, p2, kf2 if K == 2 else -1, feats, planes, law_par, bp_law)
     pv[i, CP_K] = K
     pv[i, CP_RAD] = bflt[i, B_RADIUS]
     pv[i, CP_EPS] = tolf[TF_SLIP_EPS]
     pv[i, CP_PLANE] = p
     pv[i, CP_F1] = kf1
-    pv[i, CP_F2] = kf2 if K == 2 else -1
     pv[i, CP_L] = math.sqrt(bflt[i, B_HALF] ** 2 + bflt[i, B_HALF + 1] ** 2 + bflt[i, B_HALF +
                             2] ** 2) + bflt[i, B_RADIUS]
     e0 = _energy(st, bflt, grav, i)

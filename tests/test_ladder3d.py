@@ -8,8 +8,9 @@ the wall's normal force falls to zero, and the upper end leaves the wall.
 Closed form (the classical sliding ladder, derived here from energy and the wall's force).
 While both ends touch, the cap centres slide on the two planes offset by the radius ``r``,
 so the centre of mass moves on a circle of radius ``a`` (half the cap-centre distance)
-about the offset corner, at angle ``theta`` from the vertical. Energy: ``(a^2 + k^2) theta'^2 = 2 g a (cos theta0 - cos theta)``; the wall's
-force ``m x''`` vanishes when ``theta'' cos theta = theta'^2 sin theta``, that is at
+about the offset corner, at angle ``theta`` from the vertical. Energy:
+``(a^2 + k^2) theta'^2 = 2 g a (cos theta0 - cos theta)``; the wall's force ``m x''``
+vanishes when ``theta'' cos theta = theta'^2 sin theta``, that is at
 ``cos theta = (2/3) cos theta0``, whatever the radius of gyration ``k``: the upper end
 leaves the wall when the centre's height above the offset floor is 2/3 of its initial
 value. The time to get there is the quadrature of the energy equation.
