@@ -3135,9 +3135,11 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
     planes): it rests there (mode PM_WEDGED, ``M_PLANE`` and ``M_FEAT`` the first two
     planes; events "contact", ``dE`` the kinetic energy removed, and "rest") when
 
-    * every feature touching a plane that pushes it (gap within ``gap_tol``) has a contact
-      point moving slower than that plane's accumulation speed (``_vz2``; normal velocity
-      and slip, as ``_groove_enter``: a slip that slow sticks), and
+    * its kinetic energy (all of it: the rest removes it) is below the accumulation energy
+      ``m vz^2 / 2`` of the planes it touches (``_vz2`` of the smallest ``|n . g|`` among
+      the planes that push a feature within ``gap_tol``; the criterion of the face rest's
+      ``E_ex``, ``_excess``, where the whole motion is removed: a contact point that slips
+      that slowly sticks), and
     * contact forces in their Coulomb cones hold it in static equilibrium at those points
       (``groove3d.rest_forces``, within ``groove3d.REST_CONE_RTOL m |g|``).
 
@@ -3155,6 +3157,7 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
     K = 0
     p1 = -1
     p2 = -1
+    vz2 = INF
     for p in range(planes.shape[0]):
         if bp_off[i, p] != 0:
             continue
@@ -3164,22 +3167,16 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
         gn = nx * grav[0] + ny * grav[1] + nz * grav[2]
         if not gn < 0.0:
             continue
-        vz2 = _vz2(tolf, -gn)
         for k in range(nf):
             g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
             if g > tolf[TF_GAP_TOL]:
                 continue
-            cx = rx - rad * nx
-            cy = ry - rad * ny
-            cz = rz - rad * nz
-            ux, uy, uz = _point_vel(st, i, cx, cy, cz)
-            if not ux * ux + uy * uy + uz * uz <= vz2:
-                return 1        # this contact still bounces or slips: not a rest
+            vz2 = min(vz2, _vz2(tolf, -gn))
             if K == WEDGE_MAXK:
                 return 1
-            arms[K, 0] = cx
-            arms[K, 1] = cy
-            arms[K, 2] = cz
+            arms[K, 0] = rx - rad * nx
+            arms[K, 1] = ry - rad * ny
+            arms[K, 2] = rz - rad * nz
             nrm[K, 0] = nx
             nrm[K, 1] = ny
             nrm[K, 2] = nz
@@ -3191,6 +3188,10 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
                 p2 = p
     if K < 3 or p2 < 0:
         return 1
+    kinetic = (0.5 * m * (st[i, SV] ** 2 + st[i, SV + 1] ** 2 + st[i, SV + 2] ** 2)
+               + _rot_energy(st, i, bflt))
+    if not kinetic <= 0.5 * m * vz2:
+        return 1        # still bouncing or slipping: not a rest
     f = np.empty((K, 3))
     work = np.empty(rest_work_size(K))
     code, margin = rest_forces(K, arms, nrm, mus, m, grav[0], grav[1], grav[2], f, work)
