@@ -129,7 +129,7 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from . import evbuf
-from .joint_polish import polish as joint_polish
+from .joint_polish import polish as joint_polish, stick_sets
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
 from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_AUX, M_FEAT, M_MODE,
@@ -2876,7 +2876,8 @@ def _speed_scale(st, bflt, grav, j):
 def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli,
            ev_t, ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
-    K contacts (projected block Gauss-Seidel on the stacked Delassus matrix)."""
+    K contacts (projected block Gauss-Seidel on the stacked Delassus matrix; when it does
+    not converge, ``joint_polish.polish`` and then ``joint_polish.stick_sets``)."""
     n3 = 3 * K
     for a in range(n3):
         for b in range(n3):
@@ -2975,7 +2976,9 @@ def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
             break
     if not converged:
         # finish exactly: semismooth Newton on the Alart-Curnier equations from PGS's
-        # iterate (joint_polish); the velocities follow from the polished impulses
+        # iterate (joint_polish), else from each set of sticking contacts (stick_sets:
+        # PGS drifts along the null space of redundant contacts); the velocities follow
+        # from the polished impulses
         v0 = np.empty(n3)
         mus = np.empty(K)
         for a in range(K):
@@ -2983,7 +2986,7 @@ def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
             mus[a] = law_par[c_i[c, CI_LAW], P_MU]
             for j in range(3):
                 v0[3 * a + j] = c_f[c, CF_VI + j]
-        if joint_polish(Wb, v0, tb, mus, Pb, K, tol):
+        if joint_polish(Wb, v0, tb, mus, Pb, K, tol) or stick_sets(Wb, v0, tb, mus, Pb, K, tol):
             converged = True
             for a in range(n3):
                 s = v0[a]
