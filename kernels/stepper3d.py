@@ -72,8 +72,11 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
   and a box's centre of mass is over that face) the run jumps to the accumulation point, snaps the body onto the face (rotation to the
   face, normal velocity and rotation removed: event "contact") and it then rests or
-  slides without rotating (closed form; the face must carry the friction moment, else
-  ``ERR_TIPPING``; a capsule must slide along its axis, else ``ERR_UNSUPPORTED``).
+  slides without rotating (closed form). The face must carry the friction moment (the
+  pressure centre ``-h F / N`` inside it), else the box tips over the edge or the corner
+  the pressure centre passed (``_tip``: integrated contact on those corners, as
+  ``stepper2d._tip``; ``ERR_TIPPING`` only where no pivot state is consistent or the box
+  starts so); a capsule must slide along its axis, else ``ERR_UNSUPPORTED``.
 * During an accumulation jump (last impact to ``t_inf``) the reported trajectory and the
   other candidate events use the held motion (``_held_into``: height of the last impact,
   no normal velocity, tangential motion exact, a box or capsule not rotating), so the
@@ -85,8 +88,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   accelerates into it, the impacts would accumulate there (a corner or an edge the body
   tumbles over, a cap it rocks on; or one feature on each of two planes, in a groove or
   a corner, or a corner or cap held on the floor with another against a wall that
-  gravity does not press, ``_second_plane``; three or more features on two planes, or one
-  sharp corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by
+  gravity does not press, ``_second_plane``; or one or two on walls alone, when no plane
+  gravity presses has a candidate; three or more features on two planes, or one sharp
+  corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by
   normal impulses (event "pivot", ``dE`` reported) and the body moves with those features
   held on their planes, each sticking or sliding under Coulomb friction, integrated with
   error control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
@@ -95,8 +99,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
 * Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
   ``_wedge_rest``): when the impacts accumulate at three or more features on two planes
   (a box with an edge on one groove plane and a corner on the other; or one corner on
-  both), or on a face of one plane while touching another (a face and an edge), and every touching feature's contact point moves slower than
-  the accumulation speed, the body rests there if contact forces in the Coulomb cones
+  both), or on a face of one plane while touching another (a face and an edge), with a
+  kinetic energy below the accumulation energy of the planes it touches, the body rests
+  there if contact forces in the Coulomb cones
   hold it in static equilibrium (``groove3d.rest_forces``); its velocities are removed
   (events "contact", ``dE`` <= 0, and "rest"). An impulse on it releases it to flight.
   Otherwise (still moving: integrated contact at three or more points is not built; or
@@ -232,6 +237,9 @@ GROOVE_SIN = 1e-9
 GROOVE_RTOL = 1e-12
 #: _groove_enter's answer when the sphere slips on the groove's planes (integrate it)
 GROOVE_SLIPS = 2
+#: _persist_setup's answer when a box's face cannot hold it (the pressure centre of its
+#: friction moment outside the face): it tips over that side's edge or corner (``_tip``)
+RC_TIP = 3
 #: rest on several points on two or more planes (``_wedge_rest``, ``groove3d``): at most
 #: this many touching features are gathered (a box has 8 vertices, on two planes 16)
 WEDGE_MAXK = 16
@@ -1939,7 +1947,12 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     second feature row, unsupported?): one plane with any count, or two features on two
     planes (a groove, a corner); more features on two or more planes, or one sharp corner
     on two planes (a single point held twice), are unsupported. With one feature, the
-    second plane and feature are a wall candidate (``_second_plane``) or (plane, -1)."""
+    second plane and feature are a wall candidate (``_second_plane``) or (plane, -1).
+    Planes gravity does not press (walls) are searched only when no pressed plane has a
+    candidate: a box that lands plastically on a wall alone while turning into it is held
+    there at one or two features (3:45036680 ended "impacts accumulate at a single contact
+    point"); a face or a capsule's side on walls has none (count 0: the face rests and
+    slides only on a plane gravity presses)."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
@@ -1952,35 +1965,39 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     k2 = -1
     acc1 = 0.0
     multi = False
-    for p in range(planes.shape[0]):
-        if bp_off[i, p] != 0:
-            continue
-        nx = planes[p, 0]
-        ny = planes[p, 1]
-        nz = planes[p, 2]
-        if not (nx * grav[0] + ny * grav[1] + nz * grav[2] < 0.0):
-            continue
-        for k in range(nf):
-            g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
-            if g > tolf[TF_GAP_TOL]:
+    for sweep in range(2):
+        # 0: the planes gravity presses; 1: the others (walls), when those have none
+        if sweep == 1 and cnt > 0:
+            break
+        for p in range(planes.shape[0]):
+            if bp_off[i, p] != 0:
                 continue
-            acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
-            acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
-                    + nz * (alx * ry - aly * rx))
-            acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
-                    - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
-            if not (acc < 0.0 and vn * vn < _vz2(tolf, -acc)):
+            nx = planes[p, 0]
+            ny = planes[p, 1]
+            nz = planes[p, 2]
+            if (nx * grav[0] + ny * grav[1] + nz * grav[2] < 0.0) != (sweep == 0):
                 continue
-            if cnt == 0:
-                bp = p
-                k1 = f0 + k
-                acc1 = acc
-            elif cnt == 1:
-                bp2 = p
-                k2 = f0 + k
-            elif p != bp or bp2 != bp:
-                multi = True
-            cnt += 1
+            for k in range(nf):
+                g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
+                if g > tolf[TF_GAP_TOL]:
+                    continue
+                acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
+                acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
+                        + nz * (alx * ry - aly * rx))
+                acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
+                        - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
+                if not (acc < 0.0 and vn * vn < _vz2(tolf, -acc)):
+                    continue
+                if cnt == 0:
+                    bp = p
+                    k1 = f0 + k
+                    acc1 = acc
+                elif cnt == 1:
+                    bp2 = p
+                    k2 = f0 + k
+                elif p != bp or bp2 != bp:
+                    multi = True
+                cnt += 1
     if cnt == 1:
         # a wall candidate (or -1): held by _pivot_enter if the held motion drives it in
         bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, k1, acc1, bp_off, tolf)
@@ -1990,6 +2007,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
         bp2 = bp
     elif cnt == 2 and k2 == k1 and rad == 0.0:
         multi = True        # one corner on both planes (the groove's edge): one point
+    if cnt > 0:
+        gb = planes[bp, 0] * grav[0] + planes[bp, 1] * grav[1] + planes[bp, 2] * grav[2]
+        face = cnt >= 3 or multi or (cnt == 2 and bp2 == bp and bint[i, B_KIND] == SH_CAPSULE)
+        if gb >= 0.0 and face:
+            return bp, 0, -1, bp, -1, False     # a face or a side on a wall: no held motion
     return bp, cnt, k1, bp2, k2, multi
 
 
@@ -2144,11 +2166,61 @@ def _snap(i, p, st, bint, bflt, planes, hrest, ux, uy, uz):
 
 
 @njit(cache=True)
+def _tip_side(k, bx, by, bz, hx, hy, hz):
+    """Where the pressure centre (body frame offset (bx, by, bz) from the centre of mass's
+    foot, m) leaves face axis k of a box of half edges (hx, hy, hz): ``sa + 3 sb`` for the
+    two other axes a = k + 1, b = k + 2 (mod 3), each 0 (inside, within ``FACE_RTOL``),
+    1 (beyond +half) or 2 (beyond -half). One side: the body tips over that edge; two: over
+    that corner."""
+    code = 0
+    mult = 1
+    for j in range(1, 3):
+        a = (k + j) % 3
+        d = bx if a == 0 else (by if a == 1 else bz)
+        h = hx if a == 0 else (hy if a == 1 else hz)
+        if abs(d) > h * (1.0 + FACE_RTOL):
+            code += mult * (1 if d > 0.0 else 2)
+        mult = 3
+    return code
+
+
+@njit(cache=True)
+def _tip_features(i, face, side, bint, feats):
+    """The corner rows of box i that it tips over (``_tip_side``'s ``side`` of ``face``,
+    numbered as ``_rest_face``): (k1, k2), k2 = -1 for a single corner."""
+    k = face // 2
+    sg = 1.0 if face % 2 == 0 else -1.0
+    f0 = bint[i, B_FIRST]
+    k1 = -1
+    k2 = -1
+    for j in range(bint[i, B_COUNT]):
+        c = f0 + j
+        if not feats[c, k] * sg > 0.0:
+            continue
+        ok = True
+        code = side
+        for m in range(1, 3):
+            s = code % 3
+            code //= 3
+            a = (k + m) % 3
+            if (s == 1 and not feats[c, a] > 0.0) or (s == 2 and not feats[c, a] < 0.0):
+                ok = False
+        if ok:
+            if k1 < 0:
+                k1 = c
+            elif k2 < 0:
+                k2 = c
+    return k1, k2
+
+
+@njit(cache=True)
 def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, tolf,
                    err):
     """Choose the persistent mode of body i on plane p (normal velocity already zero;
     a box or capsule already without rotation) and set its constant accelerations and
-    next transition time. Returns 0, 1 (the plane does not push: release) or an error."""
+    next transition time. Returns 0, 1 (the plane does not push: release), ``RC_TIP`` (a
+    box's face, ``M_FEAT``, cannot hold the friction moment: it tips over the side
+    ``M_AUX`` names, ``_tip_side``) or an error."""
     nx = planes[p, 0]
     ny = planes[p, 1]
     nz = planes[p, 2]
@@ -2303,7 +2375,10 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             if not ok:
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2],
                          math.sqrt(fx * fx + fy * fy + fz * fz), N, h)
-                return ERR_TIPPING
+                pm[i, M_AUX] = _tip_side(k, bx, by, bz, bflt[i, B_HALF], bflt[i, B_HALF + 1],
+                                         bflt[i, B_HALF + 2])
+                pm[i, M_PLANE] = p
+                return RC_TIP
         else:
             dd = math.sqrt(dx * dx + dy * dy + dz * dz)
             if (math.sqrt(bx * bx + by * by) > FACE_RTOL * (dd + bflt[i, B_RADIUS])
@@ -2354,6 +2429,42 @@ def _contact_velocity_row(st, i, c_f, c):
 
 
 @njit(cache=True)
+def _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw,
+         ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
+    """Box i resting or sliding on a face tips over (``_persist_setup`` returned RC_TIP:
+    face ``M_FEAT``, side ``M_AUX``, plane ``M_PLANE``): from t it pivots on that side's
+    edge (two corners) or corner (mode table: rest/slide on a face -> pivot on an edge or
+    a vertex; ``pivot3d``; ``stepper2d._tip`` in 2D). Returns 0 (pivoting, or flying off
+    after an impact without collision) or an error (ERR_TIPPING when no pivot state is
+    consistent either)."""
+    if pivot is None:
+        return _not_compiled(err, t, i, FEATURE_PIVOT)
+    p = pm[i, M_PLANE]
+    k1, k2 = _tip_features(i, pm[i, M_FEAT], pm[i, M_AUX], bint, feats)
+    pm[i, M_MODE] = PM_FLIGHT
+    pm[i, M_AUX] = 0
+    for j in range(3):
+        st[i, SA + j] = grav[j]
+        st[i, SAL + j] = 0.0
+    ttr[i] = INF
+    if k1 < 0:
+        return ERR_TIPPING      # err holds the face forces set by _persist_setup
+    K = 1 if k2 < 0 else 2
+    e6 = err[6]
+    e7 = err[7]
+    e8 = err[8]
+    rc = _pivot_enter(i, p, k1, p, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
+                      bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
+                      err, tolf[TF_PAINLEVE])
+    if rc == 1:
+        _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], e6, e7, e8)
+        return ERR_TIPPING
+    if rc == 2:
+        return 0
+    return rc
+
+
+@njit(cache=True)
 def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, capture, ev_t,
             ev_i, ev_f, cnt, c_f, cw, tolf, err):
     """Snap body i (state at t) onto its rest on plane p (rotation onto the face, normal
@@ -2383,7 +2494,7 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
             + st[i, SV + 2] * st[i, SV + 2])
     rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                         tolf, err)
-    if rc != 0:
+    if rc != 0 and rc != RC_TIP:
         return rc
     _foot(c_f, cw, st, i, planes, p)
     vf0, vf1, vf2 = _contact_velocity_row(st, i, c_f, cw)
@@ -2394,8 +2505,10 @@ def _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, cap
     P1 = dvx * c_f[cw, CF_T1] + dvy * c_f[cw, CF_T1 + 1] + dvz * c_f[cw, CF_T1 + 2]
     P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
     _log(ev_t, ev_i, ev_f, cnt, t, EV_CAPTURE if capture else EV_CONTACT, i, -1 - p,
-         pm[i, M_MODE], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1, vf2, P0, P1, P2,
-         _energy(st, bflt, grav, i) - e0)
+         PM_PIVOT if rc == RC_TIP else pm[i, M_MODE], 0, c_f, cw, vi0, vi1, vi2, vf0, vf1,
+         vf2, P0, P1, P2, _energy(st, bflt, grav, i) - e0)
+    if rc == RC_TIP:
+        return RC_TIP
     if pm[i, M_MODE] == PM_REST and slip > 0.0:
         # its slow slip stuck at once (_persist_setup): it has come to rest
         _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p, PM_REST, 0, c_f, cw, vf0, vf1,
@@ -2759,7 +2872,7 @@ def _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, t
             st[i, SV + j] = 0.0
     rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                         tolf, err)
-    if rc < 0:
+    if rc < 0 or rc == RC_TIP:
         return rc
     _log_mode(i, t, st, planes, pm, ev_t, ev_i, ev_f, cnt, c_f, cw, vi0, vi1, vi2)
     return 0
@@ -2805,7 +2918,7 @@ def _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, to
         old = pm[i, M_MODE]
         rc = _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                             tolf, err)
-        if rc < 0:
+        if rc < 0 or rc == RC_TIP:
             return rc
         if rc == 0:
             if pm[i, M_MODE] != old:
@@ -3111,6 +3224,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
                     and _rest_consistent(i, p, st, bint, bflt, planes, grav, face, hr, eex)):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
+                if rc == RC_TIP:
+                    return ERR_TIPPING      # a box starting on a face that cannot hold it
                 if rc < 0:
                     return rc
     for i in range(nb):
@@ -3310,8 +3425,13 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
             small = eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
             if small or (K >= 3 and capture_on):
-                return _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
-                               not small, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
+                rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                             not small, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
+                if rc == RC_TIP:
+                    return _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+                                ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                                pivot)
+                return rc
             if K >= 3:
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
                          0.0)
@@ -3452,6 +3572,10 @@ def loop_for(law):
                         return rc
                     rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
                                  ttr, no_capture, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)
+                    if rc == RC_TIP:
+                        rc = _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                  pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                  Ii, err, pivot)
                     if rc < 0:
                         return rc
                 elif ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
@@ -3509,6 +3633,10 @@ def loop_for(law):
                     rc = _transition(i, t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
                                      pm, ttr, ws, tolf, toli, ev_t, ev_i, ev_f, cnt, c_f, cw,
                                      pose, err, pv, pw, fw)
+                    if rc == RC_TIP:
+                        rc = _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                  pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                  Ii, err, pivot)
                     if rc < 0:
                         return rc
                 else:
@@ -3732,6 +3860,10 @@ def loop_for(law):
                 if pm[i, M_MODE] != PM_FLIGHT:
                     rc = _reevaluate(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
                                      ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                    if rc == RC_TIP:
+                        rc = _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                  pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                                  Ii, err, pivot)
                     if rc == GROOVE_SLIPS:
                         rc = _groove_slide(i, pm[i, M_PLANE], pm[i, M_FEAT], t, st, bint,
                                            bflt, feats, planes, grav, law_par, bp_law, pm,

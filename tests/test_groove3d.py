@@ -133,7 +133,7 @@ REST_SEEDS = [3716151577, 125684675, 2883076408]
 """Boxes whose impacts accumulate at three features on the two groove planes with a kinetic
 energy below the accumulation energy: they rest there. 2883076408 (Brach e = 1, mu = 1) was
 refused before session 19: one corner moved at 7.2e-5 m/s, above the accumulation speed
-sqrt(2 |n . g| rest_length) = 4.0e-5 m/s, while the body's kinetic energy was below
+sqrt(2 |n . g| rest_length) = 4.0e-5 m/s, while the body's kinetic energy was 0.62 of
 m |n . g| rest_length (the criterion is now the energy, as for a face rest)."""
 MOVING_SEEDS = [453490645, 1996355771]
 """Boxes whose impacts accumulate at three features on the two groove planes while they

@@ -101,3 +101,20 @@ def test_the_upper_end_leaves_the_wall_at_two_thirds_of_the_height(theta0, yaw, 
 def test_campaign_scenes_held_on_a_wall(seed):
     row = campaign.run_drop(3, seed)
     assert row.verdict == "OK", row
+
+
+def test_campaign_scene_held_on_a_wall_alone():
+    """3:45036680 (a box in a corner, Brach e = 0, mu = 0.3): it lands plastically on a
+    wall alone while turning into it. The wall, which gravity does not press, was never a
+    candidate of a held motion ("impacts accumulate at a single contact point"); it now
+    holds the corner (a "pivot" event on plane 1) and the box ends at rest with every
+    campaign invariant."""
+    spec = campaign.draw_scene(3, 45036680)
+    sim, t_end, max_events = campaign.build_scene(spec)
+    res = sim.run(t_end, max_events=max_events)
+    assert res.status == "done"
+    ev = res.events
+    assert np.any((ev["kind"] == "pivot") & (ev["b"] == -2))
+    assert ev["kind"][-1] == "rest"
+    row = campaign.run_drop(3, 45036680)
+    assert row.verdict == "OK", row.note
