@@ -187,6 +187,7 @@ guard(__name__, __file__)
 from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
                      reject_factor, solution, step_factor)
 from .flight2d import ANGLE, OMEGA, VX, VY, X, Y
+from .minnorm import minnorm_solve
 
 # ---- bodies table (float64[nb, N_CB]) ------------------------------------------------------
 CB_X = X            # centre of mass x (m)
@@ -557,66 +558,11 @@ def _rowmcol(bodies, c, la, ki, ri, kj, cn, ct):
 @njit(cache=True, _nrt=False)
 def _solve(la, n, floor):
     """Minimum-norm solution of A x = r (A at LA_A, stride NMAX, r at LA_R) into LA_X by a
-    one-sided Jacobi SVD (Hestenes). Returns False when the residual exceeds
+    one-sided Jacobi SVD (Hestenes; ``minnorm.minnorm_solve``, ``SVD_RTOL``,
+    ``SVD_SWEEPS``). Returns False when the residual exceeds
     ``SOLVE_RTOL (|A| |x| + |r|) + floor`` (contradictory equations; ``floor`` the round-off
     of r's own scale)."""
-    U = LA_U
-    V = LA_V
-    for i in range(n):
-        for j in range(n):
-            la[U + i * NMAX + j] = la[LA_A + i * NMAX + j]
-            la[V + i * NMAX + j] = 1.0 if i == j else 0.0
-    for sweep in range(SVD_SWEEPS):
-        rot = False
-        for p in range(n - 1):
-            for q in range(p + 1, n):
-                al = 0.0
-                be = 0.0
-                ga = 0.0
-                for i in range(n):
-                    up = la[U + i * NMAX + p]
-                    uq = la[U + i * NMAX + q]
-                    al += up * up
-                    be += uq * uq
-                    ga += up * uq
-                if ga == 0.0 or abs(ga) <= 1e-16 * math.sqrt(al * be):
-                    continue
-                rot = True
-                ze = (be - al) / (2.0 * ga)
-                tt = (1.0 if ze >= 0.0 else -1.0) / (abs(ze) + math.hypot(1.0, ze))
-                cs = 1.0 / math.hypot(1.0, tt)
-                sn = cs * tt
-                for i in range(n):
-                    up = la[U + i * NMAX + p]
-                    uq = la[U + i * NMAX + q]
-                    la[U + i * NMAX + p] = cs * up - sn * uq
-                    la[U + i * NMAX + q] = sn * up + cs * uq
-                    vp = la[V + i * NMAX + p]
-                    vq = la[V + i * NMAX + q]
-                    la[V + i * NMAX + p] = cs * vp - sn * vq
-                    la[V + i * NMAX + q] = sn * vp + cs * vq
-        if not rot:
-            break
-    smax = 0.0
-    for j in range(n):
-        s2 = 0.0
-        for i in range(n):
-            s2 += la[U + i * NMAX + j] ** 2
-        smax = max(smax, s2)
-    for i in range(n):
-        la[LA_X + i] = 0.0
-    for j in range(n):
-        s2 = 0.0
-        ur = 0.0
-        for i in range(n):
-            u = la[U + i * NMAX + j]
-            s2 += u * u
-            ur += u * la[LA_R + i]
-        if not s2 > SVD_RTOL * SVD_RTOL * smax:
-            continue
-        f = ur / s2
-        for i in range(n):
-            la[LA_X + i] += la[V + i * NMAX + j] * f
+    minnorm_solve(la, LA_A, LA_R, LA_X, LA_U, LA_V, n, NMAX, SVD_RTOL, SVD_SWEEPS)
     # residual check
     res = 0.0
     sc = 0.0

@@ -34,6 +34,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .minnorm import minnorm_solve
+
 LM_REG = 1e-13       # Levenberg-Marquardt regularisation, relative to max diag(J^T J) (-),
 LM_MAX = 1e6         # ... raised by LM_UP while no step decreases |F| (up to LM_MAX), and
 LM_UP = 100.0        # lowered by LM_DOWN after each successful step
@@ -401,92 +403,26 @@ def enumerate2d(W, v0, tb, mu, K, vtol, vref, P, M, x):
 # ------------------------------------------------- 3D: sticking sets, when polish fails
 #: stick_sets tries the 2^K - 1 sets of sticking contacts for at most this many contacts
 STICK_MAX_K = 6
-#: _minnorm: a singular value below MINNORM_RTOL times the largest is zero (dimensionless:
+#: stick_sets: a singular value below MINNORM_RTOL times the largest is zero (dimensionless:
 #: redundant contacts' directions, whose impulses split by minimum norm)
 MINNORM_RTOL = 1e-12
-#: _minnorm: one-sided Jacobi sweeps at most (each O(n^3); converges quadratically)
+#: stick_sets: one-sided Jacobi sweeps at most (``minnorm``; converges quadratically)
 MINNORM_SWEEPS = 60
-
-
-@njit(cache=True)
-def _minnorm(A, rhs, x, m, U, V):
-    """Minimum-norm least-squares solution x[:m] of A[:m, :m] x = rhs[:m] by a one-sided
-    Jacobi SVD (Hestenes; as cluster2d._solve). U, V float64[>= m, >= m] scratch. Returns
-    the residual |A x - rhs|_inf (contradictory equations leave it large)."""
-    for i in range(m):
-        for j in range(m):
-            U[i, j] = A[i, j]
-            V[i, j] = 1.0 if i == j else 0.0
-    for sweep in range(MINNORM_SWEEPS):
-        rot = False
-        for p in range(m - 1):
-            for q in range(p + 1, m):
-                al = 0.0
-                be = 0.0
-                ga = 0.0
-                for i in range(m):
-                    al += U[i, p] * U[i, p]
-                    be += U[i, q] * U[i, q]
-                    ga += U[i, p] * U[i, q]
-                if ga == 0.0 or abs(ga) <= 1e-16 * math.sqrt(al * be):
-                    continue
-                rot = True
-                ze = (be - al) / (2.0 * ga)
-                tt = (1.0 if ze >= 0.0 else -1.0) / (abs(ze) + math.hypot(1.0, ze))
-                cs = 1.0 / math.hypot(1.0, tt)
-                sn = cs * tt
-                for i in range(m):
-                    up = U[i, p]
-                    uq = U[i, q]
-                    U[i, p] = cs * up - sn * uq
-                    U[i, q] = sn * up + cs * uq
-                    vp = V[i, p]
-                    vq = V[i, q]
-                    V[i, p] = cs * vp - sn * vq
-                    V[i, q] = sn * vp + cs * vq
-        if not rot:
-            break
-    smax = 0.0
-    for j in range(m):
-        s2 = 0.0
-        for i in range(m):
-            s2 += U[i, j] * U[i, j]
-        smax = max(smax, s2)
-    for i in range(m):
-        x[i] = 0.0
-    for j in range(m):
-        s2 = 0.0
-        ur = 0.0
-        for i in range(m):
-            s2 += U[i, j] * U[i, j]
-            ur += U[i, j] * rhs[i]
-        if not s2 > MINNORM_RTOL * MINNORM_RTOL * smax:
-            continue
-        f = ur / s2
-        for i in range(m):
-            x[i] += V[i, j] * f
-    res = 0.0
-    for i in range(m):
-        s = -rhs[i]
-        for j in range(m):
-            s += A[i, j] * x[j]
-        res = max(res, abs(s))
-    return res
 
 
 @njit(cache=True)
 def stick_sets(W, v0, tb, mu, P, K, vtol):
     """The 3D simultaneous impact problem (module docstring) when PGS and ``polish`` fail:
     for each set S of the K contacts (all of them first; K <= ``STICK_MAX_K``), the
-    minimum-norm impulses on S that make S stick (``u = tb`` on S's rows: normal target,
-    zero slip), the others free (``P = 0``). A candidate whose Alart-Curnier residual is
-    within ``r vtol`` (``polish``'s test: impulses in their cones, no normal impulse
-    pulling, the free contacts not approaching) is a solution; else ``polish`` starts from
-    it (a sliding contact's impulse on its cone). Redundant contacts (a singular ``W_SS``)
-    get the minimum-norm split, the case where PGS drifts along the null space. Returns
-    True with ``P`` (float64[>= 3 K], N s) the solution, False when no candidate leads to
-    one (``P`` unchanged). Arguments as ``polish``. Allocates (a fallback, not a hot
-    path)."""
+    minimum-norm impulses on S that make S stick (``minnorm``; ``u = tb`` on S's rows:
+    normal target, zero slip), the others free (``P = 0``). A candidate whose
+    Alart-Curnier residual is within ``r vtol`` (``polish``'s test: impulses in their
+    cones, no normal impulse pulling, the free contacts not approaching) is a solution;
+    else ``polish`` starts from it (a sliding contact's impulse on its cone). Redundant
+    contacts (a singular ``W_SS``) get the minimum-norm split, the case where PGS drifts
+    along the null space. Returns True with ``P`` (float64[>= 3 K], N s) the solution,
+    False when no candidate leads to one (``P`` unchanged). Arguments as ``polish``.
+    Allocates (a fallback, not a hot path)."""
     if K > STICK_MAX_K:
         return False
     n = 3 * K
@@ -495,11 +431,13 @@ def stick_sets(W, v0, tb, mu, P, K, vtol):
         i0 = 3 * a
         r[a] = 1.0 / max(W[i0, i0], W[i0 + 1, i0 + 1], W[i0 + 2, i0 + 2])
     tol_p = vtol * r.min()
-    A = np.empty((n, n))
-    U = np.empty((n, n))
-    V = np.empty((n, n))
-    rhs = np.empty(n)
-    x = np.empty(n)
+    # the sticking set's system in one flat array (minnorm): A, U, V (stride n), rhs, x
+    la = np.empty(3 * n * n + 2 * n)
+    A0 = 0
+    U0 = n * n
+    V0 = 2 * n * n
+    R0 = 3 * n * n
+    X0 = R0 + n
     idx = np.empty(n, np.int64)
     Q = np.empty(n)
     F = np.empty(n)
@@ -513,14 +451,21 @@ def stick_sets(W, v0, tb, mu, P, K, vtol):
                     m += 1
         for i in range(m):
             for j in range(m):
-                A[i, j] = W[idx[i], idx[j]]
-            rhs[i] = tb[idx[i]] - v0[idx[i]]
-        if not _minnorm(A, rhs, x, m, U, V) <= vtol:
+                la[A0 + i * n + j] = W[idx[i], idx[j]]
+            la[R0 + i] = tb[idx[i]] - v0[idx[i]]
+        minnorm_solve(la, A0, R0, X0, U0, V0, m, n, MINNORM_RTOL, MINNORM_SWEEPS)
+        res = 0.0
+        for i in range(m):
+            s = -la[R0 + i]
+            for j in range(m):
+                s += la[A0 + i * n + j] * la[X0 + j]
+            res = max(res, abs(s))
+        if not res <= vtol:
             continue    # S cannot stick: contradictory (over-determined) constraints
         for k in range(n):
             Q[k] = 0.0
         for i in range(m):
-            Q[idx[i]] = x[i]
+            Q[idx[i]] = la[X0 + i]
         if _residual(W, v0, tb, mu, Q, r, n, F, J, False, 3) <= tol_p or \
                 polish_blocks(W, v0, tb, mu, Q, K, vtol, 3):
             for k in range(n):

@@ -88,3 +88,44 @@ def test_beyond_the_threshold_the_box_tips_over_its_leading_side(direction, corn
     assert _lowest_corner(res, t) >= -sim.tolerances["gap_tol"]
     e = res.energy(t)
     assert np.all(np.diff(e) <= 1e-9 * M * G * HALF[2])
+
+
+def test_a_box_held_by_friction_on_an_incline_tips_over_its_downhill_edge():
+    """The classical block on an incline: with mu > tan(theta) friction holds it, and it
+    tips iff tan(theta) > hx / hz (the weight's line of action passes the downhill edge).
+    tan(theta) = 0.4 > 0.25: it turns over its downhill edge from rest (rest on a face ->
+    pivot on an edge); tan(theta) = 0.2 < 0.25: it stays at rest."""
+    for tan_t, tips in ((0.4, True), (0.2, False)):
+        th = math.atan(tan_t)
+        n = np.array([-math.sin(th), 0.0, math.cos(th)])       # rises towards +x
+        scene = Scene3D(gravity=(0.0, 0.0, -G))
+        scene.add_plane((0.0, 0.0, 0.0), tuple(n))
+        q = (math.cos(-th / 2), 0.0, math.sin(-th / 2), 0.0)   # body z along n
+        scene.add_body(Box3D(tuple(2 * h for h in HALF)), M, tuple((HALF[2] + DROP) * n),
+                       orientation=q)
+        sim = Simulation3D(scene, Law("kane_levinson", e=0.0, mu=0.8))
+        res = sim.run(0.2)
+        ev = res.events
+        piv = ev[ev["kind"] == "pivot"]
+        if not tips:
+            assert res.status == "done" and len(piv) == 0
+            assert ev["kind"][-1] == "rest"
+            continue
+        assert res.status == "done", res.status
+        assert len(piv) >= 1 and piv[0]["mode"] == 2
+        downhill = np.array([-math.cos(th), 0.0, -math.sin(th)])
+        s = res.sample([float(piv[0]["t"])])
+        assert (np.asarray(piv[0]["point"]) - s["position"][0, 0]) @ downhill > 0.9 * HALF[0]
+        # it turns downhill (about -y) and never sinks into the incline
+        t = np.linspace(float(piv[0]["t"]), 0.2, 200)
+        assert res.sample(t[5:6])["angular_velocity"][0, 0, 1] < 0.0
+        s = res.sample(t)
+        for sx in (-1, 1):
+            for sy in (-1, 1):
+                for sz in (-1, 1):
+                    c = np.array([sx * HALF[0], sy * HALF[1], sz * HALF[2]])
+                    qq = s["orientation"][:, 0]
+                    tt = 2.0 * np.cross(qq[:, 1:], c)
+                    rot = c + qq[:, :1] * tt + np.cross(qq[:, 1:], tt)
+                    gap = (s["position"][:, 0] + rot) @ n
+                    assert np.min(gap) >= -sim.tolerances["gap_tol"]
