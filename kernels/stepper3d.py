@@ -2000,7 +2000,7 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
                 cnt += 1
     if cnt == 1:
         # a wall candidate (or -1): held by _pivot_enter if the held motion drives it in
-        bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, k1, acc1, bp_off, tolf)
+        bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
         if k2 < 0:
             bp2 = bp
     elif cnt < 2:
@@ -2016,11 +2016,12 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
 
 
 @njit(cache=True)
-def _second_plane(i, st, bint, bflt, feats, planes, p, k1, acc1, bp_off, tolf):
+def _second_plane(i, st, bint, bflt, feats, planes, p, acc1, bp_off, tolf):
     """A feature of body i touching a plane other than p (a wall: gravity need not press
-    it) while feature row k1 is held on p: (plane, feature row), or (-1, -1). It counts
-    when it is the only one, within gap_tol, with a normal speed below the accumulation
-    speed of the held contact (``_vz2`` of ``acc1``, k1's gap acceleration in m/s^2). Its
+    it) while one of its features is held on p: (plane, feature row), or (-1, -1). It
+    counts when it is the only one, within gap_tol, with a normal speed below the
+    accumulation speed of the held contact (``_vz2`` of ``acc1``, the held feature's gap
+    acceleration in m/s^2). Its
     free gap acceleration is not asked for: the held contact's force is what drives a
     corner or a cap into a wall while the body pivots (3:2681066003: a capsule rocking on
     the floor against a wall took an impact on each every 1e-6 s). Whether it is held is
