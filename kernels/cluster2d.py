@@ -129,7 +129,8 @@ lift-off (``mu = 0``: frictionless contact, lift-off); the combinations run
 lexicographically with the first contact's option varying slowest (after an event:
 ordered first by the number of contacts whose mode changes), and the first
 consistent one is returned (a sliding contact whose slip its current mode stops within
-``STOP_RTOL sqrt(L / |g|)`` counts as not slipping: near-simultaneous stops are one): every active ``lam_N >= -FORCE_TOL F``, every sticking force
+``STOP_RTOL sqrt(L / |g|)`` counts as not slipping: near-simultaneous stops are one):
+every active ``lam_N >= -FORCE_TOL F``, every sticking force
 inside its cone (``|lam_T| <= mu lam_N + FORCE_TOL F``), every contact that starts to slip
 from ``vT = 0`` accelerating along its slip (``sig dvT/dt > ACC_TOL |g|``), every lifted
 contact not approaching (``g'' >= -ACC_TOL |g|``), with ``F = sum m |g|``. None:

@@ -1,8 +1,9 @@
 """Exact polish of the simultaneous frictional impact problem, in 2D or 3D contact space.
 
 The simultaneous policy (``stepper3d._joint``, ``stepper2d._joint``) solves, for K contacts
-with Delassus matrix ``W`` (bs K x bs K, 1/kg, block size bs = 3 in 3D: each contact's block ordered normal,
-tangent 1, tangent 2; bs = 2 in 2D: normal, tangent), initial contact velocities ``v0``
+with Delassus matrix ``W`` (bs K x bs K, 1/kg, block size bs = 3 in 3D: each contact's
+block ordered normal, tangent 1, tangent 2; bs = 2 in 2D: normal, tangent), initial
+contact velocities ``v0``
 (m/s), restitution targets ``tb`` (``-e min(v0_N, 0)``, m/s) and friction coefficients
 ``mu``, the impulses ``P`` (N s) with ``u = v0 + W P`` such that for each contact
 

@@ -70,8 +70,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
 * Box (on the face most aligned with the plane) and capsule (on its side):
   ``E_ex = m v_N^2 / 2 + w . I w / 2 + m |g_n| (h - h_rest)``; when below the threshold
   and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
-  and a box's centre of mass is over that face) the run jumps to the accumulation point, snaps the body onto the face (rotation to the
-  face, normal velocity and rotation removed: event "contact") and it then rests or
+  and a box's centre of mass is over that face) the run jumps to the accumulation point,
+  snaps the body onto the face (rotation to the face, normal velocity and rotation
+  removed: event "contact") and it then rests or
   slides without rotating (closed form). The face must carry the friction moment (the
   pressure centre ``-h F / N`` inside it), else the box tips over the edge or the corner
   the pressure centre passed (``_tip``: integrated contact on those corners, as
@@ -147,7 +148,8 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_STICK, PAINLEVE_IMPACT,
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
-                   RC_MAX_EVENTS, ERR_PERSISTENT_PAIR, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
+                   RC_MAX_EVENTS, ERR_PERSISTENT_PAIR, PP_CHATTER, PP_HELD,  # noqa: F401
+                   PP_TOGETHER,
                    PR_CHECK, PR_HIT, PR_OFF, PR_ON)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
 from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound,
