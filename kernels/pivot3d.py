@@ -1,6 +1,7 @@
-"""Persistent point and edge contact in 3D: a body pivoting, rolling or sliding on one or
-two of its features, each held on a plane (the same plane, or one plane each: a groove, a
-corner; every contact has its own normal, offset and mu), integrated with error control.
+"""Persistent point and edge contact in 3D: a body pivoting, rolling or sliding on one to
+``KMAX`` (4) of its features, each held on a plane (the same plane, or different planes: a
+groove, a corner; every contact has its own normal, offset and mu), integrated with error
+control.
 
 When impacts accumulate at a corner or an edge of a box, or at a cap of a capsule (the
 impact sequence has a finite accumulation point, after which the contact persists), the
@@ -23,6 +24,9 @@ centre of mass; a feature of radius ``rad`` touches at its centre minus ``rad n`
   ``s d`` (``d`` along the line through them) undetermined; the motion is not: sticking
   holds while some ``s`` puts both forces in their friction cones (on two planes ``s d``
   has a normal part on each, so both normal forces depend on ``s``: ``cone_interval``).
+  The other contacts' forces do not depend on ``s`` (``s d`` has no net force or moment).
+  Three sticking points not on one line hold the body still: a rest, not a motion
+  (``PV_STUCK``; the stepper stops the body there, ``stepper3d._pv_still``).
 
 Events (each a function that must stay positive; the phase ends at its first root, located
 on the integrator's dense output): a normal force ``lam_k`` reaching 0 (the contact lifts
@@ -64,58 +68,55 @@ from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, erro
 from .flight3d import pose_at, qmul, qnormalize, qrot, qrot_inv
 
 # ---- contact parameters cp (float64[N_CP]) ----------------------------------------------
+# Per-contact fields are arrays of KMAX slots (contact k at base + k, or base + 3 k for a
+# vector); contacts 0 .. K-1 are in use.
+KMAX = 4        # contacts held at once at most (a box's edge on each groove plane: 4)
 CP_M = 0        # mass (kg)
 CP_I = 1        # 1:4 principal moments (kg m^2)
 CP_G = 4        # 4:7 gravity (m/s^2)
-CP_N = 7        # 7:10 plane normal
-CP_D = 10       # plane offset (m)
-CP_MU = 11      # friction coefficient
-CP_K = 12       # number of contacts (1 or 2)
-CP_RAD = 13     # feature radius (m)
-CP_P1 = 14      # 14:17 body-frame feature centre of contact 1 (m)
-CP_P2 = 17      # 17:20 of contact 2
-CP_S1 = 20      # status of contact 1: 0 sliding, 1 sticking
-CP_S2 = 21
-CP_U1 = 22      # 22:25 start direction of a slip that started from sticking (zero: none)
-CP_U2 = 25
-CP_EPS = 28     # slip_eps (m/s)
-CP_PLANE = 29   # plane index (float)
-CP_F1 = 30      # feature row of contact 1 (float)
-CP_F2 = 31      # feature row of contact 2 (float)
-CP_L = 32       # body size L (m): bounding radius
-CP_N2 = 33      # 33:36 plane normal of contact 2 (its own plane: a groove, a corner)
-CP_D2 = 36      # plane offset of contact 2 (m)
-CP_MU2 = 37     # friction coefficient of contact 2
-CP_PLANE2 = 38  # plane index of contact 2 (float)
-N_CP = 39
+CP_K = 7        # number of contacts (1 .. KMAX)
+CP_RAD = 8      # feature radius (m)
+CP_EPS = 9      # slip_eps (m/s)
+CP_L = 10       # body size L (m): bounding radius
+CP_N = 11       # + 3 k: unit normal of contact k's plane (each contact has its own plane)
+CP_D = CP_N + 3 * KMAX      # + k: offset of that plane (m)
+CP_MU = CP_D + KMAX         # + k: friction coefficient of contact k
+CP_PLANE = CP_MU + KMAX     # + k: plane index of contact k (float)
+CP_P = CP_PLANE + KMAX      # + 3 k: body-frame feature centre of contact k (m)
+CP_S = CP_P + 3 * KMAX      # + k: status of contact k: 0 sliding, 1 sticking
+CP_U = CP_S + KMAX          # + 3 k: start direction of a slip that started from sticking
+#                             (zero: none)
+CP_F = CP_U + 3 * KMAX      # + k: feature row of contact k (float)
+N_CP = CP_F + KMAX
 
 # ---- force workspace fw (float64[N_FW]) --------------------------------------------------
+NSYS = 3 * KMAX             # unknowns of the force system at most (all sticking)
 FW_R = 0        # 0:9 rotation matrix (row-major)
 FW_II = 9       # 9:18 world inverse inertia
-FW_R1 = 18      # contact arms r_k
-FW_R2 = 21
-FW_S1 = 24      # feature-centre arms s_k
-FW_S2 = 27
-FW_F1 = 30      # contact forces f_k (N)
-FW_F2 = 33
-FW_LAM = 36     # 36:38 normal forces lam_k (N)
-FW_C1 = 38      # slip velocities c_k (m/s, tangential)
-FW_C2 = 41
-FW_A = 44       # 44:47 acceleration (m/s^2)
-FW_AL = 47      # 47:50 angular acceleration (rad/s^2)
-FW_MAT = 50     # 50:86 6x6 system
-FW_RHS = 86     # 86:92
-FW_G = 92       # 92:101 a 3x3 block
-FW_B1 = 101     # free contact accelerations b_k
-FW_B2 = 104
-FW_MARG = 107   # 107:109 stick margins per contact (N): mu lam - |f_T| (or the two-stick
-                #   interval length, in N, stored in both)
-FW_SSTAR = 109  # internal force chosen for two sticking contacts (N)
-N_FW = 112
+FW_ARM = 18                 # + 3 k: contact arms r_k (m)
+FW_SARM = FW_ARM + NSYS     # + 3 k: feature-centre arms s_k (m)
+FW_F = FW_SARM + NSYS       # + 3 k: contact forces f_k (N)
+FW_LAM = FW_F + NSYS        # + k: normal forces lam_k (N)
+FW_C = FW_LAM + KMAX        # + 3 k: slip velocities c_k (m/s, tangential)
+FW_B = FW_C + NSYS          # + 3 k: free contact accelerations b_k (m/s^2)
+FW_MARG = FW_B + NSYS       # + k: stick margins (N): mu lam - |f_T| (or, for two sticking
+#                             contacts, the length of their internal force's interval, in N,
+#                             stored in both)
+FW_COL = FW_MARG + KMAX     # + k: first unknown of contact k in the force system (float)
+FW_A = FW_COL + KMAX        # 3: acceleration (m/s^2)
+FW_AL = FW_A + 3            # 3: angular acceleration (rad/s^2)
+FW_G = FW_AL + 3            # 9: a 3x3 block
+FW_SSTAR = FW_G + 9         # internal force chosen for two sticking contacts (N)
+FW_MAT = FW_SSTAR + 1       # NSYS x NSYS system (row-major, stride NSYS)
+FW_RHS = FW_MAT + NSYS * NSYS   # NSYS
+N_FW = FW_RHS + NSYS
 
 PV_OK = 0
 PV_PAINLEVE = 1     # a sliding contact's normal force coefficient is <= 0
 PV_SINGULAR = 2     # singular force system
+#   (3: no consistent stick/slip/lift-off state, set by the stepper's validation)
+PV_STUCK = 4        # three or more sticking contacts: the body is held still (a rest, which
+#                     the integrated contact does not build)
 
 # ---- integrator workspace pw (float64[N_PW]) ---------------------------------------------
 NY = 13
@@ -161,14 +162,18 @@ ENERGY_FIX_MAX = 1e-6  # a conservative rolling phase's velocities are rescaled 
 
 # event kinds
 PE_NONE = 0
-PE_LIFT = 1         # index: contact 0 or 1
-PE_SLIP = 2         # a sticking contact reaches its cone (index: contact, or 2 = both)
+PE_LIFT = 1         # index: the contact (0 .. K-1)
+PE_SLIP = 2         # a sticking contact reaches its cone (index: the contact)
 PE_STOP = 3         # a sliding contact's slip falls to slip_eps (index: contact)
 PE_GAP = 4          # another feature reaches a plane (index: plane * 1000 + feature)
 PE_JAM = 5          # one sliding contact reaches a Painleve jam: its normal-force coefficient
                     #   W_NN - mu u . W_TN falls to 0 under a normal force growing without
                     #   bound (the step shrank to STAGE_HMIN at the state kept in PW_JAM);
                     #   scheduled by the stepper only under painleve="impact"
+
+# event values (``_event_values``): [0:KMAX] normal forces, [KMAX:2 KMAX] stick margins,
+# [2 KMAX:3 KMAX] slip speeds, then the gaps of every feature to every plane
+NEV_CONTACT = 3 * KMAX
 
 # Dormand-Prince RK5(4)7M (the same step as flight3d): kernels/dopri5.py
 
@@ -178,21 +183,21 @@ PE_JAM = 5          # one sliding contact reaches a Painleve jam: its normal-for
 
 @njit(cache=True)
 def _solve(fw, n):
-    """Solve fw[FW_MAT] (n x n, row-major, stride 6) x = fw[FW_RHS:FW_RHS+n] in place
+    """Solve fw[FW_MAT] (n x n, row-major, stride NSYS) x = fw[FW_RHS:FW_RHS+n] in place
     (Gaussian elimination, partial pivoting). Returns False if singular."""
     M = FW_MAT
     B = FW_RHS
     scale = 0.0
     for i in range(n):
         for j in range(n):
-            scale = max(scale, abs(fw[M + 6 * i + j]))
+            scale = max(scale, abs(fw[M + NSYS * i + j]))
     if not scale > 0.0:
         return False
     for col in range(n):
         piv = col
-        best = abs(fw[M + 6 * col + col])
+        best = abs(fw[M + NSYS * col + col])
         for r in range(col + 1, n):
-            v = abs(fw[M + 6 * r + col])
+            v = abs(fw[M + NSYS * r + col])
             if v > best:
                 best = v
                 piv = r
@@ -200,24 +205,24 @@ def _solve(fw, n):
             return False
         if piv != col:
             for j in range(n):
-                tmp = fw[M + 6 * col + j]
-                fw[M + 6 * col + j] = fw[M + 6 * piv + j]
-                fw[M + 6 * piv + j] = tmp
+                tmp = fw[M + NSYS * col + j]
+                fw[M + NSYS * col + j] = fw[M + NSYS * piv + j]
+                fw[M + NSYS * piv + j] = tmp
             tmp = fw[B + col]
             fw[B + col] = fw[B + piv]
             fw[B + piv] = tmp
-        d = fw[M + 6 * col + col]
+        d = fw[M + NSYS * col + col]
         for r in range(col + 1, n):
-            f = fw[M + 6 * r + col] / d
+            f = fw[M + NSYS * r + col] / d
             if f != 0.0:
                 for j in range(col, n):
-                    fw[M + 6 * r + j] -= f * fw[M + 6 * col + j]
+                    fw[M + NSYS * r + j] -= f * fw[M + NSYS * col + j]
                 fw[B + r] -= f * fw[B + col]
     for i in range(n - 1, -1, -1):
         s = fw[B + i]
         for j in range(i + 1, n):
-            s -= fw[M + 6 * i + j] * fw[B + j]
-        fw[B + i] = s / fw[M + 6 * i + i]
+            s -= fw[M + NSYS * i + j] * fw[B + j]
+        fw[B + i] = s / fw[M + NSYS * i + i]
     return True
 
 
@@ -250,10 +255,10 @@ def _slipdir(fw, cp, k):
     from sticking along the stored direction u_k, the direction of
     ``c_k + slip_eps u_k max(0, 1 - |c_k| / (SLIP_BLEND slip_eps))``, continuous in c_k,
     equal to u_k at c_k = 0 and to c_k/|c_k| once |c_k| >= SLIP_BLEND slip_eps."""
-    co = FW_C1 + 3 * k
+    co = FW_C + 3 * k
     cx, cy, cz = fw[co], fw[co + 1], fw[co + 2]
     c = math.sqrt(cx * cx + cy * cy + cz * cz)
-    uo = CP_U1 + 3 * k
+    uo = CP_U + 3 * k
     eps = cp[CP_EPS]
     wgt = eps * max(0.0, 1.0 - c / (SLIP_BLEND * eps))
     wx = cx + wgt * cp[uo]
@@ -268,20 +273,20 @@ def _slipdir(fw, cp, k):
 @njit(cache=True, inline="always")
 def contact_normal(cp, k):
     """Unit normal of the plane of contact k (each contact has its own plane)."""
-    o = CP_N if k == 0 else CP_N2
+    o = CP_N + 3 * k
     return cp[o], cp[o + 1], cp[o + 2]
 
 
 @njit(cache=True, inline="always")
 def contact_mu(cp, k):
     """Friction coefficient of contact k (the law of its body-plane pair)."""
-    return cp[CP_MU] if k == 0 else cp[CP_MU2]
+    return cp[CP_MU + k]
 
 
 @njit(cache=True, inline="always")
 def contact_plane(cp, k):
     """Plane index of contact k."""
-    return int(cp[CP_PLANE]) if k == 0 else int(cp[CP_PLANE2])
+    return int(cp[CP_PLANE + k])
 
 
 @njit(cache=True)
@@ -375,13 +380,13 @@ def pivot_forces(y, cp, fw):
     a0z = fw[Ii + 6] * tx + fw[Ii + 7] * ty + fw[Ii + 8] * tz
     for k in range(K):
         nx, ny, nz = contact_normal(cp, k)
-        po = CP_P1 + 3 * k
+        po = CP_P + 3 * k
         px, py, pz = cp[po], cp[po + 1], cp[po + 2]
         sx = fw[R] * px + fw[R + 1] * py + fw[R + 2] * pz
         sy = fw[R + 3] * px + fw[R + 4] * py + fw[R + 5] * pz
         sz = fw[R + 6] * px + fw[R + 7] * py + fw[R + 8] * pz
-        so = FW_S1 + 3 * k
-        ro = FW_R1 + 3 * k
+        so = FW_SARM + 3 * k
+        ro = FW_ARM + 3 * k
         fw[so] = sx
         fw[so + 1] = sy
         fw[so + 2] = sz
@@ -396,29 +401,41 @@ def pivot_forces(y, cp, fw):
         uy = y[8] + wz * rx - wx * rz
         uz = y[9] + wx * ry - wy * rx
         un = ux * nx + uy * ny + uz * nz
-        co = FW_C1 + 3 * k
+        co = FW_C + 3 * k
         fw[co] = ux - un * nx
         fw[co + 1] = uy - un * ny
         fw[co + 2] = uz - un * nz
         # free acceleration b = g + al0 x r + w x (w x s)
         ws = wx * sx + wy * sy + wz * sz
         w2 = wx * wx + wy * wy + wz * wz
-        bo = FW_B1 + 3 * k
+        bo = FW_B + 3 * k
         fw[bo] = gx + (a0y * rz - a0z * ry) + wx * ws - sx * w2
         fw[bo + 1] = gy + (a0z * rx - a0x * rz) + wy * ws - sy * w2
         fw[bo + 2] = gz + (a0x * ry - a0y * rx) + wz * ws - sz * w2
-    st1 = int(cp[CP_S1])
-    st2 = int(cp[CP_S2]) if K == 2 else 0
     # unknown layout: contact k sliding: 1 unknown lam_k; sticking: 3 unknowns f_k
-    n1 = 3 if st1 == 1 else 1
-    n2 = 0 if K == 1 else (3 if st2 == 1 else 1)
-    ntot = n1 + n2
-    for i in range(36):
+    ntot = 0
+    nstick = 0
+    ka = -1             # the two sticking contacts, when exactly two stick
+    kb = -1
+    for k in range(K):
+        fw[FW_COL + k] = ntot
+        if cp[CP_S + k] == 1.0:
+            ntot += 3
+            nstick += 1
+            if ka < 0:
+                ka = k
+            else:
+                kb = k
+        else:
+            ntot += 1
+    if nstick >= 3:
+        return PV_STUCK
+    for i in range(NSYS * NSYS):
         fw[FW_MAT + i] = 0.0
     # columns: effect of each unknown on each contact acceleration
     for kc in range(K):          # the contact whose force the unknowns describe
-        stc = st1 if kc == 0 else st2
-        col0 = 0 if kc == 0 else n1
+        stc = int(cp[CP_S + kc])
+        col0 = int(fw[FW_COL + kc])
         ec0 = 0.0
         ec1 = 0.0
         ec2 = 0.0
@@ -430,10 +447,10 @@ def pivot_forces(y, cp, fw):
             ec1 = ny - mu * u1
             ec2 = nz - mu * u2
         for kr in range(K):      # the contact whose acceleration the rows constrain
-            str_ = st1 if kr == 0 else st2
-            row0 = 0 if kr == 0 else n1
+            str_ = int(cp[CP_S + kr])
+            row0 = int(fw[FW_COL + kr])
             mx, my, mz = contact_normal(cp, kr)
-            _G(fw, FW_R1 + 3 * kr, FW_R1 + 3 * kc, m)
+            _G(fw, FW_ARM + 3 * kr, FW_ARM + 3 * kc, m)
             # block (3 x 3) G_rc; reduce columns (sliding: times e) and rows (sliding: n.)
             for a in range(3 if str_ == 1 else 1):
                 for b in range(3 if stc == 1 else 1):
@@ -449,9 +466,9 @@ def pivot_forces(y, cp, fw):
                         val = ga0 if b == 0 else (ga1 if b == 1 else ga2)
                     else:
                         val = ga0 * ec0 + ga1 * ec1 + ga2 * ec2
-                    fw[FW_MAT + 6 * (row0 + a) + col0 + b] = val
-        bo = FW_B1 + 3 * kc
-        rowc = 0 if kc == 0 else n1
+                    fw[FW_MAT + NSYS * (row0 + a) + col0 + b] = val
+        bo = FW_B + 3 * kc
+        rowc = col0
         nx, ny, nz = contact_normal(cp, kc)
         if stc == 1:
             fw[FW_RHS + rowc] = -fw[bo]
@@ -459,29 +476,36 @@ def pivot_forces(y, cp, fw):
             fw[FW_RHS + rowc + 2] = -fw[bo + 2]
         else:
             fw[FW_RHS + rowc] = -(nx * fw[bo] + ny * fw[bo + 1] + nz * fw[bo + 2])
-    two_stick = K == 2 and st1 == 1 and st2 == 1
+    two_stick = nstick == 2
     dx = 0.0
     dy = 0.0
     dz = 0.0
     if two_stick:
-        # null space: internal force s d at contact 1, -s d at contact 2 (d along r2 - r1);
-        # add v v^T (v = (d, -d) / sqrt 2) to make the system regular (minimum-norm split)
-        dx = fw[FW_R2] - fw[FW_R1]
-        dy = fw[FW_R2 + 1] - fw[FW_R1 + 1]
-        dz = fw[FW_R2 + 2] - fw[FW_R1 + 2]
+        # null space: internal force s d at contact ka, -s d at contact kb (d along
+        # r_kb - r_ka; no net force or moment, so no other unknown changes); add
+        # v v^T (v = (d, -d) / sqrt 2 on their columns) to make the system regular
+        # (minimum-norm split)
+        dx = fw[FW_ARM + 3 * kb] - fw[FW_ARM + 3 * ka]
+        dy = fw[FW_ARM + 3 * kb + 1] - fw[FW_ARM + 3 * ka + 1]
+        dz = fw[FW_ARM + 3 * kb + 2] - fw[FW_ARM + 3 * ka + 2]
         dl = math.sqrt(dx * dx + dy * dy + dz * dz)
         if not dl > 0.0:
             return PV_SINGULAR      # one point held twice (the stepper never asks this)
         dx /= dl
         dy /= dl
         dz /= dl
-        v = (dx, dy, dz, -dx, -dy, -dz)
         scale = 0.0
+        for i in range(ntot):
+            scale = max(scale, abs(fw[FW_MAT + (NSYS + 1) * i]))
+        ca = int(fw[FW_COL + ka])
+        cb = int(fw[FW_COL + kb])
         for i in range(6):
-            scale = max(scale, abs(fw[FW_MAT + 7 * i]))
-        for i in range(6):
+            vi = (dx, dy, dz, -dx, -dy, -dz)[i]
+            ri = ca + i if i < 3 else cb + i - 3
             for j in range(6):
-                fw[FW_MAT + 6 * i + j] += 0.5 * scale * v[i] * v[j]
+                vj = (dx, dy, dz, -dx, -dy, -dz)[j]
+                rj = ca + j if j < 3 else cb + j - 3
+                fw[FW_MAT + NSYS * ri + rj] += 0.5 * scale * vi * vj
     elif ntot == 1:
         den = fw[FW_MAT]
         if not den > 0.0:
@@ -490,9 +514,9 @@ def pivot_forces(y, cp, fw):
         return PV_SINGULAR
     # forces
     for kc in range(K):
-        stc = st1 if kc == 0 else st2
-        col0 = 0 if kc == 0 else n1
-        fo = FW_F1 + 3 * kc
+        stc = int(cp[CP_S + kc])
+        col0 = int(fw[FW_COL + kc])
+        fo = FW_F + 3 * kc
         nx, ny, nz = contact_normal(cp, kc)
         mu = contact_mu(cp, kc)
         if stc == 1:
@@ -511,19 +535,21 @@ def pivot_forces(y, cp, fw):
         fw[fo + 1] = f1
         fw[fo + 2] = f2
     # sliding with a single unknown in a coupled system: Painleve when the normal-force
-    # coefficient of its own row is <= 0 is checked above for ntot == 1; for K == 2 the
+    # coefficient of its own row is <= 0 is checked above for ntot == 1; for K >= 2 the
     # force signs are checked by the lift-off events.
-    # stick margins
+    # stick margins (a sliding contact has none: inf)
     fw[FW_SSTAR] = 0.0
-    if two_stick and cp[CP_PLANE2] != cp[CP_PLANE]:
+    for kc in range(K):
+        fw[FW_MARG + kc] = math.inf
+    if two_stick and contact_plane(cp, ka) != contact_plane(cp, kb):
         # two planes: the internal force s d has a normal part on each plane, so each
         # contact's normal force depends on s too; each cone gives an interval of s
         fs = m * math.sqrt(gx * gx + gy * gy + gz * gz)     # force scale (N)
         lo = -math.inf
         hi = math.inf
-        for kc in range(2):
-            fo = FW_F1 + 3 * kc
-            sg = 1.0 if kc == 0 else -1.0
+        for kc in (ka, kb):
+            fo = FW_F + 3 * kc
+            sg = 1.0 if kc == ka else -1.0
             nx, ny, nz = contact_normal(cp, kc)
             lam = fw[FW_LAM + kc]
             ax = fw[fo] - lam * nx
@@ -540,8 +566,8 @@ def pivot_forces(y, cp, fw):
             lo = max(lo, l1)
             hi = min(hi, h1)
         marg = hi - lo
-        fw[FW_MARG] = marg
-        fw[FW_MARG + 1] = marg
+        fw[FW_MARG + ka] = marg
+        fw[FW_MARG + kb] = marg
         if marg >= 0.0:
             if lo > -math.inf and hi < math.inf:
                 s = 0.5 * (lo + hi)
@@ -552,10 +578,10 @@ def pivot_forces(y, cp, fw):
             else:
                 s = 0.0
             fw[FW_SSTAR] = s
-            for kc in range(2):
-                sg = 1.0 if kc == 0 else -1.0
+            for kc in (ka, kb):
+                sg = 1.0 if kc == ka else -1.0
                 nx, ny, nz = contact_normal(cp, kc)
-                fo = FW_F1 + 3 * kc
+                fo = FW_F + 3 * kc
                 fw[fo] += sg * s * dx
                 fw[fo + 1] += sg * s * dy
                 fw[fo + 2] += sg * s * dz
@@ -564,9 +590,9 @@ def pivot_forces(y, cp, fw):
         lo = -math.inf
         hi = math.inf
         ok = True
-        for kc in range(2):
-            fo = FW_F1 + 3 * kc
-            sg = 1.0 if kc == 0 else -1.0
+        for kc in (ka, kb):
+            fo = FW_F + 3 * kc
+            sg = 1.0 if kc == ka else -1.0
             nx, ny, nz = contact_normal(cp, kc)
             mu = contact_mu(cp, kc)
             lam = fw[FW_LAM + kc]
@@ -586,22 +612,23 @@ def pivot_forces(y, cp, fw):
             lo = max(lo, -ad - sq)
             hi = min(hi, -ad + sq)
         marg = hi - lo
-        fw[FW_MARG] = marg
-        fw[FW_MARG + 1] = marg
+        fw[FW_MARG + ka] = marg
+        fw[FW_MARG + kb] = marg
         if ok and marg >= 0.0:
             s = 0.5 * (lo + hi)
             fw[FW_SSTAR] = s
-            fw[FW_F1] += s * dx
-            fw[FW_F1 + 1] += s * dy
-            fw[FW_F1 + 2] += s * dz
-            fw[FW_F2] -= s * dx
-            fw[FW_F2 + 1] -= s * dy
-            fw[FW_F2 + 2] -= s * dz
+            fa = FW_F + 3 * ka
+            fb = FW_F + 3 * kb
+            fw[fa] += s * dx
+            fw[fa + 1] += s * dy
+            fw[fa + 2] += s * dz
+            fw[fb] -= s * dx
+            fw[fb + 1] -= s * dy
+            fw[fb + 2] -= s * dz
     else:
         for kc in range(K):
-            stc = st1 if kc == 0 else st2
-            if stc == 1:
-                fo = FW_F1 + 3 * kc
+            if cp[CP_S + kc] == 1.0:
+                fo = FW_F + 3 * kc
                 nx, ny, nz = contact_normal(cp, kc)
                 mu = contact_mu(cp, kc)
                 lam = fw[FW_LAM + kc]
@@ -609,8 +636,6 @@ def pivot_forces(y, cp, fw):
                 ay = fw[fo + 1] - lam * ny
                 az = fw[fo + 2] - lam * nz
                 fw[FW_MARG + kc] = mu * lam - math.sqrt(ax * ax + ay * ay + az * az)
-            else:
-                fw[FW_MARG + kc] = math.inf
     # accelerations
     Fx = 0.0
     Fy = 0.0
@@ -619,8 +644,8 @@ def pivot_forces(y, cp, fw):
     Ty = ty
     Tz = tz
     for kc in range(K):
-        fo = FW_F1 + 3 * kc
-        ro = FW_R1 + 3 * kc
+        fo = FW_F + 3 * kc
+        ro = FW_ARM + 3 * kc
         f0, f1, f2 = fw[fo], fw[fo + 1], fw[fo + 2]
         Fx += f0
         Fy += f1
@@ -686,7 +711,7 @@ def pivot_start(pw, y0, cp, tol, max_steps):
     # 0) ends when the body falls, and is left to the integrator alone
     conservative = cp[CP_RAD] > 0.0
     for k in range(int(cp[CP_K])):
-        if cp[CP_S1 + k] != 1.0 and contact_mu(cp, k) != 0.0:
+        if cp[CP_S + k] != 1.0 and contact_mu(cp, k) != 0.0:
             conservative = False        # a contact slides with friction
     pw[PW_E0] = _kinetic(y0, cp) + _potential(y0, cp) if conservative else math.nan
     pivot_reset(pw)
@@ -862,8 +887,8 @@ def contact_accel(y, fw, k):
     """Acceleration (m/s^2, world) of the material point at contact k of the body in state
     ``y`` under the forces in ``fw`` (``pivot_forces``): ``a_cm + alpha x r + w x (w x s)``,
     with ``w x (w x s) = w (w.s) - s |w|^2``."""
-    ro = FW_R1 + 3 * k
-    so = FW_S1 + 3 * k
+    ro = FW_ARM + 3 * k
+    so = FW_SARM + 3 * k
     return point_accel(y, fw, fw[ro], fw[ro + 1], fw[ro + 2], fw[so], fw[so + 1], fw[so + 2])
 
 
@@ -892,42 +917,40 @@ def slip_growth(y, cp, fw, k):
 
 @njit(cache=True)
 def _event_values(y, cp, fw, feats, f0, nf, planes, skip, vals, vfl):
-    """Event functions at state y into vals: [0:2] lift (lam_k), [2:4] stick margins,
-    [4:6] slip speed minus slip_eps (for a slip started from sticking and still below
-    slip_eps: its growth rate, so that a slip that stops growing sticks again),
-    [6 + p nf + j] gaps minus their floors ``vfl``
+    """Event functions at state y into vals (layout ``NEV_CONTACT``): [k] lift (lam_k),
+    [KMAX + k] stick margins, [2 KMAX + k] slip speed minus slip_eps (for a slip started
+    from sticking and still below slip_eps: its growth rate, so that a slip that stops
+    growing sticks again), [NEV_CONTACT + p nf + j] gaps minus their floors ``vfl``
     (a feature touching at the start -- gap <= 0 -- is armed too: it fires when its gap
     goes below its starting value by GAP_ARM L). Returns the force code."""
     rc = pivot_forces(y, cp, fw)
     K = int(cp[CP_K])
-    for k in range(2):
+    for k in range(NEV_CONTACT):
         vals[k] = math.inf
-        vals[2 + k] = math.inf
-        vals[4 + k] = math.inf
     for k in range(K):
         vals[k] = fw[FW_LAM + k] - vfl[k]
-        st = int(cp[CP_S1 + k])
+        st = int(cp[CP_S + k])
         if st == 1:
-            vals[2 + k] = fw[FW_MARG + k] - vfl[2 + k]
+            vals[KMAX + k] = fw[FW_MARG + k] - vfl[KMAX + k]
         elif contact_mu(cp, k) != 0.0:
             # (a frictionless contact slides for ever: no stop event)
-            co = FW_C1 + 3 * k
+            co = FW_C + 3 * k
             c = math.sqrt(fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2)
-            vals[4 + k] = c - cp[CP_EPS]
-            uo = CP_U1 + 3 * k
+            vals[2 * KMAX + k] = c - cp[CP_EPS]
+            uo = CP_U + 3 * k
             if c < cp[CP_EPS] and (cp[uo] != 0.0 or cp[uo + 1] != 0.0 or cp[uo + 2] != 0.0):
                 # a slip started from sticking, still below slip_eps: it must keep growing
                 # (its acceleration along the friction direction stays positive)
-                vals[4 + k] = slip_growth(y, cp, fw, k)
+                vals[2 * KMAX + k] = slip_growth(y, cp, fw, k)
     rad = cp[CP_RAD]
-    p0 = int(cp[CP_PLANE])
-    p1 = int(cp[CP_PLANE2]) if K == 2 else -1
-    fa = int(cp[CP_F1])
-    fb = int(cp[CP_F2]) if K == 2 else -1
     for p in range(planes.shape[0]):
         for j in range(nf):
-            idx = 6 + p * nf + j
-            if skip[p] != 0 or (p == p0 and f0 + j == fa) or (p == p1 and f0 + j == fb):
+            idx = NEV_CONTACT + p * nf + j
+            held = skip[p] != 0
+            for k in range(K):
+                if p == int(cp[CP_PLANE + k]) and f0 + j == int(cp[CP_F + k]):
+                    held = True
+            if held:
                 vals[idx] = math.inf
                 continue
             vals[idx] = _gap(y, feats, f0 + j, planes, p, rad) - vfl[idx]
@@ -986,10 +1009,10 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
                      vals, vals0, vfl):
     """Integrate the phase from its start until the first event or ``S`` (s). Returns
     ``(s, kind, index, code)``: kind ``PE_*`` (``PE_NONE`` when ``S`` is reached), code
-    ``PI_*``. ``ybuf`` float64[13], ``vals``/``vals0``/``vfl`` float64[6 + np nf] are
-    scratch."""
+    ``PI_*``. ``ybuf`` float64[13], ``vals``/``vals0``/``vfl`` float64[NEV_CONTACT + np nf]
+    are scratch."""
     pivot_reset(pw)
-    nv = 6 + planes.shape[0] * nf
+    nv = NEV_CONTACT + planes.shape[0] * nf
     for j in range(NY):
         ybuf[j] = pw[PW_YSTART + j]
     for e in range(nv):
@@ -997,12 +1020,12 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
     rc = _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals0, vfl)
     farm = FORCE_ARM * cp[CP_M] * math.sqrt(cp[CP_G] ** 2 + cp[CP_G + 1] ** 2
                                             + cp[CP_G + 2] ** 2)
-    for e in range(4):
+    for e in range(2 * KMAX):
         if vals0[e] < farm:
             vfl[e] = min(0.0, vals0[e]) - farm
             vals0[e] -= vfl[e]
     arm = GAP_ARM * cp[CP_L]
-    for e in range(6, nv):
+    for e in range(NEV_CONTACT, nv):
         if vals0[e] < math.inf:
             vfl[e] = min(0.0, vals0[e]) - arm
             vals0[e] -= vfl[e]
@@ -1023,9 +1046,9 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
         for e in range(nv):
             sb = s1
             fb = vals[e]
-            if e >= 6 and vals0[e] > 0.0 and fb > 0.0 and fb < math.inf:
+            if e >= NEV_CONTACT and vals0[e] > 0.0 and fb > 0.0 and fb < math.inf:
                 # a gap positive at both ends may dip through the plane in between
-                g = e - 6
+                g = e - NEV_CONTACT
                 sb, fb = _gap_dip(pw, feats, f0 + g % nf, planes, g // nf, cp[CP_RAD],
                                   vfl[e], t0, rtol, atol, ybuf)
             if vals0[e] > 0.0 and fb <= 0.0:
@@ -1054,13 +1077,13 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
                 pivot_dense(pw, s1, ybuf)
                 _event_values(ybuf, cp, fw, feats, f0, nf, planes, skip, vals, vfl)
         if bk >= 0 and best <= S:
-            if bk < 2:
+            if bk < KMAX:
                 return best, PE_LIFT, bk, PI_OK
-            if bk < 4:
-                return best, PE_SLIP, bk - 2, PI_OK
-            if bk < 6:
-                return best, PE_STOP, bk - 4, PI_OK
-            g = bk - 6
+            if bk < 2 * KMAX:
+                return best, PE_SLIP, bk - KMAX, PI_OK
+            if bk < NEV_CONTACT:
+                return best, PE_STOP, bk - 2 * KMAX, PI_OK
+            g = bk - NEV_CONTACT
             return best, PE_GAP, (g // nf) * 1000 + (g % nf), PI_OK
         if s1 >= S:
             return S, PE_NONE, 0, PI_OK

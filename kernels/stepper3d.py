@@ -158,17 +158,16 @@ from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
 from .groove3d import rest_forces, rest_work_size
+from .minnorm import minnorm_solve
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
-from .pivot3d import (FORCE_ARM, CP_D, CP_D2, cone_interval, CP_MU2, CP_N2, CP_PLANE2,
-                      contact_mu, contact_normal, contact_plane, CP_EPS, CP_F1, CP_F2, CP_G,
-                      CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N, CP_P1, CP_P2, CP_PLANE, CP_RAD,
-                      CP_S1, CP_S2, CP_U1, CP_U2, FW_A, FW_AL, FW_B1, FW_F1, FW_LAM, FW_MARG,
-                      N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PV_PAINLEVE, PE_SLIP, PE_STOP,
-                      PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PW_JAM, PW_S0, PW_WHY, PW_Y,
-                      contact_accel, pivot_eval, pivot_forces, pivot_next_event, pivot_start,
-                      point_accel,
-                      FW_C1, slip_growth)
+from .pivot3d import (CP_D, CP_EPS, CP_F, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N, CP_P,
+                      CP_PLANE, CP_RAD, CP_S, CP_U, FORCE_ARM, FW_A, FW_AL, FW_B, FW_C, FW_F,
+                      FW_LAM, FW_MARG, KMAX, N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PE_SLIP,
+                      PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PV_PAINLEVE, PW_JAM,
+                      PW_S0, PW_WHY, PW_Y, cone_interval, contact_accel, contact_mu,
+                      contact_normal, contact_plane, pivot_eval, pivot_forces, pivot_next_event,
+                      pivot_start, point_accel, slip_growth)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 from .pair3d import FR_NX, FR_PAX, FR_PBX, FR_RATE, N_FE, pair_frame  # noqa: F401
@@ -277,6 +276,16 @@ N_SLIP_SCAN = 72
 #: sticks -- its slip removed by an impulse (dissipative, at most m STICK_RESCUE slip_eps)
 #: -- and the state is checked again (dimensionless)
 STICK_RESCUE = 10.0
+#: integrated contact: three or more sticking points hold the body still unless they lie on
+#: one line: within STILL_LINE_RTOL of the body's size L (dimensionless round-off
+#: allowance), the body keeps turning about that line (``_pv_still``)
+STILL_LINE_RTOL = 1e-9
+#: integrated contact at three or more points: the normal impulses that zero their normal
+#: velocities solve W_NN dP = -v_N by a minimum-norm least-squares solve (``minnorm``):
+#: singular values below ZERO_NORMALS_RTOL times the largest are zero (dependent contacts,
+#: dimensionless), in at most ZERO_NORMALS_SWEEPS Jacobi sweeps
+ZERO_NORMALS_RTOL = 1e-12
+ZERO_NORMALS_SWEEPS = 60
 #: a face holds the friction moment when the pressure centre stays inside it by this
 #: fraction of the face's half extent (dimensionless round-off allowance)
 FACE_RTOL = 1e-12
@@ -1085,7 +1094,7 @@ def _recompute_pivot(i, t_now, st, bint, planes, feats, bp_off, bt, ttr, pk, pv,
                                           B_COUNT], planes, skip, S, t_now, tolf[TF_TOI_RTOL],
                                           tolf[TF_TOI_ATOL], ybuf, vals, vals0, vfl)
     if (code == PI_FORCES and pw[i, PW_WHY] == PV_PAINLEVE and pv[i, CP_K] == 1.0
-            and pv[i, CP_S1] == 0.0 and tolf[TF_PAINLEVE] == PAINLEVE_IMPACT):
+            and pv[i, CP_S] == 0.0 and tolf[TF_PAINLEVE] == PAINLEVE_IMPACT):
         # the slide runs into a Painleve jam: an impact without collision there (PE_JAM;
         # the state where the step gave up is kept, pivot_eval would not reach past it)
         for j in range(13):
@@ -1149,7 +1158,7 @@ def _recompute_pairs(t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, z
 @njit(cache=True, inline="always")
 def _pv_arm(st, i, pv, k):
     """Arm (contact point minus centre of mass) of integrated contact k of body i."""
-    po = CP_P1 + 3 * k
+    po = CP_P + 3 * k
     sx, sy, sz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], pv[i, po], pv[i,
                       po + 1], pv[i, po + 2])
     rad = pv[i, CP_RAD]
@@ -1173,19 +1182,35 @@ def _pv_frame(c_f, cw, st, i, pv, k):
 
 @njit(cache=True)
 def _pv_drop(pv, i, k):
-    """Remove integrated contact k of body i."""
+    """Remove integrated contact k of body i (the later ones move down one slot)."""
     K = int(pv[i, CP_K])
-    if k == 0 and K == 2:
+    for c in range(k, K - 1):
         for j in range(3):
-            pv[i, CP_P1 + j] = pv[i, CP_P2 + j]
-            pv[i, CP_U1 + j] = pv[i, CP_U2 + j]
-            pv[i, CP_N + j] = pv[i, CP_N2 + j]
-        pv[i, CP_D] = pv[i, CP_D2]
-        pv[i, CP_MU] = pv[i, CP_MU2]
-        pv[i, CP_PLANE] = pv[i, CP_PLANE2]
-        pv[i, CP_S1] = pv[i, CP_S2]
-        pv[i, CP_F1] = pv[i, CP_F2]
+            pv[i, CP_P + 3 * c + j] = pv[i, CP_P + 3 * c + 3 + j]
+            pv[i, CP_U + 3 * c + j] = pv[i, CP_U + 3 * c + 3 + j]
+            pv[i, CP_N + 3 * c + j] = pv[i, CP_N + 3 * c + 3 + j]
+        pv[i, CP_D + c] = pv[i, CP_D + c + 1]
+        pv[i, CP_MU + c] = pv[i, CP_MU + c + 1]
+        pv[i, CP_PLANE + c] = pv[i, CP_PLANE + c + 1]
+        pv[i, CP_S + c] = pv[i, CP_S + c + 1]
+        pv[i, CP_F + c] = pv[i, CP_F + c + 1]
     pv[i, CP_K] = K - 1
+
+
+@njit(cache=True, inline="always")
+def _pv_sticking(pv, i):
+    """(number of sticking integrated contacts of body i, first, second) (-1: none)."""
+    n = 0
+    ka = -1
+    kb = -1
+    for k in range(int(pv[i, CP_K])):
+        if pv[i, CP_S + k] == 1.0:
+            n += 1
+            if ka < 0:
+                ka = k
+            elif kb < 0:
+                kb = k
+    return n, ka, kb
 
 
 @njit(cache=True)
@@ -1198,7 +1223,7 @@ def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
     ux = c * t1x + s * t2x
     uy = c * t1y + s * t2y
     uz = c * t1z + s * t2z
-    uo = CP_U1 + 3 * k
+    uo = CP_U + 3 * k
     pv[i, uo] = ux
     pv[i, uo + 1] = uy
     pv[i, uo + 2] = uz
@@ -1225,7 +1250,7 @@ def _pv_slide(st, i, pv, k, fw):
     When no direction is consistent, the contact is set back to sticking and False is
     returned (fw is then stale)."""
     nx, ny, nz = contact_normal(pv[i], k)
-    fo = FW_F1 + 3 * k
+    fo = FW_F + 3 * k
     lam = fw[FW_LAM + k]
     fx = fw[fo] - lam * nx
     fy = fw[fo + 1] - lam * ny
@@ -1236,7 +1261,7 @@ def _pv_slide(st, i, pv, k, fw):
         phi0 = math.atan2(-(fx * t2x + fy * t2y + fz * t2z), -(fx * t1x + fy * t1y + fz * t1z))
     else:
         phi0 = 0.0
-    pv[i, CP_S1 + k] = 0.0
+    pv[i, CP_S + k] = 0.0
     gsc = SLIP_ACC_TOL * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
                                    + pv[i, CP_G + 2] ** 2)
     best = math.inf
@@ -1296,16 +1321,16 @@ def _pv_slide(st, i, pv, k, fw):
         best = onset
         bphi = ophi
     if best == math.inf:
-        pv[i, CP_S1 + k] = 1.0
+        pv[i, CP_S + k] = 1.0
         return False
     _slip_F(st, i, pv, k, fw, bphi, t1x, t1y, t1z, t2x, t2y, t2z)
     return True
 
 
 @njit(cache=True)
-def _pv_stick_edge(st, i, bflt, pv):
-    """Both integrated contacts of body i stick: the body may only turn about the axis
-    ``a`` through its two contact points. Its velocity becomes the kinetic-energy-metric
+def _pv_stick_edge(st, i, bflt, pv, ka, kb):
+    """Integrated contacts ka and kb of body i stick: the body may only turn about the
+    axis ``a`` through their two contact points. Its velocity becomes the kinetic-energy-metric
     projection of the current one onto that motion -- the result of the impulses at the
     two points that zero both contact velocities (the impulsive constraint keeps the
     angular momentum about the axis): ``w = s a``, ``v = -s a x r_1``,
@@ -1313,8 +1338,8 @@ def _pv_stick_edge(st, i, bflt, pv):
     of contact 1). Sticking one contact by a single-point impulse left the other with a
     slip of up to ``slip_eps``, which the sticking forces then kept (zero acceleration)
     and worked on."""
-    ax, ay, az = _pv_arm(st, i, pv, 0)
-    bx, by, bz = _pv_arm(st, i, pv, 1)
+    ax, ay, az = _pv_arm(st, i, pv, ka)
+    bx, by, bz = _pv_arm(st, i, pv, kb)
     dx = bx - ax
     dy = by - ay
     dz = bz - az
@@ -1384,12 +1409,22 @@ def _pv_w(st, i, bflt, c_f, cw, Ii):
 
 @njit(cache=True)
 def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
-    """Remove the slip (and any normal velocity) of integrated contact k by an impulse at
-    that contact (W P = -v), then zero the normal velocities of all the integrated
-    contacts again (the impulse couples into the other one). When the other contact
-    sticks too, both contact velocities are zeroed together (``_pv_stick_edge``)."""
-    if pv[i, CP_K] == 2.0 and pv[i, CP_S1 + 1 - k] == 1.0:
-        _pv_stick_edge(st, i, bflt, pv)
+    """Remove the slip (and any normal velocity) of integrated contact k of body i by an
+    impulse at that contact (W P = -v), then zero the normal velocities of all the
+    integrated contacts again (the impulse couples into the others). When one other
+    contact sticks, both contact velocities are zeroed together (``_pv_stick_edge``); when
+    two or more others stick, the body is held still (``_pv_still``)."""
+    nst = 0
+    ko = -1
+    for c in range(int(pv[i, CP_K])):
+        if c != k and pv[i, CP_S + c] == 1.0:
+            nst += 1
+            ko = c
+    if nst >= 2:
+        _pv_still(st, i, bflt, pv, k)
+        return
+    if nst == 1:
+        _pv_stick_edge(st, i, bflt, pv, min(k, ko), max(k, ko))
         return
     _pv_frame(c_f, cw, st, i, pv, k)
     v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
@@ -1401,20 +1436,72 @@ def _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii):
     jz = p0 * c_f[cw, CF_N + 2] + p1 * c_f[cw, CF_T1 + 2] + p2 * c_f[cw, CF_T2 + 2]
     _apply_body(st, bflt, i, c_f[cw, CF_RA], c_f[cw, CF_RA + 1], c_f[cw, CF_RA + 2], jx, jy,
                 jz, Ii)
-    if pv[i, CP_K] == 2.0:
+    if pv[i, CP_K] >= 2.0:
         _pv_zero_normals(st, i, bflt, pv, Ii)
+
+
+@njit(cache=True)
+def _pv_still(st, i, bflt, pv, k):
+    """Contact k of body i sticks while two or more of its other integrated contacts
+    stick: three sticking points not on one line leave the body no motion, so the
+    impulses that zero their contact velocities stop it (v = w = 0; kinetic energy
+    removed, none created). Points on one line (within ``STILL_LINE_RTOL`` of the body's
+    size) leave the turn about that line (``_pv_stick_edge`` on the two farthest)."""
+    K = int(pv[i, CP_K])
+    best = 0.0
+    ka = -1
+    kb = -1
+    for a in range(K):
+        if a != k and pv[i, CP_S + a] != 1.0:
+            continue
+        ax, ay, az = _pv_arm(st, i, pv, a)
+        for b in range(a + 1, K):
+            if b != k and pv[i, CP_S + b] != 1.0:
+                continue
+            bx, by, bz = _pv_arm(st, i, pv, b)
+            d = (bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2
+            if d > best:
+                best = d
+                ka = a
+                kb = b
+    ax, ay, az = _pv_arm(st, i, pv, ka)
+    bx, by, bz = _pv_arm(st, i, pv, kb)
+    dx = bx - ax
+    dy = by - ay
+    dz = bz - az
+    off = 0.0       # the largest distance of another sticking point from the line ka-kb
+    for c in range(K):
+        if c == ka or c == kb or (c != k and pv[i, CP_S + c] != 1.0):
+            continue
+        cx, cy, cz = _pv_arm(st, i, pv, c)
+        ex = cx - ax
+        ey = cy - ay
+        ez = cz - az
+        px = ey * dz - ez * dy
+        py = ez * dx - ex * dz
+        pz = ex * dy - ey * dx
+        off = max(off, math.sqrt((px * px + py * py + pz * pz) / best))
+    if off <= STILL_LINE_RTOL * pv[i, CP_L]:
+        _pv_stick_edge(st, i, bflt, pv, ka, kb)
+        return
+    for j in range(3):
+        st[i, SV + j] = 0.0
+        st[i, SW + j] = 0.0
 
 
 @njit(cache=True)
 def _pv_zero_normals(st, i, bflt, pv, Ii):
     """Normal impulses at the integrated contacts of body i (each along its own plane's
     normal ``n_k``) making their normal velocities zero (W_NN dP = -v_N, K x K, with
-    ``W_kl = n_k . n_l / m + (r_k x n_k) . I^-1 (r_l x n_l)``). Returns the impulses
-    (dP_1, dP_2) (N s)."""
+    ``W_kl = n_k . n_l / m + (r_k x n_k) . I^-1 (r_l x n_l)``); K = 1, 2 in closed form,
+    three or more by ``_pv_zero_normals_many``."""
     nx, ny, nz = contact_normal(pv[i], 0)
     m = bflt[i, B_MASS]
     K = int(pv[i, CP_K])
     _iinv(st, i, bflt, Ii)
+    if K >= 3:
+        _pv_zero_normals_many(st, i, bflt, pv, Ii, K)
+        return
     ax, ay, az = _pv_arm(st, i, pv, 0)
     cx1 = ay * nz - az * ny
     cy1 = az * nx - ax * nz
@@ -1428,7 +1515,7 @@ def _pv_zero_normals(st, i, bflt, pv, Ii):
     if K == 1:
         d1 = -v1n / w11
         _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
-        return d1, 0.0
+        return
     mx, my, mz = contact_normal(pv[i], 1)
     bx, by, bz = _pv_arm(st, i, pv, 1)
     cx2 = by * mz - bz * my
@@ -1450,7 +1537,45 @@ def _pv_zero_normals(st, i, bflt, pv, Ii):
         d2 = d1
     _apply_body(st, bflt, i, ax, ay, az, d1 * nx, d1 * ny, d1 * nz, Ii)
     _apply_body(st, bflt, i, bx, by, bz, d2 * mx, d2 * my, d2 * mz, Ii)
-    return d1, d2
+
+
+@njit(cache=True)
+def _pv_zero_normals_many(st, i, bflt, pv, Ii, K):
+    """``_pv_zero_normals`` for K >= 3 contacts (``Ii`` already the world inverse inertia):
+    W_NN dP = -v_N by the minimum-norm solve (``minnorm``, ``ZERO_NORMALS_RTOL``:
+    dependent contacts share their impulse). Allocates its K x K workspace (an entry into
+    or a change of a held motion at three or more points, not the integration)."""
+    m = bflt[i, B_MASS]
+    w = np.zeros(4 * K * K + 2 * K)
+    A = 0
+    r = K * K
+    x = r + K
+    u = x + K
+    v = u + K * K
+    for a in range(K):
+        nx, ny, nz = contact_normal(pv[i], a)
+        ax, ay, az = _pv_arm(st, i, pv, a)
+        cx = ay * nz - az * ny
+        cy = az * nx - ax * nz
+        cz = ax * ny - ay * nx
+        ux, uy, uz = _point_vel(st, i, ax, ay, az)
+        w[r + a] = -(ux * nx + uy * ny + uz * nz)
+        ix = Ii[0, 0] * cx + Ii[0, 1] * cy + Ii[0, 2] * cz
+        iy = Ii[1, 0] * cx + Ii[1, 1] * cy + Ii[1, 2] * cz
+        iz = Ii[2, 0] * cx + Ii[2, 1] * cy + Ii[2, 2] * cz
+        for b in range(K):
+            mx, my, mz = contact_normal(pv[i], b)
+            bx, by, bz = _pv_arm(st, i, pv, b)
+            dx = by * mz - bz * my
+            dy = bz * mx - bx * mz
+            dz = bx * my - by * mx
+            w[A + K * a + b] = (nx * mx + ny * my + nz * mz) / m + dx * ix + dy * iy + dz * iz
+    minnorm_solve(w, A, r, x, u, v, K, K, ZERO_NORMALS_RTOL, ZERO_NORMALS_SWEEPS)
+    for a in range(K):
+        nx, ny, nz = contact_normal(pv[i], a)
+        ax, ay, az = _pv_arm(st, i, pv, a)
+        d = w[x + a]
+        _apply_body(st, bflt, i, ax, ay, az, d * nx, d * ny, d * nz, Ii)
 
 
 @njit(cache=True)
@@ -1461,7 +1586,7 @@ def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
     kmin = -1
     cmin = vmax
     for k in range(int(pv[i, CP_K])):
-        if pv[i, CP_S1 + k] != 0.0 or contact_mu(pv[i], k) == 0.0:
+        if pv[i, CP_S + k] != 0.0 or contact_mu(pv[i], k) == 0.0:
             continue
         _pv_frame(c_f, cw, st, i, pv, k)
         vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
@@ -1472,9 +1597,9 @@ def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
     if kmin < 0:
         return False
     _pv_unslip(st, i, bflt, pv, kmin, c_f, cw, Ii)
-    pv[i, CP_S1 + kmin] = 1.0
+    pv[i, CP_S + kmin] = 1.0
     for j in range(3):
-        pv[i, CP_U1 + 3 * kmin + j] = 0.0
+        pv[i, CP_U + 3 * kmin + j] = 0.0
     return True
 
 
@@ -1490,14 +1615,14 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     # a sliding contact (without a stored start direction) whose slip is at most slip_eps
     # -- e.g. after an impulse at the other contact -- sticks
     for k in range(int(pv[i, CP_K])):
-        uo = CP_U1 + 3 * k
-        if pv[i, CP_S1 + k] == 0.0 and pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 \
+        uo = CP_U + 3 * k
+        if pv[i, CP_S + k] == 0.0 and pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 \
                 and pv[i, uo + 2] == 0.0 and contact_mu(pv[i], k) != 0.0:
             _pv_frame(c_f, cw, st, i, pv, k)
             vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
             if v1 * v1 + v2 * v2 <= pv[i, CP_EPS] ** 2:
                 _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
-                pv[i, CP_S1 + k] = 1.0
+                pv[i, CP_S + k] = 1.0
     restick = 0     # contacts stuck again below (bit k: contact k)
     for attempt in range(8):
         K = int(pv[i, CP_K])
@@ -1515,13 +1640,13 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
                 lmin = fw[FW_LAM + k]
                 kneg = k
         if kneg >= 0:
-            if K == 1 and pv[i, CP_S1] == 1.0:
+            if K == 1 and pv[i, CP_S] == 1.0:
                 # sticking would pull (lam < 0); lifting off is consistent only if the
                 # contact's free normal acceleration points out of the plane; if it points
                 # in, the contact slides (a consistent direction with lam > 0), or no
                 # state is consistent (Painleve)
-                bn = (fw[FW_B1] * pv[i, CP_N] + fw[FW_B1 + 1] * pv[i, CP_N + 1]
-                      + fw[FW_B1 + 2] * pv[i, CP_N + 2])
+                bn = (fw[FW_B] * pv[i, CP_N] + fw[FW_B + 1] * pv[i, CP_N + 1]
+                      + fw[FW_B + 2] * pv[i, CP_N + 2])
                 if bn < 0.0:
                     if _pv_slide(st, i, pv, 0, fw):
                         continue
@@ -1531,14 +1656,14 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
             _pv_drop(pv, i, kneg)
             continue
         changed = False
-        two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
+        two = _pv_sticking(pv, i)[0] == 2
         for k in range(K):
-            if pv[i, CP_S1 + k] == 1.0 and fw[FW_MARG + k] < -farm:
+            if pv[i, CP_S + k] == 1.0 and fw[FW_MARG + k] < -farm:
                 changed = True
         if changed:
             moved = False
             for k in range(K):
-                if pv[i, CP_S1 + k] == 1.0 and (two or fw[FW_MARG + k] < -farm):
+                if pv[i, CP_S + k] == 1.0 and (two or fw[FW_MARG + k] < -farm):
                     pivot_forces(st[i], pv[i], fw)
                     if _pv_slide(st, i, pv, k, fw):
                         moved = True
@@ -1558,16 +1683,16 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
         # direction no longer opposing the slip (positive work; 3:2990834751)
         restuck = False
         for k in range(K):
-            uo = CP_U1 + 3 * k
-            if pv[i, CP_S1 + k] != 0.0 or (restick >> k) & 1 or (
+            uo = CP_U + 3 * k
+            if pv[i, CP_S + k] != 0.0 or (restick >> k) & 1 or (
                     pv[i, uo] == 0.0 and pv[i, uo + 1] == 0.0 and pv[i, uo + 2] == 0.0):
                 continue
-            co = FW_C1 + 3 * k
+            co = FW_C + 3 * k
             c2 = fw[co] ** 2 + fw[co + 1] ** 2 + fw[co + 2] ** 2
             if c2 < pv[i, CP_EPS] ** 2 and slip_growth(st[i], pv[i], fw, k) <= 0.0:
                 restick |= 1 << k
                 _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
-                pv[i, CP_S1 + k] = 1.0
+                pv[i, CP_S + k] = 1.0
                 restuck = True
         if restuck:
             continue
@@ -1682,7 +1807,7 @@ def _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii):
     slip; sticking would add a tangential constraint no force can hold)."""
     K = int(pv[i, CP_K])
     for k in range(K):
-        pv[i, CP_S1 + k] = 0.0
+        pv[i, CP_S + k] = 0.0
     for k in range(K):
         _pv_stick_or_slip_one(st, i, bflt, pv, k, c_f, cw, Ii)
 
@@ -1697,23 +1822,24 @@ def _pv_stick_or_slip_one(st, i, bflt, pv, k, c_f, cw, Ii):
     vn, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
     c = math.sqrt(v1 * v1 + v2 * v2)
     if c <= pv[i, CP_EPS]:
-        pv[i, CP_S1 + k] = 1.0
+        pv[i, CP_S + k] = 1.0
         if c > 0.0:
             _pv_unslip(st, i, bflt, pv, k, c_f, cw, Ii)
 
 
 @njit(cache=True, inline="always")
-def _pv_set_second(pv, i, q, kq, feats, planes, law_par, bp_law):
-    """Contact 2 of body i's integrated contact: feature row kq on plane q (its normal,
-    offset and mu; no stored slip direction). kq = -1: the slot is unused (K = 1)."""
+def _pv_set_contact(pv, i, k, q, kq, feats, planes, law_par, bp_law):
+    """Contact k of body i's integrated contact: feature row kq on plane q (its normal,
+    offset and mu; sliding, no stored slip direction). kq = -1: the slot is unused."""
     for j in range(3):
-        pv[i, CP_N2 + j] = planes[q, j]
-        pv[i, CP_P2 + j] = feats[kq, j] if kq >= 0 else 0.0
-        pv[i, CP_U2 + j] = 0.0
-    pv[i, CP_D2] = planes[q, 3]
-    pv[i, CP_MU2] = law_par[bp_law[i, q], P_MU]
-    pv[i, CP_PLANE2] = q
-    pv[i, CP_F2] = kq
+        pv[i, CP_N + 3 * k + j] = planes[q, j]
+        pv[i, CP_P + 3 * k + j] = feats[kq, j] if kq >= 0 else 0.0
+        pv[i, CP_U + 3 * k + j] = 0.0
+    pv[i, CP_D + k] = planes[q, 3]
+    pv[i, CP_MU + k] = law_par[bp_law[i, q], P_MU]
+    pv[i, CP_PLANE + k] = q
+    pv[i, CP_F + k] = kq
+    pv[i, CP_S + k] = 0.0
 
 
 @njit(cache=True)
@@ -1736,12 +1862,25 @@ def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f
     w = math.sqrt(st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2)
     if not touching_accel(acc, body, w, reach) < 0.0:
         return False
-    _pv_set_second(pv, i, q, kq, feats, planes, law_par, bp_law)
+    _pv_set_contact(pv, i, 1, q, kq, feats, planes, law_par, bp_law)
     pv[i, CP_K] = 2.0
-    pv[i, CP_S2] = 0.0
     _pv_zero_normals(st, i, bflt, pv, Ii)
     _pv_stick_or_slip_one(st, i, bflt, pv, 1, c_f, cw, Ii)
     return True
+
+
+@njit(cache=True, inline="always")
+def _pv_set_body(pv, i, bflt, grav, tolf):
+    """The body part of body i's integrated-contact parameters (mass, inertia, gravity,
+    radius, slip_eps, size)."""
+    pv[i, CP_M] = bflt[i, B_MASS]
+    for j in range(3):
+        pv[i, CP_I + j] = bflt[i, 1 + j]
+        pv[i, CP_G + j] = grav[j]
+    pv[i, CP_RAD] = bflt[i, B_RADIUS]
+    pv[i, CP_EPS] = tolf[TF_SLIP_EPS]
+    pv[i, CP_L] = math.sqrt(bflt[i, B_HALF] ** 2 + bflt[i, B_HALF + 1] ** 2 + bflt[i, B_HALF +
+                            2] ** 2) + bflt[i, B_RADIUS]
 
 
 @njit(cache=True)
@@ -1749,35 +1888,32 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
                  bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
                  iwc):
     """Body i keeps feature kf1 on plane p (and kf2 on plane p2 when K == 2: the same
-    plane, or the other plane of a groove or a corner; feature rows): remove their (tiny)
+    plane, or the other plane of a groove or a corner; feature rows) and enters integrated
+    contact there (``_pivot_hold``). With K == 1, kf2 >= 0 is a wall candidate on plane p2
+    (``_second_plane``), held too when the motion on kf1 drives it into p2
+    (``_pv_add_wall``). Returns as ``_pivot_hold``."""
+    _pv_set_body(pv, i, bflt, grav, tolf)
+    _pv_set_contact(pv, i, 0, p, kf1, feats, planes, law_par, bp_law)
+    _pv_set_contact(pv, i, 1, p2 if K == 2 else p, kf2 if K == 2 else -1, feats, planes,
+                    law_par, bp_law)
+    pv[i, CP_K] = K
+    return _pivot_hold(i, p2 if K == 1 else -1, kf2 if K == 1 else -1, t, st, bint, bflt,
+                       feats, planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t,
+                       ev_i, ev_f, cnt, c_f, cw, Ii, err, iwc)
+
+
+@njit(cache=True)
+def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+                ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, iwc):
+    """Body i keeps the features set in ``pv[i]`` on their planes: remove their (tiny)
     normal velocities with normal impulses, choose stick or slip, and enter integrated
     contact (event "pivot"). One sliding contact with no consistent force (Painleve) takes
     an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
     the body then flies off (return 2) or, leaving slower than the accumulation speed, is
-    held again (once). With K == 1, kf2 >= 0 is a wall candidate on plane p2
-    (``_second_plane``), held too when the motion on kf1 drives it into p2
-    (``_pv_add_wall``). Returns 0, 1 (no contact can persist), 2 or an error."""
-    pwall = p2
-    kwall = kf2 if K == 1 else -1
-    if K < 2:
-        p2 = p
-    pv[i, CP_M] = bflt[i, B_MASS]
-    for j in range(3):
-        pv[i, CP_I + j] = bflt[i, 1 + j]
-        pv[i, CP_G + j] = grav[j]
-        pv[i, CP_N + j] = planes[p, j]
-        pv[i, CP_P1 + j] = feats[kf1, j]
-        pv[i, CP_U1 + j] = 0.0
-    pv[i, CP_D] = planes[p, 3]
-    pv[i, CP_MU] = law_par[bp_law[i, p], P_MU]
-    _pv_set_second(pv, i, p2, kf2 if K == 2 else -1, feats, planes, law_par, bp_law)
-    pv[i, CP_K] = K
-    pv[i, CP_RAD] = bflt[i, B_RADIUS]
-    pv[i, CP_EPS] = tolf[TF_SLIP_EPS]
-    pv[i, CP_PLANE] = p
-    pv[i, CP_F1] = kf1
-    pv[i, CP_L] = math.sqrt(bflt[i, B_HALF] ** 2 + bflt[i, B_HALF + 1] ** 2 + bflt[i, B_HALF +
-                            2] ** 2) + bflt[i, B_RADIUS]
+    held again (once). ``kwall >= 0``: a wall candidate on plane ``pwall``, held too when
+    the motion on the one contact drives it in (``_pv_add_wall``). Returns 0, 1 (no
+    contact can persist), 2 or an error."""
+    p = int(pv[i, CP_PLANE])
     e0 = _energy(st, bflt, grav, i)
     m = bflt[i, B_MASS]
     vx0 = st[i, SV]
@@ -1790,7 +1926,7 @@ def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, 
     _pv_stick_or_slip(st, i, bflt, pv, c_f, cw, Ii)
     rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     if (rc == ERR_PAINLEVE and err[6] == PV_PAINLEVE and pv[i, CP_K] == 1.0
-            and pv[i, CP_S1] == 0.0 and iwc == PAINLEVE_IMPACT
+            and pv[i, CP_S] == 0.0 and iwc == PAINLEVE_IMPACT
             and _pv_iwc(i, int(pv[i, CP_PLANE]), t, st, bflt, pv, law_par, bp_law, grav, c_f,
                         cw, Ii, ev_t, ev_i, ev_f, cnt, False)):
         # (validation may have dropped one of two contacts: the one left is contact 0)
@@ -1903,9 +2039,9 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, law_par, bp_law, pm, ttr, tz,
             _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], rc, pv[i,
                      CP_MU], K)
             return ERR_PAINLEVE, False
-        two = K == 2 and pv[i, CP_S1] == 1.0 and pv[i, CP_S2] == 1.0
+        two = _pv_sticking(pv, i)[0] == 2
         for k in range(K):
-            if k == idx or two:
+            if k == idx or (two and pv[i, CP_S + k] == 1.0):
                 pivot_forces(st[i], pv[i], fw)
                 if not _pv_slide(st, i, pv, k, fw):
                     continue    # the cone was only touched: it keeps sticking
@@ -1917,7 +2053,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, grav, law_par, bp_law, pm, ttr, tz,
         _pv_frame(c_f, cw, st, i, pv, idx)
         v0, v1, v2 = _contact_velocity_row(st, i, c_f, cw)
         _pv_unslip(st, i, bflt, pv, idx, c_f, cw, Ii)
-        pv[i, CP_S1 + idx] = 1.0
+        pv[i, CP_S + idx] = 1.0
         _pv_frame(c_f, cw, st, i, pv, idx)
         u0, u1, u2 = _contact_velocity_row(st, i, c_f, cw)
         _log(ev_t, ev_i, ev_f, cnt, t, EV_STICK, i, -1 - p, 2, 0, c_f, cw, v0, v1, v2, u0, u1,
@@ -1941,6 +2077,57 @@ def _feature_contact(st, i, feats, f, planes, p, rad):
     return g, rx, ry, rz, nx * ux + ny * uy + nz * uz
 
 
+@njit(cache=True, inline="always")
+def _accumulates(i, st, feats, f, planes, p, rad, alx, aly, alz, tolf):
+    """The gap acceleration (m/s^2) of feature row f of body i (in flight, angular
+    acceleration ``al``) on plane p when impacts would accumulate there: within gap_tol,
+    its gap accelerating into p with a normal speed below the accumulation speed
+    (``_vz2``); else 0.0."""
+    g, rx, ry, rz, vn = _feature_contact(st, i, feats, f, planes, p, rad)
+    if g > tolf[TF_GAP_TOL]:
+        return 0.0
+    nx = planes[p, 0]
+    ny = planes[p, 1]
+    nz = planes[p, 2]
+    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
+    acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
+    acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
+            + nz * (alx * ry - aly * rx))
+    acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
+            - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
+    if not (acc < 0.0 and vn * vn < _vz2(tolf, -acc)):
+        return 0.0
+    return acc
+
+
+@njit(cache=True)
+def _pv_gather(i, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, tolf, pv):
+    """Every feature of body i (in flight) at which impacts accumulate on any plane
+    (``_accumulates``) into ``pv[i]``'s contacts, for a held motion at three or more
+    points (a box's edge on one groove plane and a corner or an edge on the other, a
+    capsule's caps on both; a corner in the groove's crease is one contact on each
+    plane). Returns their number K, or -1 when there are more than ``KMAX``."""
+    f0 = bint[i, B_FIRST]
+    nf = bint[i, B_COUNT]
+    rad = bflt[i, B_RADIUS]
+    alx, aly, alz = _free_alpha(st, i, bflt)
+    _pv_set_body(pv, i, bflt, grav, tolf)
+    K = 0
+    for p in range(planes.shape[0]):
+        if bp_off[i, p] != 0:
+            continue
+        for k in range(nf):
+            if not _accumulates(i, st, feats, f0 + k, planes, p, rad, alx, aly, alz,
+                                tolf) < 0.0:
+                continue
+            if K == KMAX:
+                return -1
+            _pv_set_contact(pv, i, K, p, f0 + k, feats, planes, law_par, bp_law)
+            K += 1
+    pv[i, CP_K] = K
+    return K
+
+
 @njit(cache=True)
 def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     """Features of body i (in flight) that touch a plane pushing it with a normal speed
@@ -1958,7 +2145,6 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
-    wx, wy, wz = st[i, SW], st[i, SW + 1], st[i, SW + 2]
     alx, aly, alz = _free_alpha(st, i, bflt)
     bp = -1
     bp2 = -1
@@ -1980,15 +2166,8 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
             if (nx * grav[0] + ny * grav[1] + nz * grav[2] < 0.0) != (sweep == 0):
                 continue
             for k in range(nf):
-                g, rx, ry, rz, vn = _feature_contact(st, i, feats, f0 + k, planes, p, rad)
-                if g > tolf[TF_GAP_TOL]:
-                    continue
-                acc = nx * st[i, SA] + ny * st[i, SA + 1] + nz * st[i, SA + 2]
-                acc += (nx * (aly * rz - alz * ry) + ny * (alz * rx - alx * rz)
-                        + nz * (alx * ry - aly * rx))
-                acc += ((nx * wx + ny * wy + nz * wz) * (wx * rx + wy * ry + wz * rz)
-                        - (nx * rx + ny * ry + nz * rz) * (wx * wx + wy * wy + wz * wz))
-                if not (acc < 0.0 and vn * vn < _vz2(tolf, -acc)):
+                acc = _accumulates(i, st, feats, f0 + k, planes, p, rad, alx, aly, alz, tolf)
+                if not acc < 0.0:
                     continue
                 if cnt == 0:
                     bp = p
@@ -2570,7 +2749,7 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     if rc == 1:     # the plane no longer pushes
         _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
         return 0
-    if pv[i, CP_S1] == 1.0:     # a slip below slip_eps: it stuck at once
+    if pv[i, CP_S] == 1.0:     # a slip below slip_eps: it stuck at once
         return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
     return 0
@@ -3345,6 +3524,23 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
 
 
 @njit(cache=True)
+def _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm, ttr,
+                    tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
+    """Body i (in flight after the impacts at t, no rest found) has impacts accumulating at
+    three or more features on two planes: it is held at all of them (``_pv_gather``,
+    ``_pivot_hold``) when they are at most ``KMAX``. Returns ``_pivot_hold``'s code, or 1
+    (not held: nothing changed)."""
+    if pivot is None:
+        return _not_compiled(err, t, i, FEATURE_PIVOT)
+    if _pv_gather(i, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, tolf,
+                  pv) < 3:
+        return 1
+    return _pivot_hold(i, -1, -1, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+                       ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                       tolf[TF_PAINLEVE])
+
+
+@njit(cache=True)
 def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
                   tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
                   Ii, err, toli, pivot):
@@ -3403,6 +3599,13 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                                      cw)
                     if rc != 1:
                         return rc
+                    # still moving (a capsule's side on p, a cap on q): held at all those
+                    # points when they are at most KMAX (integrated contact)
+                    rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                         bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                                         ev_f, cnt, c_f, cw, Ii, err, pivot)
+                    if rc != 1:
+                        return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
                          0.0)
                 return ERR_UNSUPPORTED
@@ -3418,6 +3621,12 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         if multi:
             rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
                              bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
+            if rc != 1:
+                return rc
+            # still moving: held at all those points (integrated contact)
+            rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                 bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                                 cw, Ii, err, pivot)
             if rc != 1:
                 return rc
             _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 5.0, 0.0, 0.0)
@@ -3591,7 +3800,7 @@ def loop_for(law):
                     if rc < 0:
                         return rc
                     if (recompute and pm[i, M_MODE] == PM_PIVOT
-                            and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S1] == 1.0):
+                            and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S] == 1.0):
                         if pv[i, CP_K] == 1.0:
                             rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par,
                                                bp_law, pm, ttr, pv, tolf, ev_t, ev_i, ev_f,
@@ -3613,10 +3822,10 @@ def loop_for(law):
                                     _set_err(err, t, i, -1 - q, st[i, SX], st[i, SX + 1],
                                              st[i, SX + 2], 3.0, 0.0, 0.0)
                                     rc = ERR_UNSUPPORTED
-                        elif pv[i, CP_S2] == 1.0:
+                        elif pv[i, (CP_S + 1)] == 1.0:
                             # both contacts of a sphere in a groove stick: it rolls along
                             # the groove in closed form (or keeps integrating if not)
-                            rc = _groove_enter(i, int(pv[i, CP_PLANE]), int(pv[i, CP_PLANE2]),
+                            rc = _groove_enter(i, int(pv[i, CP_PLANE]), int(pv[i, (CP_PLANE + 1)]),
                                                t, st, bflt, planes, grav, law_par, bp_law, pm,
                                                ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
                             if rc > 0:
@@ -3739,10 +3948,11 @@ def loop_for(law):
                         take = gd < 0.0 and g + gd * (tw - t) <= 0.0
                         if p == bpl[i] and k == bft[i]:
                             take = True
-                        if piv and ((p == int(pv[i, CP_PLANE]) and f0 + k == int(pv[i, CP_F1]))
-                                    or (pv[i, CP_K] == 2.0 and p == int(pv[i, CP_PLANE2])
-                                        and f0 + k == int(pv[i, CP_F2]))):
-                            take = True
+                        if piv:
+                            for c in range(int(pv[i, CP_K])):
+                                if (p == int(pv[i, CP_PLANE + c])
+                                        and f0 + k == int(pv[i, CP_F + c])):
+                                    take = True
                         if not take:
                             continue
                         if nc >= MAXC - 1:

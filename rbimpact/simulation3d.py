@@ -282,7 +282,7 @@ class Simulation3D:
         """
         from .kernels import stepper3d as k
         from .kernels.flight3d import N_WS
-        from .kernels.pivot3d import N_CP, N_FW, N_PW
+        from .kernels.pivot3d import N_CP, N_FW, N_PW, NEV_CONTACT
         t_end, max_events = check_run_args(t_end, max_events)
         rec = Recorder.for_run("Simulation3D", k, build_events_3d, self._sampler,
                                len(self.scene.bodies), t_end, max_events, record, observer,
@@ -343,7 +343,7 @@ class Simulation3D:
         pw = np.zeros((nb, N_PW))
         fw = np.zeros(N_FW)
         ybuf = np.zeros(13)
-        nv = 6 + max(npl, 1) * int(self._bint[:, 2].max())
+        nv = NEV_CONTACT + max(npl, 1) * int(self._bint[:, 2].max())
         vals = np.zeros(nv)
         vals0 = np.zeros(nv)
         vfl = np.zeros(nv)
@@ -511,7 +511,9 @@ class Simulation3D:
             why = {1.0: "a sliding contact's normal force coefficient is <= 0 (Painleve "
                         "paradox: no consistent contact force)",
                    2.0: "the contact force system is singular",
-                   3.0: "no consistent stick/slip/lift-off state was found"}.get(
+                   3.0: "no consistent stick/slip/lift-off state was found",
+                   4.0: "three or more contact points stick: the body is held still (a "
+                        "rest that the integrated contact does not build)"}.get(
                 float(err[6]), "the contact forces failed")
             exc = SimulationError(f"integrated contact of {body} with {self._where(b)} {at} "
                                   f"{pos}: {why} (mu = {err[7]:g}, {int(err[8])} contact "
