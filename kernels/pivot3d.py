@@ -66,6 +66,7 @@ guard(__name__, __file__)
 from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
                      reject_factor, solution, step_factor)
 from .flight3d import pose_at, qmul, qnormalize, qrot, qrot_inv
+from .minnorm import minnorm_solve
 
 # ---- contact parameters cp (float64[N_CP]) ----------------------------------------------
 # Per-contact fields are arrays of KMAX slots (contact k at base + k, or base + 3 k for a
@@ -109,7 +110,14 @@ FW_G = FW_AL + 3            # 9: a 3x3 block
 FW_SSTAR = FW_G + 9         # internal force chosen for two sticking contacts (N)
 FW_MAT = FW_SSTAR + 1       # NSYS x NSYS system (row-major, stride NSYS)
 FW_RHS = FW_MAT + NSYS * NSYS   # NSYS
-N_FW = FW_RHS + NSYS
+# three or more contacts: a copy of the system, solved by minimum norm when it is singular
+# (dependent contacts: a box's corners on one plane and an edge on the other)
+FW_MAT0 = FW_RHS + NSYS     # NSYS x NSYS
+FW_RHS0 = FW_MAT0 + NSYS * NSYS     # NSYS
+FW_X = FW_RHS0 + NSYS       # NSYS: the minimum-norm solution
+FW_SVU = FW_X + NSYS        # NSYS x NSYS: the SVD's U
+FW_SVV = FW_SVU + NSYS * NSYS   # NSYS x NSYS: the SVD's V
+N_FW = FW_SVV + NSYS * NSYS
 
 PV_OK = 0
 PV_PAINLEVE = 1     # a sliding contact's normal force coefficient is <= 0
@@ -154,6 +162,12 @@ GAP_ARM = 1e-12       # a gap event fires below min(0, g(0)) - GAP_ARM L (dimens
 FORCE_ARM = 1e-9      # a normal force or stick margin starting below FORCE_ARM m |g| (a
                       #   tangency) fires below min(0, start) - FORCE_ARM m |g| (-)
 EVENT_ITER = 200    # bisection/secant iterations locating an event on the dense output
+DEPENDENT_RTOL = 1e-12  # three or more contacts with a singular force system: singular
+#                       values below DEPENDENT_RTOL times the largest are zero (dependent
+#                       constraints, minimum-norm forces) ...
+DEPENDENT_RES_RTOL = 1e-9   # ... and the equations must then hold to this fraction of the
+#                       largest term (else they contradict each other: PV_SINGULAR)
+DEPENDENT_SWEEPS = 60   # Jacobi sweeps of that minimum-norm solve at most (minnorm)
 CONE_RTOL = 1e-12   # two sticking contacts on two planes: a squeeze interval of zero
                     #   length is accepted within CONE_RTOL m |g| (round-off of the forces)
 ENERGY_FIX_MAX = 1e-6  # a conservative rolling phase's velocities are rescaled to its
@@ -223,6 +237,31 @@ def _solve(fw, n):
         for j in range(i + 1, n):
             s -= fw[M + NSYS * i + j] * fw[B + j]
         fw[B + i] = s / fw[M + NSYS * i + i]
+    return True
+
+
+@njit(cache=True)
+def _solve_dependent(fw, n):
+    """The singular system kept in fw[FW_MAT0], fw[FW_RHS0] (n x n) by minimum norm
+    (``minnorm``, ``DEPENDENT_RTOL``) into fw[FW_RHS]: dependent contacts share their
+    force. Returns False when the equations contradict each other (residual above
+    ``DEPENDENT_RES_RTOL`` times the largest term)."""
+    minnorm_solve(fw, FW_MAT0, FW_RHS0, FW_X, FW_SVU, FW_SVV, n, NSYS, DEPENDENT_RTOL,
+                  DEPENDENT_SWEEPS)
+    worst = 0.0
+    scale = 0.0
+    for r in range(n):
+        res = -fw[FW_RHS0 + r]
+        for c in range(n):
+            a = fw[FW_MAT0 + NSYS * r + c] * fw[FW_X + c]
+            res += a
+            scale = max(scale, abs(a))
+        scale = max(scale, abs(fw[FW_RHS0 + r]))
+        worst = max(worst, abs(res))
+    if not worst <= DEPENDENT_RES_RTOL * scale:
+        return False
+    for r in range(n):
+        fw[FW_RHS + r] = fw[FW_X + r]
     return True
 
 
@@ -510,8 +549,14 @@ def pivot_forces(y, cp, fw):
         den = fw[FW_MAT]
         if not den > 0.0:
             return PV_PAINLEVE
+    if K >= 3:
+        for r in range(ntot):
+            fw[FW_RHS0 + r] = fw[FW_RHS + r]
+            for c in range(ntot):
+                fw[FW_MAT0 + NSYS * r + c] = fw[FW_MAT + NSYS * r + c]
     if not _solve(fw, ntot):
-        return PV_SINGULAR
+        if K < 3 or not _solve_dependent(fw, ntot):
+            return PV_SINGULAR
     # forces
     for kc in range(K):
         stc = int(cp[CP_S + kc])

@@ -164,10 +164,10 @@ from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, p
 from .pivot3d import (CP_D, CP_EPS, CP_F, CP_G, CP_I, CP_K, CP_L, CP_M, CP_MU, CP_N, CP_P,
                       CP_PLANE, CP_RAD, CP_S, CP_U, FORCE_ARM, FW_A, FW_AL, FW_B, FW_C, FW_F,
                       FW_LAM, FW_MARG, KMAX, N_CP, PE_GAP, PE_JAM, PE_LIFT, PE_NONE, PE_SLIP,
-                      PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PV_PAINLEVE, PW_JAM,
-                      PW_S0, PW_WHY, PW_Y, cone_interval, contact_accel, contact_mu,
-                      contact_normal, contact_plane, pivot_eval, pivot_forces, pivot_next_event,
-                      pivot_start, point_accel, slip_growth)
+                      PE_STOP, PI_FORCES, PI_OK, PI_TOO_MANY_STEPS, PV_OK, PV_PAINLEVE,
+                      PV_STUCK, PW_JAM, PW_S0, PW_WHY, PW_Y, cone_interval, contact_accel,
+                      contact_mu, contact_normal, contact_plane, pivot_eval, pivot_forces,
+                      pivot_next_event, pivot_start, point_accel, slip_growth)
 from .toi2d import TOI_MISSED, TOI_NOT_CONVERGED, TOI_OK
 from .toi3d import TOI_ROT_FAILED, body_planes_toi, sphere_sphere_toi, tangent_basis
 from .pair3d import FR_NX, FR_PAX, FR_PBX, FR_RATE, N_FE, pair_frame  # noqa: F401
@@ -286,6 +286,11 @@ STILL_LINE_RTOL = 1e-9
 #: dimensionless), in at most ZERO_NORMALS_SWEEPS Jacobi sweeps
 ZERO_NORMALS_RTOL = 1e-12
 ZERO_NORMALS_SWEEPS = 60
+#: three or more contacts still and not at rest all start to slide (``_pv_slide_all``):
+#: their start directions are iterated at most SLIDE_ALL_ITER times until no direction
+#: turns by more than SLIDE_ALL_RTOL (1 - cos of the turn, dimensionless)
+SLIDE_ALL_ITER = 30
+SLIDE_ALL_RTOL = 1e-12
 #: a face holds the friction moment when the pressure centre stays inside it by this
 #: fraction of the face's half extent (dimensionless round-off allowance)
 FACE_RTOL = 1e-12
@@ -1603,13 +1608,121 @@ def _pv_stick_slowest(st, i, bflt, pv, c_f, cw, Ii, vmax):
     return True
 
 
+PV_HELD_STILL = 3   # _pv_validate: the body rests on its held points (_pv_rest)
+
+
+@njit(cache=True)
+def _pv_rests(st, i, pv):
+    """Body i (still, every integrated contact at zero velocity) rests on its K contacts:
+    contact forces in their Coulomb cones hold it against gravity
+    (``groove3d.rest_forces``). Allocates its small arrays (a mode change)."""
+    K = int(pv[i, CP_K])
+    arms = np.empty((K, 3))
+    nrm = np.empty((K, 3))
+    mus = np.empty(K)
+    for k in range(K):
+        arms[k, 0], arms[k, 1], arms[k, 2] = _pv_arm(st, i, pv, k)
+        nrm[k, 0], nrm[k, 1], nrm[k, 2] = contact_normal(pv[i], k)
+        mus[k] = contact_mu(pv[i], k)
+    f = np.empty((K, 3))
+    work = np.empty(rest_work_size(K))
+    code, margin = rest_forces(K, arms, nrm, mus, pv[i, CP_M], pv[i, CP_G], pv[i, CP_G + 1],
+                               pv[i, CP_G + 2], f, work)
+    return code == 0
+
+
+@njit(cache=True)
+def _pv_slide_all(st, i, pv, fw):
+    """Body i is still on three or more points and no rest holds it: every contact starts
+    to slide, each along the direction its contact point then accelerates in (the
+    consistent start: friction opposes that direction). The directions are found by
+    fixed-point iteration (``SLIDE_ALL_ITER`` at most, from the frictionless
+    accelerations) and stored as each contact's start direction; accepted when they
+    converge to ``SLIDE_ALL_RTOL`` and every contact's slip then grows
+    (``u . a_T > SLIP_ACC_TOL |g|``) under a positive normal force. Returns whether it
+    was accepted (else the statuses are as they were)."""
+    K = int(pv[i, CP_K])
+    gsc = SLIP_ACC_TOL * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
+                                   + pv[i, CP_G + 2] ** 2)
+    stuck = 0
+    for k in range(K):
+        if pv[i, CP_S + k] == 1.0:
+            stuck |= 1 << k
+        pv[i, CP_S + k] = 0.0
+        for j in range(3):
+            pv[i, CP_U + 3 * k + j] = 0.0
+    ok = False
+    for it in range(SLIDE_ALL_ITER):
+        if pivot_forces(st[i], pv[i], fw) != PV_OK:
+            break
+        moved = 0.0
+        grow = True
+        for k in range(K):
+            nx, ny, nz = contact_normal(pv[i], k)
+            ax, ay, az = contact_accel(st[i], fw, k)
+            an = ax * nx + ay * ny + az * nz
+            ax -= an * nx
+            ay -= an * ny
+            az -= an * nz
+            a = math.sqrt(ax * ax + ay * ay + az * az)
+            uo = CP_U + 3 * k
+            if it > 0:
+                grow = grow and (ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2] > gsc
+                                 and fw[FW_LAM + k] > 0.0)
+            if not a > 0.0:
+                grow = False
+                continue
+            d = (1.0 - (ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2]) / a
+                 if it > 0 else 1.0)
+            moved = max(moved, abs(d))
+            pv[i, uo] = ax / a
+            pv[i, uo + 1] = ay / a
+            pv[i, uo + 2] = az / a
+        if it > 0 and grow and moved <= SLIDE_ALL_RTOL:
+            ok = True
+            break
+    if not ok:
+        for k in range(K):
+            pv[i, CP_S + k] = 1.0 if (stuck >> k) & 1 else 0.0
+            for j in range(3):
+                pv[i, CP_U + 3 * k + j] = 0.0
+    return ok
+
+
+@njit(cache=True)
+def _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
+    """Body i rests on its integrated contacts (``PV_HELD_STILL``): mode PM_WEDGED on the
+    planes of its first contact and of another (the same when it has one plane), no
+    motion (event "rest"; the kinetic energy was removed by the sticking impulses)."""
+    p1 = int(pv[i, CP_PLANE])
+    p2 = p1
+    for k in range(int(pv[i, CP_K])):
+        if int(pv[i, CP_PLANE + k]) != p1:
+            p2 = int(pv[i, CP_PLANE + k])
+    for j in range(3):
+        st[i, SV + j] = 0.0
+        st[i, SW + j] = 0.0
+        st[i, SA + j] = 0.0
+        st[i, SAL + j] = 0.0
+    pm[i, M_MODE] = PM_WEDGED
+    pm[i, M_PLANE] = p1
+    pm[i, M_FEAT] = p2
+    pm[i, M_AUX] = 0
+    ttr[i] = INF
+    _pv_frame(c_f, cw, st, i, pv, 0)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p1, PM_WEDGED, 0, c_f, cw, 0.0, 0.0, 0.0,
+         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 @njit(cache=True)
 def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     """Make the integrated contacts of body i consistent: contacts whose normal force
     would be negative are dropped (most negative first), sticking contacts outside their
     friction cone slide (opposite to their friction force), slips started from sticking
-    that are still below slip_eps and no longer grow stick again. Returns 0, 1 (no
-    contact left) or ERR_PAINLEVE."""
+    that are still below slip_eps and no longer grow stick again; three or more sticking
+    points (the body still) rest (``_pv_rests``) or all slide (``_pv_slide_all``).
+    Returns 0, 1 (no contact left), ``PV_HELD_STILL`` (a rest: ``_pv_rest``) or
+    ERR_PAINLEVE."""
     farm = FORCE_ARM * pv[i, CP_M] * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
                                                 + pv[i, CP_G + 2] ** 2)
     # a sliding contact (without a stored start direction) whose slip is at most slip_eps
@@ -1629,6 +1742,13 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
         if K == 0:
             return 1
         rc = pivot_forces(st[i], pv[i], fw)
+        if rc == PV_STUCK:
+            # three or more sticking points: the body is still (_pv_still); it rests there
+            # when forces in the cones hold it, else every contact starts to slide
+            if _pv_rests(st, i, pv):
+                return PV_HELD_STILL
+            if _pv_slide_all(st, i, pv, fw):
+                continue
         if rc != PV_OK:
             _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i, SX +
                      2], rc, pv[i, CP_MU], K)
@@ -1911,8 +2031,9 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
     an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
     the body then flies off (return 2) or, leaving slower than the accumulation speed, is
     held again (once). ``kwall >= 0``: a wall candidate on plane ``pwall``, held too when
-    the motion on the one contact drives it in (``_pv_add_wall``). Returns 0, 1 (no
-    contact can persist), 2 or an error."""
+    the motion on the one contact drives it in (``_pv_add_wall``); a body stopped on three
+    or more sticking points rests there (``_pv_rest``). Returns 0, 1 (no contact can
+    persist), 2 or an error."""
     p = int(pv[i, CP_PLANE])
     e0 = _energy(st, bflt, grav, i)
     m = bflt[i, B_MASS]
@@ -1934,6 +2055,9 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
     if rc == 0 and kwall >= 0 and pv[i, CP_K] == 1.0 and _pv_add_wall(
             i, pwall, kwall, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
         rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
+    still = rc == PV_HELD_STILL
+    if still:
+        rc = 0
     if rc != 0:
         return rc
     pm[i, M_MODE] = PM_PIVOT
@@ -1952,6 +2076,8 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
     P2 = dvx * c_f[cw, CF_T2] + dvy * c_f[cw, CF_T2 + 1] + dvz * c_f[cw, CF_T2 + 2]
     _log(ev_t, ev_i, ev_f, cnt, t, EV_PIVOT, i, -1 - p, int(pv[i, CP_K]), 0, c_f, cw, vi0,
          vi1, vi2, vf0, vf1, vf2, P0, P1, P2, _energy(st, bflt, grav, i) - e0)
+    if still:
+        _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw)
     return 0
 
 
@@ -1992,11 +2118,14 @@ def _pivot_jam(i, t, st, tref, bflt, grav, law_par, bp_law, pm, ttr, tz, pv, pw,
 @njit(cache=True, inline="always")
 def _pivot_settled(rc, i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
     """The end of a pivot event: an error code passes on, 1 (no contact left) releases the
-    body into flight; returns (rc, recompute) as ``_pivot_event``."""
+    body into flight, ``PV_HELD_STILL`` puts it to rest (``_pv_rest``); returns (rc,
+    recompute) as ``_pivot_event``."""
     if rc < 0:
         return rc, False
     if rc == 1:
         _pivot_leave(i, t, st, grav, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw, 0)
+    elif rc == PV_HELD_STILL:
+        _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw)
     return 0, True
 
 

@@ -1,0 +1,198 @@
+"""A box or capsule held on two planes at three or four points at once in 3D
+(``kernels/pivot3d.py`` with ``KMAX = 4`` contacts; ``stepper3d._pv_gather``): a capsule
+lying along a tilted V-groove touches each plane with each cap (four contacts) and slides
+down it as a sphere in a groove would, with the closed-form acceleration
+``g sin(beta) - mu g cos(beta) / cos(alpha)`` (alpha each plane's tilt, beta the groove's
+slope); a box released in a frictionless groove reaches three corners on the two planes
+and moves as an independent integration of the constrained Newton-Euler equations with
+three multipliers says."""
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from rbimpact.kernels.flight3d import qmul, qrot
+from rbimpact.laws import Law
+from rbimpact.scene3d import Scene3D
+from rbimpact.shapes3d import Box3D, Capsule
+from rbimpact.simulation3d import Simulation3D
+
+G = 9.81
+ALPHA = 0.6     # each groove plane's tilt (rad)
+BETA = 0.3      # the groove's slope: gravity's angle to the vertical in the yz plane (rad)
+N1 = np.array([-math.sin(ALPHA), 0.0, math.cos(ALPHA)])
+N2 = np.array([math.sin(ALPHA), 0.0, math.cos(ALPHA)])
+DROP = 1e-9     # the capsule's caps start this far (m) above both planes
+LENGTH = 0.3    # capsule length between cap centres (m)
+RADIUS = 0.05   # capsule radius (m)
+MASS = 2.0
+
+
+def _capsule_in_groove(mu):
+    """A capsule along the groove's axis (y), each cap DROP above both planes, gravity
+    tilted by BETA towards +y (the groove slopes down along +y)."""
+    scene = Scene3D(gravity=(0.0, G * math.sin(BETA), -G * math.cos(BETA)))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(N1))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(N2))
+    zc = (RADIUS + DROP) / math.cos(ALPHA)
+    s = math.sqrt(0.5)
+    scene.add_body(Capsule(LENGTH, RADIUS), MASS, (0.0, 0.0, zc), orientation=(s, -s, 0.0, 0.0))
+    return Simulation3D(scene, Law("kane_levinson", e=0.0, mu=mu))
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.1])
+def test_capsule_slides_down_a_tilted_groove_on_four_points(mu):
+    """The capsule lands on both caps on both planes (event "pivot" with four contacts)
+    and slides along the groove without turning: its axial acceleration is
+    ``g sin(beta) - mu g cos(beta) / cos(alpha)`` (the normal forces of a body in a
+    symmetric V-groove sum to ``m g cos(beta) / cos(alpha)``) to 1e-9 of g, its centre
+    stays DROP-free on the groove's axis (x = 0) and at the height of contact, and the
+    energy falls by the friction work alone."""
+    sim = _capsule_in_groove(mu)
+    t_end = 0.5
+    res = sim.run(t_end)
+    assert res.status == "done"
+    ev = res.events
+    piv = np.flatnonzero(ev["kind"] == "pivot")
+    assert piv.size == 1 and ev["mode"][piv[0]] == 4       # held at four points
+    assert set(ev["kind"][piv[0] + 1:]) <= set()           # nothing happens after
+    t0 = float(ev["t"][piv[0]])
+    acc = G * math.sin(BETA) - mu * G * math.cos(BETA) / math.cos(ALPHA)
+    t = np.linspace(t0, t_end, 51)
+    s = res.sample(t)
+    v0 = s["velocity"][0, 0, 1]
+    vy = s["velocity"][:, 0, 1]
+    assert np.max(np.abs(vy - (v0 + acc * (t - t0)))) <= 1e-9 * G * (t_end - t0)
+    zc = RADIUS / math.cos(ALPHA)
+    assert np.max(np.abs(s["position"][:, 0, 0])) <= 1e-10 * LENGTH
+    assert np.max(np.abs(s["position"][:, 0, 2] - zc)) <= 1e-9 * LENGTH
+    assert np.max(np.abs(s["angular_velocity"][:, 0, :])) <= 1e-9 * math.sqrt(G / LENGTH)
+    # energy: the friction work mu N |dy| is all that is lost
+    E = res.energy(t)
+    dy = s["position"][:, 0, 1] - s["position"][0, 0, 1]
+    lost = mu * MASS * G * math.cos(BETA) / math.cos(ALPHA) * dy
+    assert np.max(np.abs((E[0] - E) - lost)) <= 1e-9 * MASS * G * LENGTH
+
+
+# ---- a box reaching three corners in a frictionless groove ------------------------------
+DIMS = (0.3, 0.2, 0.1)
+BOX_MASS = 1.5
+CORNERS = [np.array((sx, sy, sz)) * np.array(DIMS) / 2
+           for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+
+
+def _rot(q):
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _independent(y0, t0, t1, held):
+    """Frictionless motion of the box with corner k on plane normal n for each (k, n) in
+    ``held``: Newton-Euler with normal forces lam_k n_k from the acceleration constraints
+    ``n_k . (a + al x r_k + w x (w x r_k)) = 0`` (K x K), integrated by scipy's DOP853."""
+    h = np.array(DIMS)
+    Ib = BOX_MASS / 12.0 * np.array([h[1] ** 2 + h[2] ** 2, h[0] ** 2 + h[2] ** 2,
+                                     h[0] ** 2 + h[1] ** 2])
+    g = np.array([0.0, 0.0, -G])
+    K = len(held)
+
+    def rhs(t, y):
+        q = y[3:7] / np.linalg.norm(y[3:7])
+        w = y[10:13]
+        R = _rot(q)
+        Iw = R @ np.diag(Ib) @ R.T
+        Ii = np.linalg.inv(Iw)
+        al0 = Ii @ (-np.cross(w, Iw @ w))
+        rs = [R @ CORNERS[k] for k, _ in held]
+        ns = [n for _, n in held]
+        A = np.zeros((K, K))
+        b = np.zeros(K)
+        for a in range(K):
+            b[a] = -(ns[a] @ (g + np.cross(al0, rs[a]) + np.cross(w, np.cross(w, rs[a]))))
+            for c in range(K):
+                A[a, c] = ns[a] @ (ns[c] / BOX_MASS
+                                   + np.cross(Ii @ np.cross(rs[c], ns[c]), rs[a]))
+        lam = np.linalg.solve(A, b)
+        F = sum(lam[a] * ns[a] for a in range(K))
+        T = sum(lam[a] * np.cross(rs[a], ns[a]) for a in range(K))
+        return np.concatenate([y[7:10], 0.5 * np.array(qmul(0.0, *w, *q)),
+                               g + F / BOX_MASS, al0 + Ii @ T])
+
+    sol = solve_ivp(rhs, (t0, t1), y0, rtol=1e-12, atol=1e-13, method="DOP853")
+    return sol.y[:, -1]
+
+
+def _box_on_edge_and_corner(gam=0.4, psi=0.3):
+    """A box with an edge on plane 1 and a corner on plane 2, each DROP above its plane:
+    its long axis along ``cos(gam) y + sin(gam) t1`` (t1 plane 1's in-plane direction
+    across the groove: the edge lies in plane 1 but not parallel to plane 2), turned by
+    ``psi`` about that axis off lying flat on plane 1. Returns the simulation."""
+    t1 = np.array([math.cos(ALPHA), 0.0, math.sin(ALPHA)])
+    e = math.cos(gam) * np.array([0.0, 1.0, 0.0]) + math.sin(gam) * t1
+    f0 = np.cross(N1, e)
+    R = np.column_stack([e, math.cos(psi) * f0 + math.sin(psi) * N1,
+                         -math.sin(psi) * f0 + math.cos(psi) * N1])
+    w = math.sqrt(1.0 + np.trace(R)) / 2.0
+    q = (w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w),
+         (R[1, 0] - R[0, 1]) / (4 * w))
+    V = [R @ c for c in CORNERS]
+    low1 = min(N1 @ v for v in V)
+    low2 = min(N2 @ v for v in V)
+    xz = np.linalg.solve(np.array([N1[[0, 2]], N2[[0, 2]]]), [DROP - low1, DROP - low2])
+    scene = Scene3D(gravity=(0.0, 0.0, -G))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(N1))
+    scene.add_plane((0.0, 0.0, 0.0), tuple(N2))
+    scene.add_body(Box3D(DIMS), BOX_MASS, (xz[0], 0.0, xz[1]), orientation=q)
+    return Simulation3D(scene, Law("kane_levinson", e=0.0, mu=0.0))
+
+
+def test_frictionless_box_on_an_edge_and_a_corner_agrees_with_an_independent_integration():
+    """The box lands on its edge (two corners on plane 1) and a corner on plane 2 at once
+    (event "pivot" with three contacts) and slides on all three until a fourth corner
+    lands (t = 0.1205 s). Meanwhile it agrees with an independent integration of the
+    constrained equations with three multipliers to 1e-10 m, keeps its energy to 1e-9 of
+    m g L, and the three corners stay on their planes."""
+    sim = _box_on_edge_and_corner()
+    t_end = 0.12
+    res = sim.run(t_end)
+    ev = res.events
+    assert res.status == "done"
+    assert list(ev["kind"]) == ["impact"] * 3 + ["pivot"]
+    assert ev["mode"][3] == 3                       # three integrated contacts
+    t0 = float(ev["t"][3])
+    s0 = res.sample([t0])
+    q0, x0 = s0["orientation"][0, 0], s0["position"][0, 0]
+    W0 = [x0 + np.array(qrot(*q0, *b)) for b in CORNERS]
+    held = [(k, n) for n in (N1, N2) for k in range(8) if abs(n @ W0[k]) <= 1e-9]
+    assert len(held) == 3 and sum(1 for _, n in held if n is N1) == 2
+    L = math.sqrt(sum(d * d for d in DIMS)) / 2
+    t = np.linspace(t0, t_end, 601)[1:]
+    s = res.sample(t)
+    E = res.energy(t)
+    assert float(np.ptp(E)) <= 1e-9 * BOX_MASS * G * L
+    for j in range(t.size):
+        q, x = s["orientation"][j, 0], s["position"][j, 0]
+        W = [x + np.array(qrot(*q, *b)) for b in CORNERS]
+        assert max(abs(n @ W[k]) for k, n in held) <= 1e-10 * L
+        assert min(min(N1 @ w, N2 @ w) for w in W) >= -1e-10 * L
+    y0 = np.concatenate([x0, q0, s0["velocity"][0, 0], s0["angular_velocity"][0, 0]])
+    y1 = _independent(y0, t0, t_end, held)
+    assert np.max(np.abs(y1[:3] - s["position"][-1, 0])) <= 1e-10 * L
+    assert np.max(np.abs(y1[7:10] - s["velocity"][-1, 0])) <= 1e-8 * math.sqrt(G * L)
+
+
+def test_capsule_held_by_friction_in_a_tilted_groove_rests():
+    """With mu above ``tan(beta) cos(alpha)`` (0.255 here) friction holds the capsule on
+    its four points: it comes to rest at once (event "rest") and stays put."""
+    sim = _capsule_in_groove(0.5)
+    res = sim.run(0.5)
+    assert res.status == "done"
+    ev = res.events
+    assert "rest" in set(ev["kind"])
+    t0 = float(ev["t"][list(ev["kind"]).index("rest")])
+    s = res.sample(np.linspace(t0, 0.5, 11))
+    assert np.max(np.abs(s["position"][:, 0, :] - s["position"][0, 0, :])) == 0.0
+    assert np.max(np.abs(s["velocity"][:, 0, :])) == 0.0
