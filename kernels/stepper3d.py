@@ -90,13 +90,20 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   tumbles over, a cap it rocks on; or one feature on each of two planes, in a groove or
   a corner, or a corner or cap held on the floor with another against a wall that
   gravity does not press, ``_second_plane``; or one or two on walls alone, when no plane
-  gravity presses has a candidate; three or more features on two planes, or one sharp
-  corner on both: ``ERR_UNSUPPORTED``). Their tiny normal velocities are removed by
+  gravity presses has a candidate). Their tiny normal velocities are removed by
   normal impulses (event "pivot", ``dE`` reported) and the body moves with those features
   held on their planes, each sticking or sliding under Coulomb friction, integrated with
   error control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
+* The same at three or four features on two planes (a box's edge on one groove plane and
+  a corner or an edge on the other, a capsule's caps on both, a corner in the crease
+  counted once per plane; ``_pivot_gathered``) when no rest holds the body (below):
+  ``pivot3d`` with up to ``KMAX`` = 4 contacts (dependent ones share their force by
+  minimum norm). A third contact that sticks while two others do stops the body
+  (``_pv_still``); it then rests there when forces in the cones hold it (``_pv_rests``,
+  event "rest", mode ``PM_WEDGED``), else the first consistent state with two or fewer
+  sticking contacts moves it on (``_pv_unstick``). More than four: ``ERR_UNSUPPORTED``.
 * Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
   ``_wedge_rest``): when the impacts accumulate at three or more features on two planes
   (a box with an edge on one groove plane and a corner on the other; or one corner on
@@ -105,8 +112,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   there if contact forces in the Coulomb cones
   hold it in static equilibrium (``groove3d.rest_forces``); its velocities are removed
   (events "contact", ``dE`` <= 0, and "rest"). An impulse on it releases it to flight.
-  Otherwise (still moving: integrated contact at three or more points is not built; or
-  no consistent rest) the run stops with ``ERR_UNSUPPORTED``.
+  Otherwise (still moving) it is held at those points as above, or, with more than four
+  (a face on one plane and an edge on the other) or no consistent state, the run stops
+  with ``ERR_UNSUPPORTED``.
 * Three or more features of a box chattering on one plane (a face landing while spinning
   about the normal, or sliding): the body is snapped onto the face as above; when the
   energy removed exceeds the accumulation threshold (its spin) the event is "capture"
@@ -286,7 +294,13 @@ STILL_LINE_RTOL = 1e-9
 #: dimensionless), in at most ZERO_NORMALS_SWEEPS Jacobi sweeps
 ZERO_NORMALS_RTOL = 1e-12
 ZERO_NORMALS_SWEEPS = 60
-#: three or more contacts still and not at rest all start to slide (``_pv_slide_all``):
+#: a body stopped on three or more sticking points (its kinetic energy removed by their
+#: impulses) rests when the best rest forces leave their Coulomb cones by at most
+#: HELD_REST_RTOL m |g| (dimensionless; ``_pv_rests``). Not round-off: such a body would
+#: creep off with an acceleration of at most HELD_REST_RTOL |g|, which is neglected, as a
+#: slip below slip_eps is (3:3210509315: 1.6e-8)
+HELD_REST_RTOL = 1e-7
+#: three or more contacts still and not at rest: some start to slide (``_pv_unstick``);
 #: their start directions are iterated at most SLIDE_ALL_ITER times until no direction
 #: turns by more than SLIDE_ALL_RTOL (1 - cos of the turn, dimensionless)
 SLIDE_ALL_ITER = 30
@@ -1615,7 +1629,11 @@ PV_HELD_STILL = 3   # _pv_validate: the body rests on its held points (_pv_rest)
 def _pv_rests(st, i, pv):
     """Body i (still, every integrated contact at zero velocity) rests on its K contacts:
     contact forces in their Coulomb cones hold it against gravity
-    (``groove3d.rest_forces``). Allocates its small arrays (a mode change)."""
+    (``groove3d.rest_forces``), or the best forces leave their cones by at most
+    ``HELD_REST_RTOL m |g|`` (a balance on a knife's edge, 3:3210509315: a capsule stopped
+    on three points of a groove, its best rest forces out of the cones by 1.6e-8 m |g|, the
+    slip of the one state that would move it growing by less than SLIP_ACC_TOL |g|).
+    Allocates its small arrays (a mode change)."""
     K = int(pv[i, CP_K])
     arms = np.empty((K, 3))
     nrm = np.empty((K, 3))
@@ -1628,36 +1646,73 @@ def _pv_rests(st, i, pv):
     work = np.empty(rest_work_size(K))
     code, margin = rest_forces(K, arms, nrm, mus, pv[i, CP_M], pv[i, CP_G], pv[i, CP_G + 1],
                                pv[i, CP_G + 2], f, work)
+    if code == 1:
+        gabs = math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2 + pv[i, CP_G + 2] ** 2)
+        return margin >= -HELD_REST_RTOL * pv[i, CP_M] * gabs
     return code == 0
 
 
 @njit(cache=True)
-def _pv_slide_all(st, i, pv, fw):
-    """Body i is still on three or more points and no rest holds it: every contact starts
-    to slide, each along the direction its contact point then accelerates in (the
-    consistent start: friction opposes that direction). The directions are found by
+def _pv_unstick(st, i, pv, fw):
+    """Body i is still on three or more sticking points and no rest holds it: the first
+    consistent stick/slip state with at most two sticking contacts (the force system's
+    limit; a third would hold it still), trying those with the most sticking contacts
+    first and, among them, in the order of the contacts. A sliding contact starts along
+    the direction its contact point then accelerates in (friction opposes it), found by
     fixed-point iteration (``SLIDE_ALL_ITER`` at most, from the frictionless
-    accelerations) and stored as each contact's start direction; accepted when they
-    converge to ``SLIDE_ALL_RTOL`` and every contact's slip then grows
-    (``u . a_T > SLIP_ACC_TOL |g|``) under a positive normal force. Returns whether it
-    was accepted (else the statuses are as they were)."""
+    accelerations; converged to ``SLIDE_ALL_RTOL``) and stored as its start direction.
+    Consistent: every sliding contact's slip grows (``u . a_T > SLIP_ACC_TOL |g|``), every
+    sticking force is in its cone and every normal force is positive (within
+    ``FORCE_ARM m |g|``); failing that, the first state consistent but for normal forces
+    (the validation then lifts the most negative). Returns whether one was found (else
+    the statuses are as they were)."""
     K = int(pv[i, CP_K])
-    gsc = SLIP_ACC_TOL * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
-                                   + pv[i, CP_G + 2] ** 2)
+    gabs = math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2 + pv[i, CP_G + 2] ** 2)
+    gsc = SLIP_ACC_TOL * gabs
+    farm = FORCE_ARM * pv[i, CP_M] * gabs
     stuck = 0
     for k in range(K):
         if pv[i, CP_S + k] == 1.0:
             stuck |= 1 << k
-        pv[i, CP_S + k] = 0.0
+    for strict in (True, False):
+        for nst in range(2, -1, -1):
+            for mask in range(1 << K):
+                cnt = 0
+                for k in range(K):
+                    cnt += (mask >> k) & 1
+                if cnt != nst:
+                    continue
+                for k in range(K):
+                    pv[i, CP_S + k] = float((mask >> k) & 1)
+                    for j in range(3):
+                        pv[i, CP_U + 3 * k + j] = 0.0
+                if _pv_start_slips(st, i, pv, fw, gsc, farm, strict):
+                    return True
+    for k in range(K):
+        pv[i, CP_S + k] = 1.0 if (stuck >> k) & 1 else 0.0
         for j in range(3):
             pv[i, CP_U + 3 * k + j] = 0.0
-    ok = False
+    return False
+
+
+@njit(cache=True)
+def _pv_start_slips(st, i, pv, fw, gsc, farm, strict):
+    """``_pv_unstick``'s test of one stick/slip state of body i (statuses set, start
+    directions zero): iterate the sliding contacts' start directions to their contact
+    points' tangential accelerations; True when they converge and the state is
+    consistent (normal forces checked when ``strict``)."""
+    K = int(pv[i, CP_K])
     for it in range(SLIDE_ALL_ITER):
         if pivot_forces(st[i], pv[i], fw) != PV_OK:
-            break
+            return False
         moved = 0.0
-        grow = True
+        good = True
         for k in range(K):
+            if strict and fw[FW_LAM + k] < -farm:
+                good = False
+            if pv[i, CP_S + k] == 1.0:
+                good = good and fw[FW_MARG + k] >= -farm
+                continue
             nx, ny, nz = contact_normal(pv[i], k)
             ax, ay, az = contact_accel(st[i], fw, k)
             an = ax * nx + ay * ny + az * nz
@@ -1666,27 +1721,18 @@ def _pv_slide_all(st, i, pv, fw):
             az -= an * nz
             a = math.sqrt(ax * ax + ay * ay + az * az)
             uo = CP_U + 3 * k
+            ua = ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2]
             if it > 0:
-                grow = grow and (ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2] > gsc
-                                 and fw[FW_LAM + k] > 0.0)
+                good = good and ua > gsc
             if not a > 0.0:
-                grow = False
-                continue
-            d = (1.0 - (ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2]) / a
-                 if it > 0 else 1.0)
-            moved = max(moved, abs(d))
+                return False
+            moved = max(moved, abs(1.0 - ua / a) if it > 0 else 1.0)
             pv[i, uo] = ax / a
             pv[i, uo + 1] = ay / a
             pv[i, uo + 2] = az / a
-        if it > 0 and grow and moved <= SLIDE_ALL_RTOL:
-            ok = True
-            break
-    if not ok:
-        for k in range(K):
-            pv[i, CP_S + k] = 1.0 if (stuck >> k) & 1 else 0.0
-            for j in range(3):
-                pv[i, CP_U + 3 * k + j] = 0.0
-    return ok
+        if it > 0 and moved <= SLIDE_ALL_RTOL:
+            return good
+    return False
 
 
 @njit(cache=True)
@@ -1720,7 +1766,7 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
     would be negative are dropped (most negative first), sticking contacts outside their
     friction cone slide (opposite to their friction force), slips started from sticking
     that are still below slip_eps and no longer grow stick again; three or more sticking
-    points (the body still) rest (``_pv_rests``) or all slide (``_pv_slide_all``).
+    points (the body still) rest (``_pv_rests``) or some slide (``_pv_unstick``).
     Returns 0, 1 (no contact left), ``PV_HELD_STILL`` (a rest: ``_pv_rest``) or
     ERR_PAINLEVE."""
     farm = FORCE_ARM * pv[i, CP_M] * math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2
@@ -1744,10 +1790,10 @@ def _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err):
         rc = pivot_forces(st[i], pv[i], fw)
         if rc == PV_STUCK:
             # three or more sticking points: the body is still (_pv_still); it rests there
-            # when forces in the cones hold it, else every contact starts to slide
+            # when forces in the cones hold it, else some contacts start to slide
             if _pv_rests(st, i, pv):
                 return PV_HELD_STILL
-            if _pv_slide_all(st, i, pv, fw):
+            if _pv_unstick(st, i, pv, fw):
                 continue
         if rc != PV_OK:
             _set_err(err, t, i, -1 - int(pv[i, CP_PLANE]), st[i, SX], st[i, SX + 1], st[i, SX +
