@@ -1,5 +1,5 @@
 """Persistent point and edge contact in 3D: a body pivoting, rolling or sliding on one to
-``KMAX`` (4) of its features, each held on a plane (the same plane, or different planes: a
+``KMAX`` (8) of its features, each held on a plane (the same plane, or different planes: a
 groove, a corner; every contact has its own normal, offset and mu), integrated with error
 control.
 
@@ -71,7 +71,8 @@ from .minnorm import minnorm_solve
 # ---- contact parameters cp (float64[N_CP]) ----------------------------------------------
 # Per-contact fields are arrays of KMAX slots (contact k at base + k, or base + 3 k for a
 # vector); contacts 0 .. K-1 are in use.
-KMAX = 4        # contacts held at once at most (a box's edge on each groove plane: 4)
+KMAX = 8        # contacts held at once at most (a box's face on the floor and another
+#                 on a wall: 8, the corners of their common edge counted on both)
 CP_M = 0        # mass (kg)
 CP_I = 1        # 1:4 principal moments (kg m^2)
 CP_G = 4        # 4:7 gravity (m/s^2)
@@ -469,8 +470,9 @@ def pivot_forces(y, cp, fw):
             ntot += 1
     if nstick >= 3:
         return PV_STUCK
-    for i in range(NSYS * NSYS):
-        fw[FW_MAT + i] = 0.0
+    for r in range(ntot):
+        for c in range(ntot):
+            fw[FW_MAT + NSYS * r + c] = 0.0
     # columns: effect of each unknown on each contact acceleration
     for kc in range(K):          # the contact whose force the unknowns describe
         stc = int(cp[CP_S + kc])

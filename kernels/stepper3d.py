@@ -96,14 +96,14 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   error control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
-* The same at three or four features on two planes (a box's edge on one groove plane and
-  a corner or an edge on the other, a capsule's caps on both, a corner in the crease
+* The same at three to eight features on two planes (a box's edge or face on one groove
+  plane and a corner or an edge on the other, a capsule's caps on both, a corner in the crease
   counted once per plane; ``_pivot_gathered``) when no rest holds the body (below):
-  ``pivot3d`` with up to ``KMAX`` = 4 contacts (dependent ones share their force by
+  ``pivot3d`` with up to ``KMAX`` = 8 contacts (dependent ones share their force by
   minimum norm). A third contact that sticks while two others do stops the body
   (``_pv_still``); it then rests there when forces in the cones hold it (``_pv_rests``,
   event "rest", mode ``PM_WEDGED``), else the first consistent state with two or fewer
-  sticking contacts moves it on (``_pv_unstick``). More than four: ``ERR_UNSUPPORTED``.
+  sticking contacts moves it on (``_pv_unstick``). More than eight: ``ERR_UNSUPPORTED``.
 * Rest on several points of two planes (``PM_WEDGED`` for a box or capsule,
   ``_wedge_rest``): when the impacts accumulate at three or more features on two planes
   (a box with an edge on one groove plane and a corner on the other; or one corner on
@@ -112,9 +112,8 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   there if contact forces in the Coulomb cones
   hold it in static equilibrium (``groove3d.rest_forces``); its velocities are removed
   (events "contact", ``dE`` <= 0, and "rest"). An impulse on it releases it to flight.
-  Otherwise (still moving) it is held at those points as above, or, with more than four
-  (a face on one plane and an edge on the other) or no consistent state, the run stops
-  with ``ERR_UNSUPPORTED``.
+  Otherwise (still moving) it is held at those points as above, or, with more than eight
+  or no consistent state, the run stops with ``ERR_UNSUPPORTED``.
 * Three or more features of a box chattering on one plane (a face landing while spinning
   about the normal, or sliding): the body is snapped onto the face as above; when the
   energy removed exceeds the accumulation threshold (its spin) the event is "capture"
