@@ -1231,6 +1231,16 @@ def _pv_sticking(pv, i):
     return n, ka, kb
 
 
+@njit(cache=True, inline="always")
+def _pv_tangential_accel(st, i, pv, fw, k):
+    """Tangential part (m/s^2) of integrated contact k's acceleration under the forces in
+    fw (``pivot_forces``)."""
+    nx, ny, nz = contact_normal(pv[i], k)
+    ax, ay, az = contact_accel(st[i], fw, k)
+    an = ax * nx + ay * ny + az * nz
+    return ax - an * nx, ay - an * ny, az - an * nz
+
+
 @njit(cache=True)
 def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
     """For contact k sliding along u(phi) (the others as they are): (F, D, lam) with
@@ -1249,11 +1259,7 @@ def _slip_F(st, i, pv, k, fw, phi, t1x, t1y, t1z, t2x, t2y, t2z):
     if rc != PV_OK:
         return 0.0, -math.inf, -1.0
     nx, ny, nz = contact_normal(pv[i], k)
-    ax, ay, az = contact_accel(st[i], fw, k)
-    an = ax * nx + ay * ny + az * nz
-    ax -= an * nx
-    ay -= an * ny
-    az -= an * nz
+    ax, ay, az = _pv_tangential_accel(st, i, pv, fw, k)
     F = nx * (uy * az - uz * ay) + ny * (uz * ax - ux * az) + nz * (ux * ay - uy * ax)
     D = ux * ax + uy * ay + uz * az
     return F, D, fw[FW_LAM + k]
@@ -1557,6 +1563,14 @@ def _pv_zero_normals(st, i, bflt, pv, Ii):
     _apply_body(st, bflt, i, bx, by, bz, d2 * mx, d2 * my, d2 * mz, Ii)
 
 
+@njit(cache=True, inline="always")
+def _pv_normal_moment(st, i, pv, k):
+    """Integrated contact k of body i: its normal n, arm r and normal moment r x n."""
+    nx, ny, nz = contact_normal(pv[i], k)
+    ax, ay, az = _pv_arm(st, i, pv, k)
+    return nx, ny, nz, ax, ay, az, ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
+
+
 @njit(cache=True)
 def _pv_zero_normals_many(st, i, bflt, pv, Ii, K):
     """``_pv_zero_normals`` for K >= 3 contacts (``Ii`` already the world inverse inertia):
@@ -1571,22 +1585,14 @@ def _pv_zero_normals_many(st, i, bflt, pv, Ii, K):
     u = x + K
     v = u + K * K
     for a in range(K):
-        nx, ny, nz = contact_normal(pv[i], a)
-        ax, ay, az = _pv_arm(st, i, pv, a)
-        cx = ay * nz - az * ny
-        cy = az * nx - ax * nz
-        cz = ax * ny - ay * nx
+        nx, ny, nz, ax, ay, az, cx, cy, cz = _pv_normal_moment(st, i, pv, a)
         ux, uy, uz = _point_vel(st, i, ax, ay, az)
         w[r + a] = -(ux * nx + uy * ny + uz * nz)
         ix = Ii[0, 0] * cx + Ii[0, 1] * cy + Ii[0, 2] * cz
         iy = Ii[1, 0] * cx + Ii[1, 1] * cy + Ii[1, 2] * cz
         iz = Ii[2, 0] * cx + Ii[2, 1] * cy + Ii[2, 2] * cz
         for b in range(K):
-            mx, my, mz = contact_normal(pv[i], b)
-            bx, by, bz = _pv_arm(st, i, pv, b)
-            dx = by * mz - bz * my
-            dy = bz * mx - bx * mz
-            dz = bx * my - by * mx
+            mx, my, mz, bx, by, bz, dx, dy, dz = _pv_normal_moment(st, i, pv, b)
             w[A + K * a + b] = (nx * mx + ny * my + nz * mz) / m + dx * ix + dy * iy + dz * iz
     minnorm_solve(w, A, r, x, u, v, K, K, ZERO_NORMALS_RTOL, ZERO_NORMALS_SWEEPS)
     for a in range(K):
@@ -1712,12 +1718,7 @@ def _pv_start_slips(st, i, pv, fw, gsc, farm, strict):
             if pv[i, CP_S + k] == 1.0:
                 good = good and fw[FW_MARG + k] >= -farm
                 continue
-            nx, ny, nz = contact_normal(pv[i], k)
-            ax, ay, az = contact_accel(st[i], fw, k)
-            an = ax * nx + ay * ny + az * nz
-            ax -= an * nx
-            ay -= an * ny
-            az -= an * nz
+            ax, ay, az = _pv_tangential_accel(st, i, pv, fw, k)
             a = math.sqrt(ax * ax + ay * ay + az * az)
             uo = CP_U + 3 * k
             ua = ax * pv[i, uo] + ay * pv[i, uo + 1] + az * pv[i, uo + 2]
@@ -1734,16 +1735,9 @@ def _pv_start_slips(st, i, pv, fw, gsc, farm, strict):
     return False
 
 
-@njit(cache=True)
-def _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
-    """Body i rests on its integrated contacts (``PV_HELD_STILL``): mode PM_WEDGED on the
-    planes of its first contact and of another (the same when it has one plane), no
-    motion (event "rest"; the kinetic energy was removed by the sticking impulses)."""
-    p1 = int(pv[i, CP_PLANE])
-    p2 = p1
-    for k in range(int(pv[i, CP_K])):
-        if int(pv[i, CP_PLANE + k]) != p1:
-            p2 = int(pv[i, CP_PLANE + k])
+@njit(cache=True, inline="always")
+def _wedged_still(i, st, pm, ttr, p1, p2):
+    """Body i rests on planes p1 and p2 (mode PM_WEDGED): no motion, no event of its own."""
     for j in range(3):
         st[i, SV + j] = 0.0
         st[i, SW + j] = 0.0
@@ -1754,6 +1748,19 @@ def _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
     pm[i, M_FEAT] = p2
     pm[i, M_AUX] = 0
     ttr[i] = INF
+
+
+@njit(cache=True)
+def _pv_rest(i, t, st, pm, ttr, pv, ev_t, ev_i, ev_f, cnt, c_f, cw):
+    """Body i rests on its integrated contacts (``PV_HELD_STILL``): mode PM_WEDGED on the
+    planes of its first contact and of another (the same when it has one plane), no
+    motion (event "rest"; the kinetic energy was removed by the sticking impulses)."""
+    p1 = int(pv[i, CP_PLANE])
+    p2 = p1
+    for k in range(int(pv[i, CP_K])):
+        if int(pv[i, CP_PLANE + k]) != p1:
+            p2 = int(pv[i, CP_PLANE + k])
+    _wedged_still(i, st, pm, ttr, p1, p2)
     _pv_frame(c_f, cw, st, i, pv, 0)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, -1 - p1, PM_WEDGED, 0, c_f, cw, 0.0, 0.0, 0.0,
          0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -3677,16 +3684,7 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
     v0x = st[i, SV]
     v0y = st[i, SV + 1]
     v0z = st[i, SV + 2]
-    for j in range(3):
-        st[i, SV + j] = 0.0
-        st[i, SW + j] = 0.0
-        st[i, SA + j] = 0.0
-        st[i, SAL + j] = 0.0
-    pm[i, M_MODE] = PM_WEDGED
-    pm[i, M_PLANE] = p1
-    pm[i, M_FEAT] = p2
-    pm[i, M_AUX] = 0
-    ttr[i] = INF
+    _wedged_still(i, st, pm, ttr, p1, p2)
     P0 = -m * (v0x * c_f[cw, CF_N] + v0y * c_f[cw, CF_N + 1] + v0z * c_f[cw, CF_N + 2])
     P1 = -m * (v0x * c_f[cw, CF_T1] + v0y * c_f[cw, CF_T1 + 1] + v0z * c_f[cw, CF_T1 + 2])
     P2 = -m * (v0x * c_f[cw, CF_T2] + v0y * c_f[cw, CF_T2 + 1] + v0z * c_f[cw, CF_T2 + 2])
