@@ -174,12 +174,16 @@ class Recorder:
 
     # ------------------------------------------------------------ capacity
 
-    def capacities(self, margin_e, margin_s, initial_rows):
+    def capacities(self, margin_e, margin_s, initial_rows, initial_seg_rows=None):
         """``(cap_e, cap_s)``: the first lengths of the event and segment buffers, given the
-        loop's margins and the front end's first capacity for ``record="all"``."""
+        loop's margins and the front end's first capacities for ``record="all"`` (events;
+        segments, when their rows are wider: ``initial_seg_rows``, default the same)."""
         rows = initial_rows if self.keep_all else DRAIN_ROWS
         rows = min(self.max_events + 16, rows)
-        return margin_e + rows, margin_s + self.nb + rows
+        srows = rows
+        if self.keep_all and initial_seg_rows is not None:
+            srows = min(rows, initial_seg_rows)
+        return margin_e + rows, margin_s + self.nb + srows
 
     # ------------------------------------------------------------ drains
 
