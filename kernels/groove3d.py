@@ -26,6 +26,9 @@ onset of slip) is accepted when the iteration reaches that tolerance within ``RE
 iterations. No accepted answer is a sound "no": the stepper then refuses the state
 (``ERR_UNSUPPORTED``) rather than resting a body that would slide or tip.
 
+Collinear points (a capsule on its side, a box on an edge) leave the moment about their
+line to gravity alone: ``line_rest`` (the lever rule) decides them.
+
 Arrays in and out (``arms``, ``normals`` float64[K, 3], ``mu`` float64[K], ``f`` float64[K,
 3] the forces found, ``work`` float64[rest_work_size(K)]), no allocation.
 """
@@ -210,3 +213,59 @@ def rest_forces(K, arms, normals, mu, m, gx, gy, gz, f, work):
                 mu[k] * (1.0 - REST_SHRINK), shift)
         _affine(K, arms, f, work, bx, by, bz, L)
     return 1, margin
+
+
+@njit(cache=True)
+def line_rest(K, arms, normals, mu, gx, gy, gz):
+    """Rest on collinear contact points (``rest_forces``' code 2: a capsule on its side,
+    a box on an edge): gravity's line through the centre of mass must meet the segment
+    between the two outermost points ``a``, ``b``, which then carry the parallel loads
+    ``-m g (1 - s)`` and ``-m g s`` (the lever rule, ``s`` the meeting point's parameter
+    along ``a -> b``; the points between carry none). Returns ``(miss, margin)``: ``miss``
+    (m) the distance between gravity's line and the nearest point of the segment (the
+    moment left is ``m |g| miss``), ``margin`` the smallest ``mu N - |T|`` of the two loads
+    per unit weight (dimensionless, negative when ``-g`` leaves a loaded point's cone).
+    A line along gravity holds nothing: ``miss`` is infinite. Arrays as ``rest_forces``."""
+    ka = 0
+    kb = 0
+    best = 0.0
+    for a in range(K):
+        for b in range(a + 1, K):
+            d2 = ((arms[b, 0] - arms[a, 0]) ** 2 + (arms[b, 1] - arms[a, 1]) ** 2
+                  + (arms[b, 2] - arms[a, 2]) ** 2)
+            if d2 > best:
+                best = d2
+                ka = a
+                kb = b
+    gn = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if not (best > 0.0 and gn > 0.0):
+        return math.inf, 0.0
+    ux = gx / gn
+    uy = gy / gn
+    uz = gz / gn
+    ax, ay, az = arms[ka, 0], arms[ka, 1], arms[ka, 2]
+    dx = arms[kb, 0] - ax
+    dy = arms[kb, 1] - ay
+    dz = arms[kb, 2] - az
+    # the segment a + s d nearest to the line through the origin along u: minimise the
+    # part of a + s d across u, |(a + s d) - ((a + s d) . u) u|^2
+    du = dx * ux + dy * uy + dz * uz
+    au = ax * ux + ay * uy + az * uz
+    dd = best - du * du             # |d across u|^2
+    if not dd > 0.0:
+        return math.inf, 0.0
+    s = -((ax * dx + ay * dy + az * dz) - au * du) / dd
+    s = min(max(s, 0.0), 1.0)
+    px = ax + s * dx
+    py = ay + s * dy
+    pz = az + s * dz
+    pu = px * ux + py * uy + pz * uz
+    miss = math.sqrt(max((px - pu * ux) ** 2 + (py - pu * uy) ** 2 + (pz - pu * uz) ** 2,
+                         0.0))
+    margin = math.inf
+    for k, load in ((ka, 1.0 - s), (kb, s)):
+        # the load -g (per unit weight) at contact k: normal part and tangential part
+        fn = -(ux * normals[k, 0] + uy * normals[k, 1] + uz * normals[k, 2])
+        ft = math.sqrt(max(1.0 - fn * fn, 0.0))
+        margin = min(margin, load * (mu[k] * fn - ft), load * fn)
+    return miss, margin

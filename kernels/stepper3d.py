@@ -164,7 +164,7 @@ from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound
                         touching_rate)
 from .dispatch import resolve_3d_as
 from .routh import routh_3d_scalar
-from .groove3d import rest_forces, rest_work_size
+from .groove3d import line_rest, rest_forces, rest_work_size
 from .minnorm import minnorm_solve
 from .flight3d import (RK_OK, ROT_SPHERICAL, SA, SAL, SQ, SV, SW, SX, WS_MODE, pose_at, qmul,
                        qnormalize, qrot, qrot_inv)
@@ -285,7 +285,9 @@ N_SLIP_SCAN = 72
 STICK_RESCUE = 10.0
 #: integrated contact: three or more sticking points hold the body still unless they lie on
 #: one line: within STILL_LINE_RTOL of the body's size L (dimensionless round-off
-#: allowance), the body keeps turning about that line (``_pv_still``)
+#: allowance), the body keeps turning about that line (``_pv_still``); a turn about the
+#: line of two sticking points is blocked by another held contact whose normal speed per
+#: radian exceeds STILL_LINE_RTOL L (``_pv_stick_edge``)
 STILL_LINE_RTOL = 1e-9
 #: integrated contact at three or more points: the normal impulses that zero their normal
 #: velocities solve W_NN dP = -v_N by a minimum-norm least-squares solve (``minnorm``):
@@ -1361,7 +1363,11 @@ def _pv_stick_edge(st, i, bflt, pv, ka, kb):
     ``s = (m (r_1 x a) . v + a . I_w w) / (m |a x r_1|^2 + a . I_w a)`` (``r_1`` the arm
     of contact 1). Sticking one contact by a single-point impulse left the other with a
     slip of up to ``slip_eps``, which the sticking forces then kept (zero acceleration)
-    and worked on."""
+    and worked on. When that turn moves another held contact along its normal (by more
+    than ``STILL_LINE_RTOL`` of the body's size per radian), the contact blocks it: the
+    body stops, and that contact sticks if it has friction (3:1137567058: a capsule on
+    both caps against a wall kept a turn into the wall, 8e-7 m/s, and went 6e-6 m
+    through it while its forces held the gap's acceleration at zero)."""
     ax, ay, az = _pv_arm(st, i, pv, ka)
     bx, by, bz = _pv_arm(st, i, pv, kb)
     dx = bx - ax
@@ -1389,6 +1395,23 @@ def _pv_stick_edge(st, i, bflt, pv, ka, kb):
            + I1 * a0 * w0 + I2 * a1 * w1 + I3 * a2 * w2)
     den = m * (ex * ex + ey * ey + ez * ez) + I1 * a0 * a0 + I2 * a1 * a1 + I3 * a2 * a2
     sp = num / den
+    blocked = False
+    for c in range(int(pv[i, CP_K])):
+        if c == ka or c == kb:
+            continue
+        # the normal speed of contact c per unit turn: n_c . (a x (r_c - r_1)) (m)
+        cx, cy, cz = _pv_arm(st, i, pv, c)
+        nx, ny, nz = contact_normal(pv[i], c)
+        rx = cx - ax
+        ry = cy - ay
+        rz = cz - az
+        g = nx * (dy * rz - dz * ry) + ny * (dz * rx - dx * rz) + nz * (dx * ry - dy * rx)
+        if abs(g) > STILL_LINE_RTOL * pv[i, CP_L]:
+            blocked = True
+            if contact_mu(pv[i], c) > 0.0:
+                pv[i, CP_S + c] = 1.0
+    if blocked:
+        sp = 0.0
     st[i, SV] = sp * ex
     st[i, SV + 1] = sp * ey
     st[i, SV + 2] = sp * ez
@@ -1637,8 +1660,12 @@ def _pv_rests(st, i, pv):
     (``groove3d.rest_forces``), or the best forces leave their cones by at most
     ``HELD_REST_RTOL m |g|`` (a balance on a knife's edge, 3:3210509315: a capsule stopped
     on three points of a groove, its best rest forces out of the cones by 1.6e-8 m |g|, the
-    slip of the one state that would move it growing by less than SLIP_ACC_TOL |g|).
-    Allocates its small arrays (a mode change)."""
+    slip of the one state that would move it growing by less than SLIP_ACC_TOL |g|). A
+    rest in which one contact carries no force is tried too, on the others (3:332093779: a
+    capsule stopped on both caps against a wall rests on the floor alone; the iteration's
+    shrunk cones ask the wall for a force that nothing balances). Collinear points rest
+    by the lever rule (``groove3d.line_rest``) with gravity's line at most
+    ``HELD_REST_RTOL L`` from their segment. Allocates its small arrays (a mode change)."""
     K = int(pv[i, CP_K])
     arms = np.empty((K, 3))
     nrm = np.empty((K, 3))
@@ -1647,14 +1674,44 @@ def _pv_rests(st, i, pv):
         arms[k, 0], arms[k, 1], arms[k, 2] = _pv_arm(st, i, pv, k)
         nrm[k, 0], nrm[k, 1], nrm[k, 2] = contact_normal(pv[i], k)
         mus[k] = contact_mu(pv[i], k)
+    if _rests_on(K, arms, nrm, mus, pv[i]):
+        return True
+    if K < 3:
+        return False
+    sa = np.empty((K - 1, 3))
+    sn = np.empty((K - 1, 3))
+    sm = np.empty(K - 1)
+    for skip in range(K):
+        j = 0
+        for k in range(K):
+            if k == skip:
+                continue
+            for c in range(3):
+                sa[j, c] = arms[k, c]
+                sn[j, c] = nrm[k, c]
+            sm[j] = mus[k]
+            j += 1
+        if _rests_on(K - 1, sa, sn, sm, pv[i]):
+            return True
+    return False
+
+
+@njit(cache=True)
+def _rests_on(K, arms, nrm, mus, pvi):
+    """``_pv_rests`` on the K contacts given (arms from the centre of mass, normals, mu;
+    ``pvi`` the body's integrated-contact row: mass, gravity, size)."""
+    m = pvi[CP_M]
+    gabs = math.sqrt(pvi[CP_G] ** 2 + pvi[CP_G + 1] ** 2 + pvi[CP_G + 2] ** 2)
     f = np.empty((K, 3))
     work = np.empty(rest_work_size(K))
-    code, margin = rest_forces(K, arms, nrm, mus, pv[i, CP_M], pv[i, CP_G], pv[i, CP_G + 1],
-                               pv[i, CP_G + 2], f, work)
+    code, margin = rest_forces(K, arms, nrm, mus, m, pvi[CP_G], pvi[CP_G + 1], pvi[CP_G + 2],
+                               f, work)
+    if code == 0:
+        return True
     if code == 1:
-        gabs = math.sqrt(pv[i, CP_G] ** 2 + pv[i, CP_G + 1] ** 2 + pv[i, CP_G + 2] ** 2)
-        return margin >= -HELD_REST_RTOL * pv[i, CP_M] * gabs
-    return code == 0
+        return margin >= -HELD_REST_RTOL * m * gabs
+    miss, lm = line_rest(K, arms, nrm, mus, pvi[CP_G], pvi[CP_G + 1], pvi[CP_G + 2])
+    return miss <= HELD_REST_RTOL * pvi[CP_L] and lm >= -HELD_REST_RTOL
 
 
 @njit(cache=True)
@@ -2016,11 +2073,18 @@ def _pv_set_contact(pv, i, k, q, kq, feats, planes, law_par, bp_law):
 
 @njit(cache=True)
 def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
-    """Body i held at one contact (``pv``, validated); feature row kq touches plane q (a
-    wall candidate of ``_second_plane``). When the held motion accelerates that feature's
-    gap into q (beyond round-off, ``decisions.touching_accel``), q holds it too: its normal
-    velocity is removed with the first's (``_pv_zero_normals``), it sticks or slides.
-    Returns whether it was added (then validate again)."""
+    """Body i held at K contacts on planes other than q (``pv``, validated; K < KMAX);
+    feature row kq touches plane q (a wall candidate of ``_second_plane``). When the held
+    motion accelerates that feature's gap into q (beyond round-off,
+    ``decisions.touching_accel``), q holds it too, as contact K: its normal velocity is
+    removed with the others' (``_pv_zero_normals``), it sticks or slides. Returns whether
+    it was added (then validate again)."""
+    K = int(pv[i, CP_K])
+    if K >= KMAX:
+        return False
+    for k in range(K):
+        if int(pv[i, CP_PLANE + k]) == q:
+            return False        # (the validation kept a contact on q: not a wall candidate)
     pivot_forces(st[i], pv[i], fw)
     sx, sy, sz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], feats[kq, 0],
                       feats[kq, 1], feats[kq, 2])
@@ -2034,10 +2098,10 @@ def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f
     w = math.sqrt(st[i, SW] ** 2 + st[i, SW + 1] ** 2 + st[i, SW + 2] ** 2)
     if not touching_accel(acc, body, w, reach) < 0.0:
         return False
-    _pv_set_contact(pv, i, 1, q, kq, feats, planes, law_par, bp_law)
-    pv[i, CP_K] = 2.0
+    _pv_set_contact(pv, i, K, q, kq, feats, planes, law_par, bp_law)
+    pv[i, CP_K] = K + 1
     _pv_zero_normals(st, i, bflt, pv, Ii)
-    _pv_stick_or_slip_one(st, i, bflt, pv, 1, c_f, cw, Ii)
+    _pv_stick_or_slip_one(st, i, bflt, pv, K, c_f, cw, Ii)
     return True
 
 
@@ -2056,22 +2120,22 @@ def _pv_set_body(pv, i, bflt, grav, tolf):
 
 
 @njit(cache=True)
-def _pivot_enter(i, p, kf1, p2, kf2, K, t, st, bint, bflt, feats, planes, grav, law_par,
-                 bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
-                 iwc):
+def _pivot_enter(i, p, kf1, p2, kf2, K, pwall, kwall, t, st, bint, bflt, feats, planes, grav,
+                 law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                 Ii, err, iwc):
     """Body i keeps feature kf1 on plane p (and kf2 on plane p2 when K == 2: the same
     plane, or the other plane of a groove or a corner; feature rows) and enters integrated
-    contact there (``_pivot_hold``). With K == 1, kf2 >= 0 is a wall candidate on plane p2
-    (``_second_plane``), held too when the motion on kf1 drives it into p2
+    contact there (``_pivot_hold``). ``kwall >= 0`` is a wall candidate on plane ``pwall``
+    (``_second_plane``), held too when the motion on the others drives it into that plane
     (``_pv_add_wall``). Returns as ``_pivot_hold``."""
     _pv_set_body(pv, i, bflt, grav, tolf)
     _pv_set_contact(pv, i, 0, p, kf1, feats, planes, law_par, bp_law)
     _pv_set_contact(pv, i, 1, p2 if K == 2 else p, kf2 if K == 2 else -1, feats, planes,
                     law_par, bp_law)
     pv[i, CP_K] = K
-    return _pivot_hold(i, p2 if K == 1 else -1, kf2 if K == 1 else -1, t, st, bint, bflt,
-                       feats, planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t,
-                       ev_i, ev_f, cnt, c_f, cw, Ii, err, iwc)
+    return _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par,
+                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
+                       err, iwc)
 
 
 @njit(cache=True)
@@ -2083,7 +2147,7 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
     an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
     the body then flies off (return 2) or, leaving slower than the accumulation speed, is
     held again (once). ``kwall >= 0``: a wall candidate on plane ``pwall``, held too when
-    the motion on the one contact drives it in (``_pv_add_wall``); a body stopped on three
+    the motion on the held contacts drives it in (``_pv_add_wall``); a body stopped on three
     or more sticking points rests there (``_pv_rest``). Returns 0, 1 (no contact can
     persist), 2 or an error."""
     p = int(pv[i, CP_PLANE])
@@ -2104,7 +2168,7 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
                         cw, Ii, ev_t, ev_i, ev_f, cnt, False)):
         # (validation may have dropped one of two contacts: the one left is contact 0)
         rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
-    if rc == 0 and kwall >= 0 and pv[i, CP_K] == 1.0 and _pv_add_wall(
+    if rc == 0 and kwall >= 0 and _pv_add_wall(
             i, pwall, kwall, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
         rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     still = rc == PV_HELD_STILL
@@ -2314,10 +2378,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     """Features of body i (in flight) that touch a plane pushing it with a normal speed
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
-    second feature row, unsupported?): one plane with any count, or two features on two
-    planes (a groove, a corner); more features on two or more planes, or one sharp corner
-    on two planes (a single point held twice), are unsupported. With one feature, the
-    second plane and feature are a wall candidate (``_second_plane``) or (plane, -1).
+    second feature row, unsupported?, wall plane, wall feature row): one plane with any
+    count, or two features on two planes (a groove, a corner); more features on two or
+    more planes, or one sharp corner on two planes (a single point held twice), are
+    unsupported. With one feature, or two on one plane (a capsule on both caps), the wall
+    plane and feature are a wall candidate (``_second_plane``) or (-1, -1).
     Planes gravity does not press (walls) are searched only when no pressed plane has a
     candidate: a box that lands plastically on a wall alone while turning into it is held
     there at one or two features (3:45036680 ended "impacts accumulate at a single contact
@@ -2360,21 +2425,23 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
                 elif p != bp or bp2 != bp:
                     multi = True
                 cnt += 1
-    if cnt == 1:
-        # a wall candidate (or -1): held by _pivot_enter if the held motion drives it in
-        bp2, k2 = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
-        if k2 < 0:
-            bp2 = bp
-    elif cnt < 2:
+    pw = -1
+    kw = -1
+    if cnt < 2:
         bp2 = bp
     elif cnt == 2 and k2 == k1 and rad == 0.0:
         multi = True        # one corner on both planes (the groove's edge): one point
+    if cnt == 1 or (cnt == 2 and bp2 == bp and not multi):
+        # a wall candidate (or -1): held by _pivot_hold if the held motion drives it in
+        # (3:2212146841: a capsule sliding on both caps rubbed one against a wall and took
+        # an impact on each every 4e-7 s)
+        pw, kw = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
     if cnt > 0:
         gb = planes[bp, 0] * grav[0] + planes[bp, 1] * grav[1] + planes[bp, 2] * grav[2]
         face = cnt >= 3 or multi or (cnt == 2 and bp2 == bp and bint[i, B_KIND] == SH_CAPSULE)
         if gb >= 0.0 and face:
-            return bp, 0, -1, bp, -1, False     # a face or a side on a wall: no held motion
-    return bp, cnt, k1, bp2, k2, multi
+            return bp, 0, -1, bp, -1, False, -1, -1   # a face or a side on a wall: not held
+    return bp, cnt, k1, bp2, k2, multi, pw, kw
 
 
 @njit(cache=True)
@@ -2816,7 +2883,8 @@ def _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr, tz
     e6 = err[6]
     e7 = err[7]
     e8 = err[8]
-    rc = _pivot_enter(i, p, k1, p, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
+    rc = _pivot_enter(i, p, k1, p, k2, K, -1, -1, t, st, bint, bflt, feats, planes, grav,
+                      law_par,
                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
                       err, tolf[TF_PAINLEVE])
     if rc == 1:
@@ -2921,7 +2989,8 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     p = pm[i, M_PLANE]
     pm[i, M_AUX] = 0
     ttr[i] = INF
-    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, t, st, bint, bflt, feats, planes, grav,
+    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, -1, -1, t, st, bint, bflt, feats,
+                      planes, grav,
                       law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
                       cw, Ii, err,
                       0.0)    # (no impact without collision here)
@@ -3186,7 +3255,8 @@ def _groove_slide(i, p, q, t, st, bint, bflt, feats, planes, grav, law_par, bp_l
     if pivot is None:
         return _not_compiled(err, t, i, FEATURE_PIVOT)
     f = bint[i, B_FIRST]
-    rc = _pivot_enter(i, p, f, q, f, 2, t, st, bint, bflt, feats, planes, grav, law_par,
+    rc = _pivot_enter(i, p, f, q, f, 2, -1, -1, t, st, bint, bflt, feats, planes, grav,
+                      law_par,
                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
                       err,
                       0.0)    # (no impact without collision here)
@@ -3788,8 +3858,8 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         return 0
     # impacts accumulating at one or two features (a corner, an edge, a cap; or a face)
     if bint[i, B_KIND] != SH_SPHERE:
-        p, K, k1, p2, k2, multi = _persist_candidates(i, st, bint, bflt, feats, planes, grav,
-                                                      bp_off, tolf)
+        p, K, k1, p2, k2, multi, pw, kw = _persist_candidates(i, st, bint, bflt, feats,
+                                                              planes, grav, bp_off, tolf)
         if multi:
             rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
                              bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
@@ -3823,7 +3893,8 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         if K >= 1:
             if pivot is None:
                 return _not_compiled(err, t, i, FEATURE_PIVOT)
-            rc = _pivot_enter(i, p, k1, p2, k2, K, t, st, bint, bflt, feats, planes, grav, law_par,
+            rc = _pivot_enter(i, p, k1, p2, k2, K, pw, kw, t, st, bint, bflt, feats, planes, grav,
+                              law_par,
                               bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
                               cw, Ii, err, tolf[TF_PAINLEVE])
             if rc == 1:

@@ -213,3 +213,62 @@ def test_campaign_scenes_held_at_three_or_more_points_end_right(seed):
     row = campaign.run_drop(3, seed)
     assert row.verdict == "OK", row.note
     assert row.penetration <= row.pen_tol
+
+
+WALL_SEEDS = [2212146841, 332093779, 1137567058, 2108683386]
+"""Campaign scenes (``rbimpact stability --scenes 2000 --dim 3``) wrong before session 21:
+a capsule sliding or rolling on both caps rubs one against a wall (3:2212146841 took an
+impact on each every 4e-7 s to ``max_events``: the wall is now a candidate of the held
+motion on two contacts too, ``_persist_candidates``); the roll about the line of two
+sticking caps carried on into the wall at 8e-7 m/s (3:1137567058 went 6e-6 m through it,
+status "done"; 3:2108683386, a box, 1.6e-6 m: the wall now blocks that turn,
+``_pv_stick_edge``); stopped there, the capsule rests on the floor alone, the wall carrying
+no force (3:332093779 was refused: ``_pv_rests`` tries each contact unloaded, and
+collinear points by the lever rule, ``groove3d.line_rest``)."""
+
+
+@pytest.mark.parametrize("seed", WALL_SEEDS)
+def test_campaign_scenes_against_a_wall_end_right(seed):
+    from rbimpact import campaign
+    row = campaign.run_drop(3, seed)
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+    assert row.energy_gain <= 1e-9
+
+
+def _line(mu, slope, offset=0.0, along=True):
+    """Two contact points of a capsule (cap centres 0.2 m apart, radius 0.02 m) lying on a
+    plane tilted by ``slope`` (rad) about x, its axis along the fall line (``along``) or
+    across it, the centre of mass moved ``offset`` (m) along the axis: (arms, normals, mu,
+    gravity)."""
+    from rbimpact.kernels.groove3d import line_rest
+    n = np.array([0.0, math.sin(slope), math.cos(slope)])
+    ax = np.array([0.0, math.cos(slope), -math.sin(slope)]) if along else np.array([1.0, 0, 0])
+    arms = np.array([-0.1 * ax - 0.02 * n, 0.1 * ax - 0.02 * n]) - offset * ax
+    return line_rest(2, arms, np.array([n, n]), np.array([mu, mu]), 0.0, 0.0, -G)
+
+
+def test_line_rest_is_the_lever_rule():
+    """``groove3d.line_rest`` on a capsule lying on a plane (two contact points): on a level
+    floor gravity's line meets the segment at its middle (miss 0, each point loaded with
+    half the weight: margin mu / 2); moved beyond the end it misses by the overhang; lying
+    along the fall line of a slope beta its loads leave the cones exactly when mu < tan
+    beta (gravity's line meets the axis r tan(beta) below its middle: the lower point
+    carries s = 1/2 + r tan(beta) / L of the weight, and margin is the load times mu
+    cos(beta) - sin(beta)); lying across the slope gravity's line misses the segment by
+    r sin(beta) (it rolls)."""
+    miss, margin = _line(0.3, 0.0)
+    assert miss == 0.0 and margin == pytest.approx(0.15, abs=1e-15)
+    miss, margin = _line(0.3, 0.0, offset=0.13)
+    assert miss == pytest.approx(0.03, abs=1e-15) and margin == 0.0
+    beta = 0.4
+    s = 0.5 + 0.02 * math.tan(beta) / 0.2
+    for mu in (0.3, 0.5):
+        miss, margin = _line(mu, beta)
+        assert miss <= 1e-16
+        per_weight = mu * math.cos(beta) - math.sin(beta)
+        load = s if per_weight < 0.0 else 1.0 - s
+        assert margin == pytest.approx(load * per_weight, abs=1e-15)
+        assert (margin >= 0.0) == (mu >= math.tan(beta))
+    miss, margin = _line(0.5, beta, along=False)
+    assert miss == pytest.approx(0.02 * math.sin(beta), rel=1e-12)
