@@ -289,6 +289,10 @@ STICK_RESCUE = 10.0
 #: line of two sticking points is blocked by another held contact whose normal speed per
 #: radian exceeds STILL_LINE_RTOL L (``_pv_stick_edge``)
 STILL_LINE_RTOL = 1e-9
+#: integrated contact: at most WALLS_MAX wall candidates (``_second_plane``) join a held
+#: motion at its entry, as (plane, feature row) pairs; NO_WALLS, none
+WALLS_MAX = 2
+NO_WALLS = (-1, -1, -1, -1)
 #: integrated contact at three or more points: the normal impulses that zero their normal
 #: velocities solve W_NN dP = -v_N by a minimum-norm least-squares solve (``minnorm``):
 #: singular values below ZERO_NORMALS_RTOL times the largest are zero (dependent contacts,
@@ -2073,8 +2077,8 @@ def _pv_set_contact(pv, i, k, q, kq, feats, planes, law_par, bp_law):
 
 @njit(cache=True)
 def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
-    """Body i held at K contacts on planes other than q (``pv``, validated; K < KMAX);
-    feature row kq touches plane q (a wall candidate of ``_second_plane``). When the held
+    """Body i held at K contacts (``pv``, validated; K < KMAX); feature row kq touches
+    plane q (a wall candidate of ``_second_plane``). When the held
     motion accelerates that feature's gap into q (beyond round-off,
     ``decisions.touching_accel``), q holds it too, as contact K: its normal velocity is
     removed with the others' (``_pv_zero_normals``), it sticks or slides. Returns whether
@@ -2083,8 +2087,8 @@ def _pv_add_wall(i, q, kq, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f
     if K >= KMAX:
         return False
     for k in range(K):
-        if int(pv[i, CP_PLANE + k]) == q:
-            return False        # (the validation kept a contact on q: not a wall candidate)
+        if int(pv[i, CP_PLANE + k]) == q and int(pv[i, CP_F + k]) == kq:
+            return False        # (already held there)
     pivot_forces(st[i], pv[i], fw)
     sx, sy, sz = qrot(st[i, SQ], st[i, SQ + 1], st[i, SQ + 2], st[i, SQ + 3], feats[kq, 0],
                       feats[kq, 1], feats[kq, 2])
@@ -2120,34 +2124,35 @@ def _pv_set_body(pv, i, bflt, grav, tolf):
 
 
 @njit(cache=True)
-def _pivot_enter(i, p, kf1, p2, kf2, K, pwall, kwall, t, st, bint, bflt, feats, planes, grav,
+def _pivot_enter(i, p, kf1, p2, kf2, K, walls, t, st, bint, bflt, feats, planes, grav,
                  law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
                  Ii, err, iwc):
     """Body i keeps feature kf1 on plane p (and kf2 on plane p2 when K == 2: the same
     plane, or the other plane of a groove or a corner; feature rows) and enters integrated
-    contact there (``_pivot_hold``). ``kwall >= 0`` is a wall candidate on plane ``pwall``
-    (``_second_plane``), held too when the motion on the others drives it into that plane
+    contact there (``_pivot_hold``). ``walls``: wall candidates (``_second_plane``, or
+    ``NO_WALLS``), each held too when the motion on the others drives it into its plane
     (``_pv_add_wall``). Returns as ``_pivot_hold``."""
     _pv_set_body(pv, i, bflt, grav, tolf)
     _pv_set_contact(pv, i, 0, p, kf1, feats, planes, law_par, bp_law)
     _pv_set_contact(pv, i, 1, p2 if K == 2 else p, kf2 if K == 2 else -1, feats, planes,
                     law_par, bp_law)
     pv[i, CP_K] = K
-    return _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par,
+    return _pivot_hold(i, walls, t, st, bint, bflt, feats, planes, grav, law_par,
                        bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
                        err, iwc)
 
 
 @njit(cache=True)
-def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+def _pivot_hold(i, walls, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
                 ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, iwc):
     """Body i keeps the features set in ``pv[i]`` on their planes: remove their (tiny)
     normal velocities with normal impulses, choose stick or slip, and enter integrated
     contact (event "pivot"). One sliding contact with no consistent force (Painleve) takes
     an impact without collision (``_pv_iwc``) when ``iwc`` is PAINLEVE_IMPACT (a float):
     the body then flies off (return 2) or, leaving slower than the accumulation speed, is
-    held again (once). ``kwall >= 0``: a wall candidate on plane ``pwall``, held too when
-    the motion on the held contacts drives it in (``_pv_add_wall``); a body stopped on three
+    held again (once). ``walls``: wall candidates ``(q1, k1, q2, k2)`` (planes, feature rows;
+    -1 unused), each held too when the motion on the held contacts drives it in
+    (``_pv_add_wall``, in order); a body stopped on three
     or more sticking points rests there (``_pv_rest``). Returns 0, 1 (no contact can
     persist), 2 or an error."""
     p = int(pv[i, CP_PLANE])
@@ -2168,9 +2173,11 @@ def _pivot_hold(i, pwall, kwall, t, st, bint, bflt, feats, planes, grav, law_par
                         cw, Ii, ev_t, ev_i, ev_f, cnt, False)):
         # (validation may have dropped one of two contacts: the one left is contact 0)
         rc = _pv_after_iwc(i, t, st, bflt, grav, pm, ttr, tz, tolf, pv, fw, c_f, cw, Ii, err)
-    if rc == 0 and kwall >= 0 and _pv_add_wall(
-            i, pwall, kwall, st, bflt, feats, planes, law_par, bp_law, pv, fw, c_f, cw, Ii):
-        rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
+    for j in range(WALLS_MAX):
+        if rc == 0 and walls[2 * j + 1] >= 0 and _pv_add_wall(
+                i, walls[2 * j], walls[2 * j + 1], st, bflt, feats, planes, law_par, bp_law,
+                pv, fw, c_f, cw, Ii):
+            rc = _pv_validate(i, t, st, bflt, pv, fw, c_f, cw, Ii, err)
     still = rc == PV_HELD_STILL
     if still:
         rc = 0
@@ -2378,11 +2385,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     """Features of body i (in flight) that touch a plane pushing it with a normal speed
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
-    second feature row, unsupported?, wall plane, wall feature row): one plane with any
-    count, or two features on two planes (a groove, a corner); more features on two or
-    more planes, or one sharp corner on two planes (a single point held twice), are
-    unsupported. With one feature, or two on one plane (a capsule on both caps), the wall
-    plane and feature are a wall candidate (``_second_plane``) or (-1, -1).
+    second feature row, unsupported?, walls): one plane with any count, or two features
+    on two planes (a groove, a corner); more features on two or more planes, or one sharp
+    corner on two planes (a single point held twice), are unsupported. With one feature,
+    or two on one plane (a capsule on both caps), ``walls`` holds the wall candidates
+    (``_second_plane``), else ``NO_WALLS``.
     Planes gravity does not press (walls) are searched only when no pressed plane has a
     candidate: a box that lands plastically on a wall alone while turning into it is held
     there at one or two features (3:45036680 ended "impacts accumulate at a single contact
@@ -2425,8 +2432,7 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
                 elif p != bp or bp2 != bp:
                     multi = True
                 cnt += 1
-    pw = -1
-    kw = -1
+    walls = NO_WALLS
     if cnt < 2:
         bp2 = bp
     elif cnt == 2 and k2 == k1 and rad == 0.0:
@@ -2435,32 +2441,35 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
         # a wall candidate (or -1): held by _pivot_hold if the held motion drives it in
         # (3:2212146841: a capsule sliding on both caps rubbed one against a wall and took
         # an impact on each every 4e-7 s)
-        pw, kw = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
+        walls = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
     if cnt > 0:
         gb = planes[bp, 0] * grav[0] + planes[bp, 1] * grav[1] + planes[bp, 2] * grav[2]
         face = cnt >= 3 or multi or (cnt == 2 and bp2 == bp and bint[i, B_KIND] == SH_CAPSULE)
         if gb >= 0.0 and face:
-            return bp, 0, -1, bp, -1, False, -1, -1   # a face or a side on a wall: not held
-    return bp, cnt, k1, bp2, k2, multi, pw, kw
+            return bp, 0, -1, bp, -1, False, NO_WALLS   # a face or a side on a wall
+    return bp, cnt, k1, bp2, k2, multi, walls
 
 
 @njit(cache=True)
 def _second_plane(i, st, bint, bflt, feats, planes, p, acc1, bp_off, tolf):
-    """A feature of body i touching a plane other than p (a wall: gravity need not press
-    it) while one of its features is held on p: (plane, feature row), or (-1, -1). It
-    counts when it is the only one, within gap_tol, with a normal speed below the
-    accumulation speed of the held contact (``_vz2`` of ``acc1``, the held feature's gap
-    acceleration in m/s^2). Its
-    free gap acceleration is not asked for: the held contact's force is what drives a
-    corner or a cap into a wall while the body pivots (3:2681066003: a capsule rocking on
-    the floor against a wall took an impact on each every 1e-6 s). Whether it is held is
-    the held motion's decision (``_pv_add_wall``)."""
+    """Wall candidates of body i while features of it are held on plane p: features
+    touching a plane other than p (gravity need not press it) within gap_tol, with a normal
+    speed below the accumulation speed of the held contact (``_vz2`` of ``acc1``, the held
+    feature's gap acceleration in m/s^2). Returns ``(q1, k1, q2, k2)`` (planes and feature
+    rows, -1 when unused): at most ``WALLS_MAX`` = 2 candidates (a cap in the vertical
+    corner of two walls touches both, 3:388087898); with more, none. Their free gap
+    acceleration is not asked for: the held contact's force is what drives a corner or a
+    cap into a wall while the body pivots (3:2681066003: a capsule rocking on the floor
+    against a wall took an impact on each every 1e-6 s). Whether each is held is the held
+    motion's decision (``_pv_add_wall``)."""
     f0 = bint[i, B_FIRST]
     nf = bint[i, B_COUNT]
     rad = bflt[i, B_RADIUS]
     vz2 = _vz2(tolf, -acc1)
-    bq = -1
-    kq = -1
+    q1 = -1
+    k1 = -1
+    q2 = -1
+    k2 = -1
     for q in range(planes.shape[0]):
         if q == p or bp_off[i, q] != 0:
             continue
@@ -2470,11 +2479,15 @@ def _second_plane(i, st, bint, bflt, feats, planes, p, acc1, bp_off, tolf):
                 continue
             if not vn * vn < vz2:
                 continue
-            if kq >= 0:
-                return -1, -1       # two or more: not a pivot on two points
-            bq = q
-            kq = f0 + k
-    return bq, kq
+            if k2 >= 0:
+                return NO_WALLS     # more than WALLS_MAX: not a held motion we build
+            if k1 < 0:
+                q1 = q
+                k1 = f0 + k
+            else:
+                q2 = q
+                k2 = f0 + k
+    return (q1, k1, q2, k2)
 
 
 # ------------------------------------------------------------------ rest configurations
@@ -2883,7 +2896,7 @@ def _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr, tz
     e6 = err[6]
     e7 = err[7]
     e8 = err[8]
-    rc = _pivot_enter(i, p, k1, p, k2, K, -1, -1, t, st, bint, bflt, feats, planes, grav,
+    rc = _pivot_enter(i, p, k1, p, k2, K, NO_WALLS, t, st, bint, bflt, feats, planes, grav,
                       law_par,
                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
                       err, tolf[TF_PAINLEVE])
@@ -2989,7 +3002,7 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     p = pm[i, M_PLANE]
     pm[i, M_AUX] = 0
     ttr[i] = INF
-    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, -1, -1, t, st, bint, bflt, feats,
+    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, NO_WALLS, t, st, bint, bflt, feats,
                       planes, grav,
                       law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
                       cw, Ii, err,
@@ -3255,7 +3268,7 @@ def _groove_slide(i, p, q, t, st, bint, bflt, feats, planes, grav, law_par, bp_l
     if pivot is None:
         return _not_compiled(err, t, i, FEATURE_PIVOT)
     f = bint[i, B_FIRST]
-    rc = _pivot_enter(i, p, f, q, f, 2, -1, -1, t, st, bint, bflt, feats, planes, grav,
+    rc = _pivot_enter(i, p, f, q, f, 2, NO_WALLS, t, st, bint, bflt, feats, planes, grav,
                       law_par,
                       bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
                       err,
@@ -3777,7 +3790,7 @@ def _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, 
     if _pv_gather(i, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, tolf,
                   pv) < 3:
         return 1
-    return _pivot_hold(i, -1, -1, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
+    return _pivot_hold(i, NO_WALLS, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
                        ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
                        tolf[TF_PAINLEVE])
 
@@ -3858,8 +3871,8 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         return 0
     # impacts accumulating at one or two features (a corner, an edge, a cap; or a face)
     if bint[i, B_KIND] != SH_SPHERE:
-        p, K, k1, p2, k2, multi, pw, kw = _persist_candidates(i, st, bint, bflt, feats,
-                                                              planes, grav, bp_off, tolf)
+        p, K, k1, p2, k2, multi, walls = _persist_candidates(i, st, bint, bflt, feats,
+                                                             planes, grav, bp_off, tolf)
         if multi:
             rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
                              bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
@@ -3893,7 +3906,7 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         if K >= 1:
             if pivot is None:
                 return _not_compiled(err, t, i, FEATURE_PIVOT)
-            rc = _pivot_enter(i, p, k1, p2, k2, K, pw, kw, t, st, bint, bflt, feats, planes, grav,
+            rc = _pivot_enter(i, p, k1, p2, k2, K, walls, t, st, bint, bflt, feats, planes, grav,
                               law_par,
                               bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
                               cw, Ii, err, tolf[TF_PAINLEVE])

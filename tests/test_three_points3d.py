@@ -215,7 +215,7 @@ def test_campaign_scenes_held_at_three_or_more_points_end_right(seed):
     assert row.penetration <= row.pen_tol
 
 
-WALL_SEEDS = [2212146841, 332093779, 1137567058, 2108683386]
+WALL_SEEDS = [2212146841, 332093779, 1137567058, 2108683386, 388087898]
 """Campaign scenes (``rbimpact stability --scenes 2000 --dim 3``) wrong before session 21:
 a capsule sliding or rolling on both caps rubs one against a wall (3:2212146841 took an
 impact on each every 4e-7 s to ``max_events``: the wall is now a candidate of the held
@@ -224,7 +224,10 @@ sticking caps carried on into the wall at 8e-7 m/s (3:1137567058 went 6e-6 m thr
 status "done"; 3:2108683386, a box, 1.6e-6 m: the wall now blocks that turn,
 ``_pv_stick_edge``); stopped there, the capsule rests on the floor alone, the wall carrying
 no force (3:332093779 was refused: ``_pv_rests`` tries each contact unloaded, and
-collinear points by the lever rule, ``groove3d.line_rest``)."""
+collinear points by the lever rule, ``groove3d.line_rest``); a capsule on the floor with
+its other cap in the vertical corner of two walls took three impacts every 1e-7 s to
+``max_events`` (3:388087898: up to ``WALLS_MAX`` = 2 wall candidates now join the held
+motion)."""
 
 
 @pytest.mark.parametrize("seed", WALL_SEEDS)
