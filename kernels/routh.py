@@ -594,7 +594,9 @@ _SCRATCH = _ROWS * _NMAX
 _INV = np.array([0.0] + [1.0 / k for k in range(1, _NMAX + 1)])   # 1/k (constants)
 _CFRAC = np.array([TAYLOR_CONT ** (1.0 / (n + 1)) for n in range(_NMAX + 1)])  # TAYLOR_CONT
 _LN_RHO = math.log(TAYLOR_RHO_FRAC / TAYLOR_SAFETY)
-_LN10 = math.log(10.0)
+_TOL_AT_ORDER = np.array([10.0 ** (-(n - 1) / TAYLOR_ORDER_PER_DIGIT)
+                          for n in range(_NMAX + 1)])   # smallest tol for order n
+_RHO_POW = np.array([(TAYLOR_RHO_FRAC / TAYLOR_SAFETY) ** n for n in range(_NMAX + 1)])
 
 
 @intrinsic
@@ -626,15 +628,14 @@ def _scratch_overload():
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _taylor_order(tol):
-    """Series order N for the relative tolerance tol (TAYLOR_ORDER_*)."""
-    return _taylor_order_ln(math.log(tol))
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _taylor_order_ln(ltol):
-    """Series order N for the relative tolerance exp(ltol) (TAYLOR_ORDER_*)."""
-    n = int(math.ceil(TAYLOR_ORDER_PER_DIGIT * -ltol / _LN10)) + 1
-    return min(max(n, TAYLOR_ORDER_MIN), TAYLOR_ORDER_MAX)
+    """Series order N for the relative tolerance tol (TAYLOR_ORDER_*): the least N in
+    [TAYLOR_ORDER_MIN, TAYLOR_ORDER_MAX] with ceil(TAYLOR_ORDER_PER_DIGIT digits) + 1 <= N,
+    i.e. tol >= 10^(-(N - 1)/TAYLOR_ORDER_PER_DIGIT) (``_TOL_AT_ORDER``; a table search
+    instead of a logarithm)."""
+    n = TAYLOR_ORDER_MIN
+    while n < TAYLOR_ORDER_MAX and tol < _TOL_AT_ORDER[n]:
+        n += 1
+    return n
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -864,7 +865,10 @@ def _poly_root(T, r, N, target, t0, h, g_h):
     or to the rounding level of the polynomial (ROOT_NOISE)."""
     lo = t0
     hi = h
-    g0, d1, d2 = _poly_d2(T, r, N, t0)
+    if t0 == 0.0:                                  # (the series' own coefficients)
+        g0, d1, d2 = T[r, 0], T[r, 1], 2.0 * T[r, 2]
+    else:
+        g0, d1, d2 = _poly_d2(T, r, N, t0)
     if not (g0 < target and t0 < h):
         return t0                                  # reached at t0 already (e.g. e^2 = 0)
     t = _root_start(g0 - target, d1, d2, t0, h, g_h)
@@ -898,8 +902,11 @@ def _wk_root(T, N, target, t0, h, g_h, vN0, x01, x02, mu, c0, kap, z1, z2, y1, y
     constant terms exactly)."""
     lo = t0
     hi = h
-    vN, dvN, _ = _poly_d2(T, _R_VN, N, t0)
-    sv, ds, _ = _poly_d2(T, _R_S, N, t0)
+    if t0 == 0.0:                                  # (the series' own coefficients)
+        vN, dvN, sv, ds = T[_R_VN, 0], T[_R_VN, 1], T[_R_S, 0], T[_R_S, 1]
+    else:
+        vN, dvN, _ = _poly_d2(T, _R_VN, N, t0)
+        sv, ds, _ = _poly_d2(T, _R_S, N, t0)
     g0 = _wk_at(vN0, x01, x02, mu, vN, yp, y1, y2, q1, q2, yq) - target
     if not (g0 < 0.0 and t0 < h):
         return t0                                  # reached at t0 already (e.g. e^2 = 0)
@@ -1008,14 +1015,15 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         m01 = mu * c01
         m11 = mu * c11
         c0 = vN0 - (z1 * x01 + z2 * x02)           # v_N = c0 + kappa p + z . v_T
-        ltol = math.log(tol)
-        N = _taylor_order_ln(ltol)
+        N = _taylor_order(tol)
         invN = 1.0 / N
         invN1 = 1.0 / (N - 1)
         eps = tol * vscale                         # error target per step (m/s)
-        leps = ltol + math.log(vscale)             # ln eps
+        # ln eps (two logarithms only where eps would be subnormal: tiny |v0|)
+        leps = math.log(eps) if eps >= 1e-300 else math.log(tol) + math.log(vscale)
         cfrac = _CFRAC[N]
         lrho = _LN_RHO * N
+        erho = eps / _RHO_POW[N]                   # s0 below this the radius bound can act (m/s)
         wsc = a / vscale                           # Wk (J) -> m/s, with p scale |v0|/W_NN
         dpmax = TAYLOR_P_STEP * vscale / a         # largest impulse increment per step (N s)
         T = _scratch()
@@ -1033,11 +1041,14 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             cM = max(max(abs(T[_R_X1, N - 1]), abs(T[_R_X2, N - 1])),
                      wsc * max(abs(wM), mu * abs(T[_R_Q, N - 1])))
             h = dpmax / s0
-            # (the three bounds in log form: one exp instead of three pow)
+            # (the three bounds in log form: one exp instead of three pow; the radius
+            # bound needs ln s0 only when it can bind, s0 < eps / TAYLOR_RHO_FRAC^N)
             lh = np.inf
             if cN > 0.0:
                 lcN = math.log(cN)
-                lh = min(leps, lrho + math.log(s0)) - lcN
+                lh = leps - lcN
+                if s0 < erho:
+                    lh = min(leps, lrho + math.log(s0)) - lcN
                 lh *= invN
             if cM > 0.0:
                 lh = min(lh, (leps - math.log(cM)) * invN1)
@@ -1052,10 +1063,19 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
             have_h = False                         # y* below hold the state at he
             ev = 0                                 # 1: compression end, 2: termination
             b1, b2, bp, bq1, bq2, bq = x1, x2, p, P1, P2, Q   # _poly_state(T, N, 0) exactly
-            gh = _poly(T, _R_VN, N, h)
+            gh = 0.0
+            if comp:
+                # the state at h, v_N there from it (the row v_N is c0 + kappa p + z . v_T):
+                # one interleaved Horner pass, kept for the step's end if no event
+                y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, h)
+                have_h = True
+                gh = c0 + kap * yp + z1 * y1 + z2 * y2
+            elif rest == REST_NEWTON:
+                gh = _poly(T, _R_VN, N, h)
             if comp and gh >= 0.0:
                 t0 = _poly_root(T, _R_VN, N, 0.0, 0.0, h, gh)
                 he = max(t0, cfrac * h)            # (TAYLOR_CONT)
+                have_h = False
                 if he < h and rest == REST_NEWTON:
                     gh = _poly(T, _R_VN, N, he)
                 y1, y2, yp, yq1, yq2, yq = _poly_state(T, N, t0)
