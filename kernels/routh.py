@@ -596,6 +596,8 @@ _CFRAC = np.array([TAYLOR_CONT ** (1.0 / (n + 1)) for n in range(_NMAX + 1)])  #
 _LN_RHO = math.log(TAYLOR_RHO_FRAC / TAYLOR_SAFETY)
 _TOL_AT_ORDER = np.array([10.0 ** (-(n - 1) / TAYLOR_ORDER_PER_DIGIT)
                           for n in range(_NMAX + 1)])   # smallest tol for order n
+_LOG_ONE_MIN = 1e-300   # ln eps in one logarithm for eps >= this (m/s; above the
+#                         subnormal range, where log would lose digits), else ln tol + ln |v0|
 _RHO_POW = np.array([(TAYLOR_RHO_FRAC / TAYLOR_SAFETY) ** n for n in range(_NMAX + 1)])
 
 
@@ -1020,7 +1022,8 @@ def routh_3d_scalar(vN0, x01, x02, a, w1, w2, c00, c01, c11, e, mu, r, tol):
         invN1 = 1.0 / (N - 1)
         eps = tol * vscale                         # error target per step (m/s)
         # ln eps (two logarithms only where eps would be subnormal: tiny |v0|)
-        leps = math.log(eps) if eps >= 1e-300 else math.log(tol) + math.log(vscale)
+        leps = (math.log(eps) if eps >= _LOG_ONE_MIN
+                else math.log(tol) + math.log(vscale))
         cfrac = _CFRAC[N]
         lrho = _LN_RHO * N
         erho = eps / _RHO_POW[N]                   # s0 below this the radius bound can act (m/s)

@@ -290,7 +290,8 @@ STICK_RESCUE = 10.0
 #: radian exceeds STILL_LINE_RTOL L (``_pv_stick_edge``)
 STILL_LINE_RTOL = 1e-9
 #: integrated contact: at most WALLS_MAX wall candidates (``_second_plane``) join a held
-#: motion at its entry, as (plane, feature row) pairs; NO_WALLS, none
+#: motion at its entry, as the (plane, feature row) pairs of one int tuple (its length is
+#: 2 WALLS_MAX; -1 unused); NO_WALLS, none
 WALLS_MAX = 2
 NO_WALLS = (-1, -1, -1, -1)
 #: integrated contact at three or more points: the normal impulses that zero their normal
@@ -2438,7 +2439,8 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     elif cnt == 2 and k2 == k1 and rad == 0.0:
         multi = True        # one corner on both planes (the groove's edge): one point
     if cnt == 1 or (cnt == 2 and bp2 == bp and not multi):
-        # a wall candidate (or -1): held by _pivot_hold if the held motion drives it in
+        # wall candidates (or NO_WALLS): each held by _pivot_hold if the held motion
+        # drives it in
         # (3:2212146841: a capsule sliding on both caps rubbed one against a wall and took
         # an impact on each every 4e-7 s)
         walls = _second_plane(i, st, bint, bflt, feats, planes, bp, acc1, bp_off, tolf)
@@ -2897,9 +2899,8 @@ def _tip(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr, tz
     e7 = err[7]
     e8 = err[8]
     rc = _pivot_enter(i, p, k1, p, k2, K, NO_WALLS, t, st, bint, bflt, feats, planes, grav,
-                      law_par,
-                      bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
-                      err, tolf[TF_PAINLEVE])
+                      law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                      cw, Ii, err, tolf[TF_PAINLEVE])
     if rc == 1:
         _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], e6, e7, e8)
         return ERR_TIPPING
@@ -3003,9 +3004,8 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     pm[i, M_AUX] = 0
     ttr[i] = INF
     rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, NO_WALLS, t, st, bint, bflt, feats,
-                      planes, grav,
-                      law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
-                      cw, Ii, err,
+                      planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                      ev_f, cnt, c_f, cw, Ii, err,
                       0.0)    # (no impact without collision here)
     if rc < 0:
         return rc
@@ -3269,9 +3269,8 @@ def _groove_slide(i, p, q, t, st, bint, bflt, feats, planes, grav, law_par, bp_l
         return _not_compiled(err, t, i, FEATURE_PIVOT)
     f = bint[i, B_FIRST]
     rc = _pivot_enter(i, p, f, q, f, 2, NO_WALLS, t, st, bint, bflt, feats, planes, grav,
-                      law_par,
-                      bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii,
-                      err,
+                      law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
+                      cw, Ii, err,
                       0.0)    # (no impact without collision here)
     if rc == 1:
         _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 4.0, 0.0, 0.0)
@@ -3906,10 +3905,9 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         if K >= 1:
             if pivot is None:
                 return _not_compiled(err, t, i, FEATURE_PIVOT)
-            rc = _pivot_enter(i, p, k1, p2, k2, K, walls, t, st, bint, bflt, feats, planes, grav,
-                              law_par,
-                              bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
-                              cw, Ii, err, tolf[TF_PAINLEVE])
+            rc = _pivot_enter(i, p, k1, p2, k2, K, walls, t, st, bint, bflt, feats, planes,
+                              grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                              ev_f, cnt, c_f, cw, Ii, err, tolf[TF_PAINLEVE])
             if rc == 1:
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0,
                          0.0)
