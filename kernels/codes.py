@@ -19,7 +19,6 @@ ERR_CHATTER = -5         # impacts accumulate at one point where no held mode ex
 ERR_SEQ = -6             # sequential policy: contacts still approach after seq_max_steps
 ERR_PGS = -7             # simultaneous policy: the joint solve did not converge
 ERR_TIPPING = -8         # a face cannot hold the body and no pivot applies
-ERR_SLIDE_CURVE = -9     # 3D: a slip that curves across a slope (not built)
 ERR_STALL = -10          # too many events at one instant
 ERR_TOO_MANY = -11       # more contacts at one instant than the workspace holds
 ERR_JOINT_E = -12        # the joint solve with restitution e > 0 (not built)

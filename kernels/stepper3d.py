@@ -73,7 +73,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   and a box's centre of mass is over that face) the run jumps to the accumulation point,
   snaps the body onto the face (rotation to the face, normal velocity and rotation
   removed: event "contact") and it then rests or
-  slides without rotating (closed form). The face must carry the friction moment (the
+  slides without rotating (closed form while the slip is along the slope or the plane
+  level; a slip across a slope curves, as a puck's: the face's corners or the capsule's
+  caps are held and the motion integrated, ``_integrate_slide``). The face must carry the friction moment (the
   pressure centre ``-h F / N`` inside it), else the box tips over the edge or the corner
   the pressure centre passed (``_tip``: integrated contact on those corners, as
   ``stepper2d._tip``; ``ERR_TIPPING`` only where no pivot state is consistent or the box
@@ -149,7 +151,7 @@ from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_AUX, M_F
                      M_PLANE)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
-                   ERR_PGS, ERR_ROT, ERR_SEQ, ERR_SLIDE_CURVE, ERR_STALL, ERR_TIPPING,
+                   ERR_PGS, ERR_ROT, ERR_SEQ, ERR_STALL, ERR_TIPPING,
                    ERR_TOI, ERR_TOO_MANY, ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE,
                    EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE,
                    EV_STICK, PAINLEVE_IMPACT,
@@ -2776,14 +2778,6 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             ex = vtx / vt
             ey = vty / vt
             ez = vtz / vt
-            if gt > 0.0 and mu > 0.0:
-                sx = ey * gtz - ez * gty
-                sy = ez * gtx - ex * gtz
-                sz = ex * gty - ey * gtx
-                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], vt,
-                             gt, mu)
-                    return ERR_SLIDE_CURVE
             fx = -mu * N * ex
             fy = -mu * N * ey
             fz = -mu * N * ez
@@ -2791,6 +2785,17 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N / m
             if k < 0.0 and mu > 0.0:     # without friction nothing stops the slip
                 ttr[i] = t + vt / (-k)
+            if gt > 0.0 and mu > 0.0:
+                # across the slope the slip curves (a translation v' = g_t - mu |g_n| u:
+                # the pressure centre moves along u, so friction has no moment about n
+                # and the body does not start to spin); it is integrated with the face's
+                # features held (_integrate_slide), from the loop's switch at ttr = t
+                sx = ey * gtz - ez * gty
+                sy = ez * gtx - ex * gtz
+                sz = ex * gty - ey * gtx
+                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
+                    pm[i, M_AUX] = AUX_INTEGRATE
+                    ttr[i] = t
         if mode == PM_REST:
             st[i, SA] = 0.0
             st[i, SA + 1] = 0.0
@@ -2992,27 +2997,46 @@ def _roll_exact(i, p, st, bflt, planes):
 def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, bp_law, pm,
                      ttr, tz, ws, tolf, toli, pose, pv, pw, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
                      Ii, err):
-    """Sphere i slides on plane p across the slope (``pm[i, M_AUX] == AUX_INTEGRATE``, set by
+    """Body i slides on plane p across the slope (``pm[i, M_AUX] == AUX_INTEGRATE``, set by
     ``_persist_setup``): its slip direction turns under gravity and friction, a motion with
-    no closed form here. It enters integrated contact (``pivot3d``, one contact: the feature
-    at its centre, radius r; event "pivot") until the slip stops (then ``_sphere_rolls``),
-    the sphere lifts off or another feature hits a plane. Returns 0 or an error code."""
+    no closed form here. It enters integrated contact (``pivot3d``; event "pivot") with the
+    features that touch p held: a sphere's centre (radius r; it leaves the integrator when
+    the slip stops, ``_sphere_rolls``), a box face's corners or a capsule's two caps
+    (within gap_tol: the face was just snapped onto p; dependent contacts share their
+    force by minimum norm; the body rests when the slip stops and the cones hold it,
+    ``_pv_still``) until the slip stops, it lifts off, tips, or another feature hits a
+    plane. Returns 0 or an error code."""
     rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
     if rc < 0:
         return rc
     p = pm[i, M_PLANE]
     pm[i, M_AUX] = 0
     ttr[i] = INF
-    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, NO_WALLS, t, st, bint, bflt, feats,
-                      planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
-                      ev_f, cnt, c_f, cw, Ii, err,
-                      0.0)    # (no impact without collision here)
+    sphere = bint[i, B_KIND] == SH_SPHERE
+    _pv_set_body(pv, i, bflt, grav, tolf)
+    K = 0
+    if sphere:
+        _pv_set_contact(pv, i, 0, p, bint[i, B_FIRST], feats, planes, law_par, bp_law)
+        K = 1
+    else:
+        rad = bflt[i, B_RADIUS]
+        for f in range(bint[i, B_FIRST], bint[i, B_FIRST] + bint[i, B_COUNT]):
+            if K < KMAX and _feature_contact(st, i, feats, f, planes, p,
+                                             rad)[0] <= tolf[TF_GAP_TOL]:
+                _pv_set_contact(pv, i, K, p, f, feats, planes, law_par, bp_law)
+                K += 1
+    for k in range(K, 2):
+        _pv_set_contact(pv, i, k, p, -1, feats, planes, law_par, bp_law)
+    pv[i, CP_K] = K
+    rc = _pivot_hold(i, NO_WALLS, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                     pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                     0.0)    # (no impact without collision here)
     if rc < 0:
         return rc
     if rc == 1:     # the plane no longer pushes
         _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
         return 0
-    if pv[i, CP_S] == 1.0:     # a slip below slip_eps: it stuck at once
+    if sphere and pv[i, CP_S] == 1.0:     # a slip below slip_eps: it stuck at once
         return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
     return 0

@@ -481,11 +481,6 @@ class Simulation3D:
                                   f"would tip over (friction force {err[6]:.3g} N against "
                                   f"normal force {err[7]:.3g} N at height {err[8]:.3g} m): "
                                   f"not supported")
-        elif rc == k.ERR_SLIDE_CURVE:
-            exc = SimulationError(f"{body} slides on {self._where(b)} {at} at {err[6]:.3g} m/s "
-                                  f"across the slope (tangential gravity {err[7]:.3g} m/s^2, "
-                                  f"mu = {err[8]:g}): the slip direction would curve, which "
-                                  f"has no closed form and is not supported")
         elif rc == k.ERR_FAR_ACCUMULATION:
             exc = SimulationError(
                 f"{body} bounces on {self._where(b)} with restitution e = {err[6]:.12g} "

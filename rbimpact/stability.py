@@ -908,7 +908,7 @@ MAX_EXTRA_SAMPLES = 2_000_000
 #: converge, a stall) FAILs.
 STEPPER_DOCUMENTED = ("accumulate at a single contact point", "would tip over",
                       "rolls and rocks", "needs 0 <= e <= 1", "contacts at one instant",
-                      "would curve", "is not supported", "Painleve")
+                      "is not supported", "Painleve")
 
 
 @dataclass

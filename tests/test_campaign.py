@@ -32,7 +32,6 @@ KNOWN_OPEN = {
         r"penetration .* in plane [1-9]|missed event|time-of-impact search",
     "pivot that has no consistent contact force": r"no consistent|pivot integrator reached",
     "3D tipping from a face": r"would tip over",
-    "3D sliding across a slope (curving slip)": r"the slip direction would curve",
     "3D persistent contact with two planes (a face on one while touching the other; three "
     "or more features on two), capsule rolling across its axis":
         r"persistent contact with two planes|persistent contact on two or more planes"
