@@ -126,3 +126,278 @@ def test_rolls_off_fixed_sphere(seed, mu, ratio):
     phi = polar(cl, up)
     assert abs(math.cos(phi) - ratio * math.cos(phi0)) < 1e-9
     assert abs(cl.c[0, C.CC_LAMN]) < 1e-9 * G
+
+
+# ------------------------------------------------------------------ 2. stick -> slip
+
+
+def test_stick_slip_on_fixed_sphere_and_energy():
+    """Rolling on a fixed sphere (I = 2/5 m r^2, from rest at phi0): tangential
+    m rho phi'' = m g sin phi - F, spin I omega' = F r with r omega = rho phi' give
+    F = (2/7) m g sin phi; energy (7/10) m rho^2 phi'^2 = m g rho (cos phi0 - cos phi) and
+    the radial equation N = m g cos phi - m rho phi'^2 give N = m g (17 cos phi - 10 cos
+    phi0) / 7. Slip starts at the first phi with F = mu N."""
+    phi0, mu = 0.1, 0.5
+    cl, up = ball_on_fixed(phi0, mu, rot=rotation(3))
+    e0 = cl.energy()
+    st, ev, k, t = cl.advance(0.0, 100.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_SLIP, 0)
+    phi_ref = brentq(lambda p: 2.0 * math.sin(p) - mu * (17.0 * math.cos(p)
+                                                         - 10.0 * math.cos(phi0)), phi0, 1.0)
+    assert abs(polar(cl, up) - phi_ref) < 1e-9
+    # the forces at the event: on the cone, N as the closed form
+    N = G * (17.0 * math.cos(phi_ref) - 10.0 * math.cos(phi0)) / 7.0
+    assert abs(cl.c[0, C.CC_LAMN] - N) < 1e-9 * G
+    assert abs(np.linalg.norm(cl.c[0, C.CC_TX:C.CC_TX + 3]) - mu * N) < 1e-9 * G
+    assert abs(cl.energy() - e0) < 1e-10 * G
+    # slip (opposite to the sticking force) until lift-off: energy never increases
+    assert cl.after(ev, k) == C.CS_OK
+    assert cl.c[0, C.CC_MODE] == C.MODE_SLIP
+    e = cl.energy()
+    t_end = None
+    for i in range(400):
+        st, ev, k, t = cl.advance(t, t + 0.01)
+        assert st == C.CS_OK
+        e1 = cl.energy()
+        assert e1 <= e + 1e-12 * G
+        e = e1
+        if ev == C.CE_LEAVE:
+            t_end = t
+            break
+        assert ev == C.CE_NONE
+    assert t_end is not None and e < e0 - 1e-4 * G
+
+
+# ------------------------------------------------------------------ 3. a sphere on a free sphere
+
+
+def two_stack(phi0, mu_ab, mu_floor=0.0, r1=0.5, r2=0.3, m1=2.0, m2=1.0, spin=0.0):
+    """Sphere 0 (r2, m2) on sphere 1 (r1, m1) on the floor z >= 0, at the polar angle phi0
+    in the x-z plane, from rest (``spin``: sphere 0 turning about the vertical)."""
+    rho = r1 + r2
+    x1 = np.array([0.0, 0.0, r1])
+    x0 = x1 + rho * np.array([math.sin(phi0), 0.0, math.cos(phi0)])
+    return Cluster([sphere(x0, r2, m=m2, w=(0.0, 0.0, spin)), sphere(x1, r1, m=m1)],
+                   [contact(0, 1, mu=mu_ab), contact(1, mu=mu_floor)], L=rho)
+
+
+def stack_reference(phi0, r1=0.5, r2=0.3, m1=2.0, m2=1.0):
+    """Lagrange's equations of the frictionless stack in (x1, phi): T = (m1 + m2) x1'^2 / 2
+    + m2 rho cos(phi) x1' phi' + m2 rho^2 phi'^2 / 2, V = m2 g rho cos(phi):
+    (m1 + m2) x1'' + m2 rho (cos phi phi'' - sin phi phi'^2) = 0,
+    cos phi x1'' + rho phi'' = g sin phi; the contact force (Newton, the upper sphere's
+    radial equation) N = m2 (g cos phi + x1'' sin phi - rho phi'^2)."""
+    rho = r1 + r2
+
+    def acc(y):
+        x, p, xd, pd = y
+        A = np.array([[m1 + m2, m2 * rho * math.cos(p)], [math.cos(p), rho]])
+        b = np.array([m2 * rho * math.sin(p) * pd * pd, G * math.sin(p)])
+        return np.linalg.solve(A, b)
+
+    def rhs(t, y):
+        a = acc(y)
+        return [y[2], y[3], a[0], a[1]]
+
+    def normal(t, y):
+        a = acc(y)
+        return m2 * (G * math.cos(y[1]) + a[0] * math.sin(y[1]) - rho * y[3] ** 2)
+
+    normal.terminal = True
+    normal.direction = -1
+    return solve_ivp(rhs, (0.0, 20.0), [0.0, phi0, 0.0, 0.0], method="DOP853", rtol=1e-13,
+                     atol=1e-14, dense_output=True, events=normal)
+
+
+def stack_angle(cl):
+    d = cl.b[0, C.CB_X:C.CB_X + 3] - cl.b[1, C.CB_X:C.CB_X + 3]
+    return math.atan2(d[0], d[2])
+
+
+def test_sphere_on_free_sphere_against_lagrange():
+    phi0 = 0.3
+    ref = stack_reference(phi0)
+    t_leave = ref.t_events[0][0]
+    cl = two_stack(phi0, 0.0)
+    e0 = cl.energy()
+    t = 0.0
+    for tk in (0.25 * t_leave, 0.5 * t_leave, 0.75 * t_leave):
+        st, ev, k, t = cl.advance(t, tk)
+        assert (st, ev) == (C.CS_OK, C.CE_NONE) and t == tk
+        y = ref.sol(tk)
+        assert abs(stack_angle(cl) - y[1]) < 1e-8 * abs(y[1])
+        assert abs(cl.b[1, C.CB_X] - y[0]) < 1e-8 * 0.8
+        assert abs(cl.energy() - e0) < 1e-10 * G * 0.8
+        # the floor holds the lower sphere; nothing turns (frictionless)
+        assert abs(cl.b[1, C.CB_X + 2] - 0.5) < 1e-13
+        assert np.all(np.abs(cl.b[:, C.CB_WX:C.CB_WX + 3]) < 1e-12)
+    st, ev, k, t = cl.advance(t, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_LEAVE, 0)
+    assert abs(t - t_leave) < 1e-8 * t_leave
+    assert abs(stack_angle(cl) - ref.y_events[0][0][1]) < 1e-8
+
+
+# ------------------------------------------------------------------ 4. conservation
+
+
+def test_rolling_stack_conserves_energy_and_horizontal_momentum():
+    """The upper sphere rolls (mu = inf) on the lower one, which slides on a frictionless
+    floor; the upper one also spins about the vertical, so the motion leaves the plane:
+    no work is done (energy conserved), no horizontal force acts on the pair (linear
+    momentum in the floor's plane conserved, here zero)."""
+    cl = two_stack(0.2, math.inf, spin=3.0)
+    assert C.cluster_project(cl.b, cl.c, cl.nk, *cl.g, cl.L, cl.w, cl.la) == C.CS_OK
+    e0 = cl.energy()
+    p0 = cl.b[0, C.CB_M] * cl.b[0, C.CB_VX:C.CB_VX + 2] + cl.b[1, C.CB_M] * cl.b[1, C.CB_VX:C.CB_VX + 2]
+    t = 0.0
+    emax = 0.0
+    moved = 0.0
+    for i in range(30):
+        st, ev, k, t = cl.advance(t, t + 0.05)
+        assert st == C.CS_OK
+        emax = max(emax, abs(cl.energy() - e0))
+        p = (cl.b[0, C.CB_M] * cl.b[0, C.CB_VX:C.CB_VX + 2]
+             + cl.b[1, C.CB_M] * cl.b[1, C.CB_VX:C.CB_VX + 2])
+        assert np.all(np.abs(p - p0) < 1e-10 * math.sqrt(G * 0.8))
+        moved = max(moved, abs(cl.b[0, C.CB_X + 1] - cl.b[1, C.CB_X + 1]))
+        if ev == C.CE_LEAVE:
+            break
+        assert ev == C.CE_NONE
+    assert emax < 1e-10 * G * 0.8
+    assert moved > 1e-3      # out of the x-z plane: a 3D motion
+    q = cl.b[0, C.CB_QW:C.CB_QW + 4]
+    assert abs(np.linalg.norm(q) - 1.0) < 1e-14
+
+
+# ------------------------------------------------------------------ 5. rest
+
+
+def pyramid(mu):
+    r = 0.5
+    side = 2.0 * r
+    cen = np.array([0.0, 0.0, r])
+    bodies = []
+    for j in range(3):
+        a = 2.0 * math.pi * j / 3.0
+        bodies.append(sphere(cen + side / math.sqrt(3.0) * np.array([math.cos(a), math.sin(a),
+                                                                      0.0]), r))
+    bodies.append(sphere(cen + np.array([0.0, 0.0, side * math.sqrt(2.0 / 3.0)]), r))
+    contacts = [contact(j, mu=mu) for j in range(3)]
+    contacts += [contact(3, j, mu=mu) for j in range(3)]
+    contacts += [contact(0, 1, mu=mu), contact(1, 2, mu=mu), contact(2, 0, mu=mu)]
+    return Cluster(bodies, contacts, L=2.0)
+
+
+def test_pyramid_at_rest_with_symmetric_split():
+    cl = pyramid(0.5)
+    st, ev, k, t = cl.advance(0.0, 1.0)
+    assert (st, ev, t) == (C.CS_REST, C.CE_NONE, 0.0)
+    lam = cl.c[:, C.CC_LAMN]
+    T = np.linalg.norm(cl.c[:, C.CC_TX:C.CC_TX + 3], axis=1)
+    # the floor carries the weight, evenly; the top sphere's three contacts share it evenly
+    assert abs(lam[:3].sum() - 4.0 * G) < 1e-10 * G
+    for grp in (slice(0, 3), slice(3, 6), slice(6, 9)):
+        assert np.ptp(lam[grp]) < 1e-10 * G
+        assert np.ptp(T[grp]) < 1e-10 * G
+    assert np.all(lam[:6] > 0.0) and np.all(T <= 0.5 * lam + 1e-12)
+
+
+def test_not_at_rest_without_friction():
+    # the frictionless pyramid's lower spheres would need tension between them
+    cl = pyramid(0.0)
+    st, ev, k, t = cl.advance(0.0, 1.0)
+    assert st == C.CS_INCONSISTENT
+    # a sphere slightly off the top of a sphere on the floor rolls off
+    cl = two_stack(1e-3, 0.0)
+    st, ev, k, t = cl.advance(0.0, 0.1)
+    assert (st, ev) == (C.CS_OK, C.CE_NONE) and stack_angle(cl) > 1e-3
+
+
+# ------------------------------------------------------------------ kinematics, selection
+
+
+@pytest.mark.parametrize("plane", [False, True])
+def test_rates_against_finite_differences(plane):
+    """g'' and the tangential part of dw/dt of the kernel against central differences of
+    g and c along x(t) = x + v t + a t^2 / 2, omega(t) = omega + alpha t (a state with
+    dg/dt = 0, where the tangential part of dc/dt is that of dw/dt)."""
+    rng = np.random.default_rng(5)
+    if plane:
+        n = rng.normal(size=3)
+        n /= np.linalg.norm(n)
+        cl = Cluster([sphere(0.4 * n + 0.1, 0.4, v=rng.normal(size=3), w=rng.normal(size=3))],
+                     [contact(0, n=n, d=float(np.dot(n, 0.4 * n + 0.1)) - 0.4)])
+    else:
+        cl = Cluster([sphere(rng.normal(size=3) * 0.1, 0.3, v=rng.normal(size=3),
+                             w=rng.normal(size=3)),
+                      sphere(np.array([0.0, 0.0, -0.7]), 0.4, v=rng.normal(size=3),
+                             w=rng.normal(size=3))], [contact(0, 1)])
+    C.cluster_project(cl.b, cl.c, cl.nk, *cl.g, cl.L, cl.w, cl.la)
+    acc = rng.normal(size=(cl.b.shape[0], 6))
+    out = np.zeros(12)
+    b0 = cl.b.copy()
+
+    def at(s):
+        b = b0.copy()
+        b[:, 0:3] += b0[:, C.CB_VX:C.CB_VX + 3] * s + 0.5 * acc[:, 0:3] * s * s
+        b[:, C.CB_VX:C.CB_VX + 3] += acc[:, 0:3] * s
+        b[:, C.CB_WX:C.CB_WX + 3] += acc[:, 3:6] * s
+        o = np.zeros(12)
+        C.cluster_rates(b, cl.c, 0, acc, cl.w, cl.la, o)
+        return o
+
+    o0 = at(0.0)
+    h = 1e-4
+    op, om = at(h), at(-h)
+    assert abs(o0[1]) < 1e-12
+    gdd = (op[0] - 2.0 * o0[0] + om[0]) / h ** 2
+    assert abs(gdd - o0[2]) < 1e-6 * (1.0 + abs(o0[2]))
+    assert abs((op[0] - om[0]) / (2 * h) - o0[1]) < 1e-7
+    n = o0[9:12]
+    dc = (op[3:6] - om[3:6]) / (2 * h)
+    dc -= np.dot(dc, n) * n
+    assert np.all(np.abs(dc - o0[6:9]) < 1e-6 * (1.0 + np.abs(o0[6:9]).max()))
+
+
+def test_select_modes_frictionless_off_top_and_rough_rolls():
+    # rough: the selection keeps the ball rolling (stick); frictionless: active, no force T
+    cl, up = ball_on_fixed(0.2, 1.0)
+    cl.c[0, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    assert cl.c[0, C.CC_MODE] == C.MODE_STICK and cl.c[0, C.CC_LAMN] > 0.0
+    # too little friction at phi = 0.2 rad for rolling (needs mu >= 2 sin / (7 cos) = 0.058)
+    cl, up = ball_on_fixed(0.2, 0.03)
+    assert cl.select() == C.CS_OK
+    assert cl.c[0, C.CC_MODE] == C.MODE_SLIP
+    # a sphere held below a fixed sphere falls away: lift-off
+    cl, up = ball_on_fixed(math.pi, 1.0)
+    assert cl.select() == C.CS_OK
+    assert cl.c[0, C.CC_MODE] == C.MODE_LIFT
+
+
+# ------------------------------------------------------------------ 6. bad input
+
+
+def test_bad_input_raises():
+    good = [sphere(np.array([0.0, 0.0, 0.5]), 0.5)]
+    c = [contact(0)]
+    with pytest.raises(ValueError, match="radius must be positive"):
+        Cluster([sphere(np.zeros(3), -1.0)], c)
+    with pytest.raises(ValueError, match="mass and moment"):
+        Cluster([sphere(np.zeros(3), 1.0, m=0.0)], c)
+    with pytest.raises(ValueError, match="unit vector"):
+        Cluster(good, [contact(0, n=(0.0, 0.0, 2.0))])
+    with pytest.raises(ValueError, match="mu must be >= 0"):
+        Cluster(good, [contact(0, mu=-0.1)])
+    with pytest.raises(ValueError, match="mu must be >= 0"):
+        Cluster(good, [contact(0, mu=math.nan)])
+    with pytest.raises(ValueError, match="out of range"):
+        Cluster(good, [contact(0, 3)])
+    with pytest.raises(ValueError, match="unit quaternion"):
+        b = sphere(np.zeros(3), 1.0)
+        b[C.CB_QW] = 2.0
+        Cluster([b], c)
+    with pytest.raises(ValueError, match="both sides fixed"):
+        Cluster([sphere(np.zeros(3), 1.0, fixed=True)], c)
+    with pytest.raises(ValueError, match="cannot slip"):
+        Cluster(good, [contact(0, mu=math.inf, mode=C.MODE_SLIP)])
