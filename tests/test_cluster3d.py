@@ -401,3 +401,39 @@ def test_bad_input_raises():
         Cluster([sphere(np.zeros(3), 1.0, fixed=True)], c)
     with pytest.raises(ValueError, match="cannot slip"):
         Cluster(good, [contact(0, mu=math.inf, mode=C.MODE_SLIP)])
+
+
+# ------------------------------------------------------------------ slip -> stick, a gap
+
+
+def test_sliding_sphere_on_floor_stops_slipping_then_meets_a_wall():
+    """A sphere sliding and spinning on the floor (any v0, omega0): the slip
+    c = v + omega x (-r n) obeys dc/dt = -(1/m + r^2/I) mu m g c/|c| = -(7/2) mu g c/|c|,
+    so it keeps its direction and falls linearly; the centre's acceleration is
+    -mu g c0/|c0|. The kernel's stop fires at |c| = SLIP_EPS V; then it rolls at a
+    constant velocity (energy conserved) into a wall candidate x <= X at a known time."""
+    r, mu = 0.2, 0.3
+    v0 = np.array([1.0, 0.4, 0.0])
+    w0 = np.array([3.0, -5.0, 2.0])
+    cl = Cluster([sphere((0.0, 0.0, r), r, v=v0, w=w0)], [contact(0, mu=mu, mode=C.MODE_SLIP)],
+                 cands=[contact(0, n=(-1.0, 0.0, 0.0), d=-2.0)], L=r)
+    n = np.array([0.0, 0.0, 1.0])
+    c0 = v0 + np.cross(w0, -r * n)
+    c0l = np.linalg.norm(c0)
+    V = np.linalg.norm(v0) + np.linalg.norm(w0) * r + math.sqrt(G * r)
+    t_stop = (c0l - C.SLIP_EPS * V) / (3.5 * mu * G)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_STOP, 0)
+    assert abs(t - t_stop) < 1e-12 * t_stop
+    v_stop = v0 - mu * G * c0 / c0l * t_stop
+    assert np.all(np.abs(cl.b[0, C.CB_VX:C.CB_VX + 3] - v_stop) < 1e-11)
+    assert cl.after(ev, k) == C.CS_OK and cl.c[0, C.CC_MODE] == C.MODE_STICK
+    x_stop = v0[0] * t_stop - 0.5 * mu * G * c0[0] / c0l * t_stop ** 2
+    e1 = cl.energy()
+    st, ev, k, t2 = cl.advance(t, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_GAP, 0)
+    # rolling after the stop: the remaining slip SLIP_EPS V removed by the projection
+    vr = cl.b[0, C.CB_VX]
+    assert abs(t2 - t - (2.0 - r - x_stop) / vr) < 1e-9 * t2
+    assert abs(cl.b[0, C.CB_X] - (2.0 - r)) < 1e-12
+    assert abs(cl.energy() - e1) < 1e-8 * G * r
