@@ -102,8 +102,11 @@ Arrays (no allocation in the hot path): ``bodies`` float64[nb, N_CB] (state colu
 updated in place); ``contacts`` float64[>= nk, N_CC] (forces ``CC_LAMN, CC_T`` written),
 ``cands`` float64[>= nc, N_CC]; ``w`` float64[work_size(nb, nc)]; ``la`` float64[N_LA].
 
-Not here: recording of pieces (``cluster2d._emit``: the caller records the returned
-states only), a rest *event* during a phase (rest is tested at a call's start), shapes
+Recording (``cluster_advance``'s ``seg_*``): velocity-interpolating pieces as
+``cluster2d``'s, one row ``(x, q, v, omega, a, alpha)`` (``N_ROW``) per free sphere,
+evaluated by ``piece_state``.
+
+Not here: a rest *event* during a phase (rest is tested at a call's start), shapes
 other than spheres, and a mode selection beyond ``KSEL_MAX`` contacts.
 """
 import math
@@ -203,6 +206,17 @@ EVENT_RTOL = 4e-16      # event time located to EVENT_RTOL |t| + EVENT_ATOL L / 
 EVENT_ATOL = 1e-15
 EVENT_ITER = 200        # secant/bisection iterations locating an event
 MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (CS_TOO_MANY_STEPS)
+PIECE_ETOL = 1e-11      # energy deviation of a recorded piece, relative to M V^2 (M the
+#                         cluster's free mass; cluster2d's value and reason)
+PIECE_LTOL = 1e-10      # point deviation of a recorded piece (centre, and L times the
+#                         orientation's angle), relative to L
+PIECE_VTOL = 1e-9       # velocity deviation (|dv| + L |domega|) of a piece, relative to V
+PIECE_BUDGET = 512      # recorded rows per call of cluster_advance at most (buffer margin)
+PIECE_ITER = 60         # shrinks of one piece at most (then it is accepted as is)
+CNT_SEG = 1             # cnt[CNT_SEG]: rows recorded in seg_* (stepper3d's counter layout)
+N_ROW = 19              # a recorded row: x (3), q (4), v (3), omega (3), a (3), alpha (3)
+R_A = 13                # offsets of a and alpha in a row
+R_AL = 16
 
 # ---- work array layout -----------------------------------------------------------------------
 H_TOL = 0           # RK tolerance
@@ -227,6 +241,7 @@ B_YB = 17
 B_YC = 18           # scratch derivative
 N_BLK = 19
 N_EVW = 4           # per event: value at the step start, its floor, value at the end, scratch
+N_ROWS = 3          # then three piece rows (N_ROW per sphere) for the recording
 
 # ---- per-contact rows of la ----------------------------------------------------------------
 LK_N = 0            # n (3)
@@ -261,7 +276,7 @@ N_LA = LA_ET + NMAX
 @njit(cache=True, _nrt=False)
 def work_size(nb, nc):
     """Length of ``w`` for ``nb`` spheres and ``nc`` candidates."""
-    return N_H + N_BLK * NS * nb + N_EVW * (N_EVK * KMAX + nc)
+    return N_H + N_BLK * NS * nb + N_EVW * (N_EVK * KMAX + nc) + N_ROWS * N_ROW * nb
 
 
 # ------------------------------------------------------------------ kinematics
@@ -1347,6 +1362,181 @@ def _at_rest(bodies, c, nk, w, la):
 
 
 @njit(cache=True, _nrt=False)
+def piece_state(row, s, out):
+    """State (x, q, v, omega: 13 values into ``out``) of a recorded piece ``row`` (float64
+    [N_ROW]: start state and constant a, alpha) at ``s`` seconds after its start:
+    ``x = x0 + v0 s + a s^2/2``, ``v = v0 + a s``, ``omega = omega0 + alpha s``, and
+    ``q = exp(theta / 2) (x) q0`` with the rotation vector ``theta = omega0 s + alpha s^2/2``
+    (exact for a fixed axis; the recording's piece lengths bound its error for any)."""
+    hh = 0.5 * s * s
+    for j in range(3):
+        out[j] = row[j] + row[S_V + j] * s + row[R_A + j] * hh
+        out[S_V + j] = row[S_V + j] + row[R_A + j] * s
+        out[S_W + j] = row[S_W + j] + row[R_AL + j] * s
+    tx = row[S_W] * s + row[R_AL] * hh
+    ty = row[S_W + 1] * s + row[R_AL + 1] * hh
+    tz = row[S_W + 2] * s + row[R_AL + 2] * hh
+    th = math.sqrt(tx * tx + ty * ty + tz * tz)
+    cw = math.cos(0.5 * th)
+    sf = 0.5 if th == 0.0 else math.sin(0.5 * th) / th
+    ex = sf * tx
+    ey = sf * ty
+    ez = sf * tz
+    qw = row[S_Q]
+    qx = row[S_Q + 1]
+    qy = row[S_Q + 2]
+    qz = row[S_Q + 3]
+    cx, cy, cz = _cross(ex, ey, ez, qx, qy, qz)
+    out[S_Q] = cw * qw - (ex * qx + ey * qy + ez * qz)
+    out[S_Q + 1] = cw * qx + qw * ex + cx
+    out[S_Q + 2] = cw * qy + qw * ey + cy
+    out[S_Q + 3] = cw * qz + qw * ez + cz
+
+
+@njit(cache=True, _nrt=False)
+def _rows_off(NY, nc):
+    """Offset of the three piece row blocks in w."""
+    return N_H + N_BLK * NY + N_EVW * (N_EVK * KMAX + nc)
+
+
+@njit(cache=True, _nrt=False)
+def _dense_rows(bodies, w, NY, s, ro):
+    """The dense state at s as rows (x, q unit, v, omega, 0, 0) at w[ro + N_ROW i]."""
+    YA = N_H + B_YA * NY
+    _dense(w, NY, s, YA)
+    for i in range(bodies.shape[0]):
+        o = ro + N_ROW * i
+        for j in range(NS):
+            w[o + j] = w[YA + NS * i + j]
+        qn = math.sqrt(w[o + S_Q] ** 2 + w[o + S_Q + 1] ** 2 + w[o + S_Q + 2] ** 2
+                       + w[o + S_Q + 3] ** 2)
+        for j in range(4):
+            w[o + S_Q + j] /= qn
+        for j in range(6):
+            w[o + R_A + j] = 0.0
+
+
+@njit(cache=True, _nrt=False)
+def _row_energy(bodies, i, w, o, g0, g1, g2):
+    """Energy (J) of sphere i in the state row at w[o:]."""
+    m = bodies[i, CB_M]
+    return (0.5 * m * (w[o + S_V] ** 2 + w[o + S_V + 1] ** 2 + w[o + S_V + 2] ** 2)
+            + 0.5 * bodies[i, CB_I] * (w[o + S_W] ** 2 + w[o + S_W + 1] ** 2
+                                       + w[o + S_W + 2] ** 2)
+            - m * (g0 * w[o] + g1 * w[o + 1] + g2 * w[o + 2]))
+
+
+@njit(cache=True, _nrt=False)
+def _piece_dev(bodies, w, NY, nc, sa, h):
+    """Deviation of the velocity-interpolating piece over [sa, sa + h] from the dense
+    solution, every free sphere together: (energy deviation / (PIECE_ETOL M V^2),
+    max(point deviation / (PIECE_LTOL L), velocity deviation / (PIECE_VTOL V))), the larger
+    at h/2 and h (points: the centre and L times the orientation's angle). The piece's
+    rows (start state, constant accelerations) are left in the first row block."""
+    nb = bodies.shape[0]
+    R0 = _rows_off(NY, nc)
+    R1 = R0 + N_ROW * nb
+    R2 = R1 + N_ROW * nb
+    L = w[H_L]
+    V = w[H_V]
+    _dense_rows(bodies, w, NY, sa, R0)
+    _dense_rows(bodies, w, NY, sa + h, R1)
+    for i in range(nb):
+        for j in range(3):
+            w[R0 + N_ROW * i + R_A + j] = (w[R1 + N_ROW * i + S_V + j]
+                                           - w[R0 + N_ROW * i + S_V + j]) / h
+            w[R0 + N_ROW * i + R_AL + j] = (w[R1 + N_ROW * i + S_W + j]
+                                            - w[R0 + N_ROW * i + S_W + j]) / h
+    de = 0.0
+    dp = 0.0
+    mtot = 0.0
+    for smp in range(2):
+        sx = h if smp == 0 else 0.5 * h
+        if smp == 1:
+            _dense_rows(bodies, w, NY, sa + sx, R1)
+        ep = 0.0
+        ei = 0.0
+        for i in range(nb):
+            if bodies[i, CB_FIXED] != 0.0:
+                continue
+            mtot += bodies[i, CB_M] if smp == 0 else 0.0
+            o = R0 + N_ROW * i
+            q = R1 + N_ROW * i
+            p = R2 + N_ROW * i
+            piece_state(w[o:o + N_ROW], sx, w[p:p + NS])
+            ep += _row_energy(bodies, i, w, p, w[H_GX], w[H_GX + 1], w[H_GX + 2])
+            ei += _row_energy(bodies, i, w, q, w[H_GX], w[H_GX + 1], w[H_GX + 2])
+            # orientation: the vector part of q_piece (x) conj(q_dense), half the angle
+            aw = w[p + S_Q]
+            ax = w[p + S_Q + 1]
+            ay = w[p + S_Q + 2]
+            az = w[p + S_Q + 3]
+            bw = w[q + S_Q]
+            bx = -w[q + S_Q + 1]
+            by = -w[q + S_Q + 2]
+            bz = -w[q + S_Q + 3]
+            cx, cy, cz = _cross(ax, ay, az, bx, by, bz)
+            vx = aw * bx + bw * ax + cx
+            vy = aw * by + bw * ay + cy
+            vz = aw * bz + bw * az + cz
+            ang = 2.0 * math.sqrt(vx * vx + vy * vy + vz * vz)
+            dx = 0.0
+            dv = 0.0
+            dw = 0.0
+            for j in range(3):
+                dx += (w[p + j] - w[q + j]) ** 2
+                dv += (w[p + S_V + j] - w[q + S_V + j]) ** 2
+                dw += (w[p + S_W + j] - w[q + S_W + j]) ** 2
+            dp = max(dp, (math.sqrt(dx) + L * ang) / (PIECE_LTOL * L),
+                     (math.sqrt(dv) + L * math.sqrt(dw)) / (PIECE_VTOL * V))
+        de = max(de, abs(ep - ei) / (PIECE_ETOL * max(mtot, 1e-300) * V * V))
+    return de, dp
+
+
+@njit(cache=True, _nrt=False)
+def _emit(bodies, w, NY, nc, sa, sb, hp, budget, t0, seg_t, seg_b, seg_s, cnt, ids):
+    """Record [sa, sb] (within the current step) as pieces, one row per free sphere each,
+    at most ``budget`` rows (``cluster2d._emit``). Returns (s reached, next piece length
+    guess, rows written)."""
+    nb = bodies.shape[0]
+    nf = 0
+    for i in range(nb):
+        if bodies[i, CB_FIXED] == 0.0:
+            nf += 1
+    R0 = _rows_off(NY, nc)
+    s = sa
+    n = 0
+    while s < sb and n + nf <= budget and cnt[CNT_SEG] + nf <= seg_t.shape[0]:
+        h = min(hp, sb - s)
+        last = h == sb - s
+        r = 0.0
+        for it in range(PIECE_ITER):
+            de, dp = _piece_dev(bodies, w, NY, nc, s, h)
+            r = max(de, dp)
+            if r <= 1.0:
+                break
+            # energy and velocity deviation ~ h^2, point deviation ~ h^3
+            h = h * max(0.1, 0.8 / math.sqrt(r))
+            last = False
+        for i in range(nb):
+            if bodies[i, CB_FIXED] != 0.0:
+                continue
+            k = cnt[CNT_SEG]
+            seg_t[k] = t0 + s
+            seg_b[k] = ids[i]
+            for j in range(N_ROW):
+                seg_s[k, j] = w[R0 + N_ROW * i + j]
+            cnt[CNT_SEG] = k + 1
+            n += 1
+        if r < 0.25:
+            hp = h * min(2.0, 0.9 / math.sqrt(max(r, 1e-6)))
+        else:
+            hp = h
+        s = sb if last else s + h
+    return s, hp, n
+
+
+@njit(cache=True, _nrt=False)
 def _phase_consistent(c, nk, w, la):
     """The forces just solved (la) consistent with the modes a phase starts in: every
     active ``lam_N >= -FORCE_ARM F``, every sticking force within ``FORCE_ARM F`` of its
@@ -1370,14 +1560,25 @@ def _phase_consistent(c, nk, w, la):
 
 
 @njit(cache=True, _nrt=False)
-def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, gz, L, t0, t_max, w, la):
+def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, gz, L, t0, t_max, w, la,
+                    seg_t, seg_b, seg_s, cnt, ids):
     """Integrate the cluster (state ``bodies``, active ``contacts[:nk]`` in their modes
     ``CC_MODE``, inactive candidates ``cands[:nc]``) from ``t0`` until the first event or
     ``t_max``. The state is projected onto the constraints first. On return ``bodies``
     holds the (projected) state at the returned time and ``contacts[:nk, CC_LAMN /
     CC_TX..]`` the forces there. Returns ``(status CS_*, event CE_*, index, t)``: index the
     contact (CE_LEAVE, CE_SLIP, CE_STOP) or the candidate (CE_GAP). ``CS_REST``: at rest
-    (nothing integrated, t = t0)."""
+    (nothing integrated, t = t0).
+
+    Recording (when ``seg_t`` is not empty; ``cluster2d``'s scheme): the motion from ``t0``
+    as velocity-interpolating pieces with constant a and alpha (``piece_state``), each
+    starting at the integrated state, its length keeping the free spheres' energy within
+    ``PIECE_ETOL M V^2``, their centres and orientations (times L) within ``PIECE_LTOL L``
+    and velocities within ``PIECE_VTOL V`` of the integrated solution; one row
+    float64[N_ROW] per free sphere and piece into ``seg_s[k]``, its start time into
+    ``seg_t[k]``, the sphere's id ``ids[i]`` into ``seg_b[k]``, ``k = cnt[CNT_SEG]`` counting
+    up. At most ``PIECE_BUDGET`` rows (or the buffer's end) per call: the call then ends
+    early with ``CE_NONE`` at the time reached (the caller calls again)."""
     if nk > KMAX:
         return CS_TOO_MANY_CONTACTS, CE_NONE, -1, t0
     nb = bodies.shape[0]
@@ -1412,6 +1613,9 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, gz, L, t0, t_max, w
         _store(bodies, contacts, nk, w, Y, la)
         return CS_INCONSISTENT, CE_NONE, -1, t0
     att = 0
+    rec = seg_t.shape[0] > 0
+    hp = math.inf
+    rows = 0
     while True:
         om = 0.0
         for i in range(nb):
@@ -1455,6 +1659,20 @@ def cluster_advance(bodies, contacts, nk, cands, nc, gx, gy, gz, L, t0, t_max, w
                 if r < best:
                     best = r
                     be = e
+        send = best if be >= 0 else s1
+        if rec:
+            if hp == math.inf:
+                hp = w[H_H]
+            sr, hp, nr = _emit(bodies, w, NY, nc, s0, send, hp, PIECE_BUDGET - rows, t0, seg_t,
+                               seg_b, seg_s, cnt, ids)
+            rows += nr
+            if sr < send:
+                # the piece budget (or the buffer) is used up inside the step: end there
+                _dense(w, NY, sr, Y)
+                _project(bodies, contacts, nk, w, Y, la)
+                _forces(bodies, contacts, nk, w, Y, la, N_H + B_YC * NY)
+                _store(bodies, contacts, nk, w, Y, la)
+                return CS_OK, CE_NONE, -1, t0 + sr
         if be >= 0 or s1 >= S:
             send = best if be >= 0 else S
             _dense(w, NY, send, Y)
