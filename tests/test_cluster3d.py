@@ -484,3 +484,40 @@ def test_recorded_pieces_follow_the_integration():
              + cl.b[i, C.CB_M] * G * seg_s[r, 2] for i, r in enumerate(pair))
          for pair in zip(np.flatnonzero(seg_b[:n] == 0), np.flatnonzero(seg_b[:n] == 1))]
     assert np.max(np.abs(np.array(e) - e0)) < 1e-9 * G * cl.L
+
+
+def test_rough_stack_sticks_slips_and_leaves():
+    """Sphere on sphere (mu = 0.2), spinning about the vertical, the lower one on a
+    frictionless floor: it rolls, slips (cluster_after_event: slip, the floor contact
+    kept), then leaves; energy never increases (conserved while rolling), horizontal
+    momentum is conserved throughout, and after the top sphere leaves the floor carries
+    the lower sphere's weight alone."""
+    cl = two_stack(0.15, 0.2, spin=2.0)
+    C.cluster_project(cl.b, cl.c, cl.nk, *cl.g, cl.L, cl.w, cl.la)
+    assert cl.select() == C.CS_OK and list(cl.c[:, C.CC_MODE]) == [C.MODE_STICK] * 2
+    e0 = e = cl.energy()
+    mom = lambda: (cl.b[0, C.CB_M] * cl.b[0, C.CB_VX:C.CB_VX + 2]
+                   + cl.b[1, C.CB_M] * cl.b[1, C.CB_VX:C.CB_VX + 2])
+    p0 = mom()
+    t = 0.0
+    events = []
+    for i in range(100):
+        st, ev, k, t = cl.advance(t, t + 0.05)
+        assert st == C.CS_OK
+        e1 = cl.energy()
+        assert e1 <= e + 1e-12 * G
+        if not events:
+            assert abs(e1 - e0) < 1e-10 * G
+        e = e1
+        assert np.all(np.abs(mom() - p0) < 1e-12)
+        if ev != C.CE_NONE:
+            events.append((ev, k))
+            if ev == C.CE_LEAVE:
+                break
+            assert cl.after(ev, k) == C.CS_OK
+            assert list(cl.c[:, C.CC_MODE]) == [C.MODE_SLIP, C.MODE_STICK]
+    assert events == [(C.CE_SLIP, 0), (C.CE_LEAVE, 0)]
+    assert e < e0 - 1e-3
+    assert cl.after(C.CE_LEAVE, 0) == C.CS_OK
+    assert cl.c[0, C.CC_MODE] == C.MODE_LIFT
+    assert abs(cl.c[1, C.CC_LAMN] - 2.0 * G) < 1e-10 * G
