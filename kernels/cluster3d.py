@@ -26,7 +26,7 @@ between sphere A and a fixed plane ``n . x >= d`` (``CC_B = -1``). Kinds (``CC_K
   ``dg/dt = n . dD/dt``, ``dn/dt = (dD/dt)_perp / |D|`` (``_perp``: the part normal to
   n), so ``g'' = n . (a_A - a_B) + |(dD/dt)_perp|^2 / |D|`` (the centripetal term: the
   relative velocity of the centres across the normal, squared, over their distance).
-* ``KIND_PLANE``: ``n = CC_N`` (world, unit), ``g = n . x_A - d - rA``, ``g'' = n . a_A``.
+* ``KIND_PLANE``: ``n = CC_NX..CC_NX+2`` (world, unit), ``g = n . x_A - d - rA``, ``g'' = n . a_A``.
 
 The contact point is ``p = x_A - rA n``; the arms ``ρA = p - x_A = -rA n`` and
 ``ρB = p - x_B = (rB + g) n`` are parallel to n, so the normal force exerts no moment and
@@ -39,15 +39,17 @@ Tangential: the relative velocity of the material contact points
 ``dw/dt = a_A + alpha_A x ρA - a_B - alpha_B x ρB + b`` with
 ``b = omega_A x (dp/dt - v_A) - omega_B x (dp/dt - v_B)``, ``dp/dt = v_A - rA dn/dt``: the
 row of direction e is ``(e, ρA x e | -e, -ρB x e)``. A STICK contact keeps
-``t_i . dw/dt = 0`` (i = 1, 2; ``w = 0`` is a velocity constraint: not projected at
-position level).
+``t_i . dw/dt = 0`` (i = 1, 2; on the constraint ``w = 0`` this is ``d(t_i . w)/dt = 0``, the
+``dt_i/dt . w`` term vanishing; ``w = 0`` is a velocity constraint: not projected at
+position level). Point contact: the spin about the normal is free (no drilling or
+rolling resistance).
 
 Forces: ``lam_N n + T`` on A at p, the opposite on B (``T . n = 0``). Modes
 (``CC_MODE``): ``MODE_STICK`` (unknowns ``lam_N, T1, T2``; equations ``g'' = 0,
 t_i . dw/dt = 0``; ``mu = 0``: ``T = 0``, no tangential unknowns, frictionless contact),
-``MODE_SLIP`` (``T = -mu lam_N s``, ``s`` the friction direction ``_slipdir``: ``c/|c|``,
+``MODE_SLIP`` (``T = -mu lam_N s``, ``s`` the friction direction (``_fill``): ``c/|c|``,
 or for a slip that started from sticking, the blend of ``c`` with its start direction
-``CC_S`` that ``pivot3d._slipdir`` uses, continuous and equal to ``CC_S`` at ``c = 0``;
+``CC_SX..`` that ``pivot3d._slipdir`` uses, continuous and equal to ``CC_SX..`` at ``c = 0``;
 the force column is ``n - mu s``), ``MODE_LIFT`` (inactive). The unknowns (at most
 ``NMAX = 3 KMAX``) solve ``A lam = r``, ``A_ij = row_i M^-1 col_j``,
 ``r_i = -(row_i u'_free + b_i)``, by ``minnorm.minnorm_solve`` (one-sided Jacobi SVD):
@@ -80,7 +82,7 @@ on the far side of the root, gaps on the near side. Steps turn no body by more t
 Mode selection (``cluster_select_modes``, every contact at ``g = dg/dt = 0``): each
 contact's options, in order: frictionless: active, lift; sliding (``|c| > STICK_VTOL V``):
 slip, lift; otherwise stick, slip (along the direction opposite to its sticking force in
-the trial with every non-sliding contact sticking; stored in ``CC_S``), lift. The
+the trial with every non-sliding contact sticking; stored in ``CC_SX..``), lift. The
 combinations run lexicographically (after an event: first by the number of changed
 modes); the first consistent one is returned: every ``lam_N >= -FORCE_TOL F``, every
 sticking force in its cone (``|T| <= mu lam_N + FORCE_TOL F``), every slip started from
@@ -99,12 +101,25 @@ Energy: normal forces do no work (``dg/dt = 0``), sticking ones none (``c = 0``)
 ones ``-mu lam_N |c| <= 0``.
 
 Arrays (no allocation in the hot path): ``bodies`` float64[nb, N_CB] (state columns
-updated in place); ``contacts`` float64[>= nk, N_CC] (forces ``CC_LAMN, CC_T`` written),
+updated in place); ``contacts`` float64[>= nk, N_CC] (forces ``CC_LAMN, CC_TX..`` written),
 ``cands`` float64[>= nc, N_CC]; ``w`` float64[work_size(nb, nc)]; ``la`` float64[N_LA].
 
 Recording (``cluster_advance``'s ``seg_*``): velocity-interpolating pieces as
 ``cluster2d``'s, one row ``(x, q, v, omega, a, alpha)`` (``N_ROW``) per free sphere,
 evaluated by ``piece_state``.
+
+Tolerances are module constants, each relative to the cluster's scales: ``L`` (m),
+``V`` (m/s), ``F = sum m |g|`` (N), ``|g|`` (m/s^2) and ``T = sqrt(L / |g|)`` (s). No decision
+is taken on the sign of a round-off quantity: consistency tests carry ``FORCE_TOL`` /
+``ACC_TOL`` margins, events that start at their root are armed.
+
+Wiring (``stepper3d``, as ``stepper2d`` uses ``cluster2d``): on entering the mode (spheres
+resting on or rolling against each other / the floor), build ``bodies`` and the active
+``contacts`` (every touching pair at ``g = dg/dt = 0``), call ``cluster_project`` then
+``cluster_select_modes`` (``MODE_LIFT`` ones go to ``cands``); at each pass
+``cluster_advance`` to the next scheduled time (``CS_REST``: freeze the cluster); at
+``CE_LEAVE / CE_SLIP / CE_STOP`` call ``cluster_after_event`` and move lifted contacts to the
+candidates; at ``CE_GAP`` leave the mode for the impact law (then re-enter).
 
 Not here: a rest *event* during a phase (rest is tested at a call's start), shapes
 other than spheres, and a mode selection beyond ``KSEL_MAX`` contacts.
@@ -1003,7 +1018,7 @@ def _option_mode(w, nopt, opt):
 
 @njit(cache=True, _nrt=False)
 def _slip_start_dirs(bodies, contacts, nk, w, la, yo, ko, nopt, cur):
-    """CC_S of every contact that may start to slip from c = 0 (``w[nopt + k] == 3``): the
+    """CC_SX.. of every contact that may start to slip from c = 0 (``w[nopt + k] == 3``): the
     direction opposite to its sticking force in the trial with those contacts sticking
     and the others in their modes (t1 if that force is zero or the trial fails)."""
     for k in range(nk):
@@ -1112,7 +1127,7 @@ def _enumerate(bodies, contacts, nk, gx, gy, gz, L, w, la, kfix, prefer):
 def cluster_select_modes(bodies, contacts, nk, gx, gy, gz, L, w, la):
     """Choose a consistent mode for each of ``contacts[:nk]`` (every one at g = dg/dt = 0)
     by the enumeration of the module docstring; modes to ``CC_MODE`` (``MODE_LIFT`` for
-    the contacts that leave; ``CC_S`` for a slip from rest), forces to ``CC_LAMN / CC_T``.
+    the contacts that leave; ``CC_SX..`` for a slip from rest), forces to ``CC_LAMN / CC_TX..``.
     Returns CS_OK, CS_NO_MODE (modes left as the last tried) or CS_TOO_MANY_CONTACTS."""
     return _enumerate(bodies, contacts, nk, gx, gy, gz, L, w, la, -1, False)
 
@@ -1122,7 +1137,7 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, gz, L, w, la):
     """The modes after ``cluster_advance`` returned event ``ev`` at contact k (state and
     forces as returned). Contact k takes the mode the trend calls for: ``CE_LEAVE`` ->
     ``MODE_LIFT`` (the stepper moves it to the candidates); ``CE_SLIP`` -> slip, its start
-    direction ``CC_S`` opposite to the sticking force at the event (``pivot3d``'s rule);
+    direction ``CC_SX..`` opposite to the sticking force at the event (``pivot3d``'s rule);
     ``CE_STOP`` -> stick if the sticking force is inside the cone, else slip on, along
     the direction opposite to that force. The others keep their modes if consistent,
     else are chosen again by the enumeration with k held, changing as few modes as
