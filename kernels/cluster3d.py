@@ -86,11 +86,16 @@ the trial with every non-sliding contact sticking; stored in ``CC_SX..``), lift.
 combinations run lexicographically (after an event: first by the number of changed
 modes); the first consistent one is returned: every ``lam_N >= -FORCE_TOL F``, every
 sticking force in its cone (``|T| <= mu lam_N + FORCE_TOL F``), every slip started from
-``c = 0`` accelerating along its direction (``s . dc/dt > ACC_TOL |g|``), every lifted
+``c = 0`` accelerating along its direction (``s . dc/dt > ACC_TOL |g|`` and
+``|s x dc/dt| <= SLIPDIR_ATOL |dc/dt|``), every lifted
 contact not approaching (``g'' >= -ACC_TOL |g|``), ``F = sum m |g|``. None:
-``CS_NO_MODE``. (3D limitation: a slip from rest takes the direction of the all-stick
-trial, not the fixed point ``s || dc/dt`` of the exact rule; exact when one contact slips
-or the motion is planar.)
+``CS_NO_MODE``. A slip from ``c = 0`` starts along the direction opposite to its
+sticking force in the all-stick trial; the combination's forces are then solved again
+with each such direction turned, in its tangent plane, to where its slip acceleration is
+along it (``s || dc/dt``, ``s . dc/dt > 0``: the Coulomb law at the start of a slip;
+``_slip_fixed_point``: a scan and bisection of the angle per contact, Gauss-Seidel sweeps
+over several such contacts, not guaranteed to converge for several coupled ones: after
+``SLIPDIR_ITER`` sweeps the last directions are judged by the consistency test).
 
 Rest (``cluster_advance``): every free sphere ``|v| + |omega| L <= REST_VTOL sqrt(|g| L)``,
 every active contact sticking (or frictionless) with ``lam_N > FORCE_TOL F`` and strictly
@@ -211,6 +216,14 @@ STICK_VTOL = 1e-9       # a slip |c| <= STICK_VTOL V is zero (mode selection)
 SLIP_EPS = 1e-9         # a slip falling to SLIP_EPS V sticks (CE_STOP; pivot3d's slip_eps)
 SLIP_BLEND = 10.0       # a slip from sticking blends its start direction up to SLIP_BLEND
 #                         SLIP_EPS V (pivot3d._slipdir)
+SLIPDIR_TOL = 1e-12     # a slip's start direction agrees with its acceleration's: the sine of
+#                         the angle between them, and the bisection's bracket (rad)
+SLIPDIR_ATOL = 1e-8     # consistency: a slip from c = 0 needs |s x dc/dt| <= SLIPDIR_ATOL |dc/dt|
+#                         (sine of the angle, dimensionless; the located angles are at
+#                         SLIPDIR_TOL, the margin keeps the decision off round-off)
+SLIPDIR_ITER = 8        # sweeps over the contacts starting to slip at most
+SLIPDIR_SCAN = 72       # samples of a slip's start angle around its tangent plane
+SLIPDIR_BISECT = 80     # bisections of a start angle at most
 STOP_RTOL = 1e-6        # a slip its mode stops within STOP_RTOL sqrt(L/|g|) counts as stopped
 REST_VTOL = 1e-10       # rest: |v| + |omega| L <= REST_VTOL sqrt(|g| L) for every sphere
 REST_ATOL = 1e-10       # rest: |a| + |alpha| L <= REST_ATOL |g| for every sphere
@@ -995,9 +1008,18 @@ def _consistent(c, nk, w, la, nopt):
                 return False
         elif w[nopt + k] == 3.0:
             # starts to slip from c = 0: it must accelerate along its friction direction
-            sa = (la[o + LK_SD] * la[o + LK_AC] + la[o + LK_SD + 1] * la[o + LK_AC + 1]
-                  + la[o + LK_SD + 2] * la[o + LK_AC + 2])
-            if not sa > atol:
+            sx = la[o + LK_SD]
+            sy = la[o + LK_SD + 1]
+            sz = la[o + LK_SD + 2]
+            ax = la[o + LK_AC]
+            ay = la[o + LK_AC + 1]
+            az = la[o + LK_AC + 2]
+            if not sx * ax + sy * ay + sz * az > atol:
+                return False
+            # ... and along it (s || dc/dt: the Coulomb law at the slip's start)
+            cx, cy, cz = _cross(sx, sy, sz, ax, ay, az)
+            if (math.sqrt(cx * cx + cy * cy + cz * cz)
+                    > SLIPDIR_ATOL * math.sqrt(ax * ax + ay * ay + az * az)):
                 return False
     return True
 
@@ -1041,6 +1063,122 @@ def _slip_start_dirs(bodies, contacts, nk, w, la, yo, ko, nopt, cur):
                 contacts[k, CC_SX + q] = la[o + LK_T1 + q]
     for k in range(nk):
         contacts[k, CC_MODE] = w[cur + k]
+
+
+@njit(cache=True, _nrt=False)
+def _slip_rates(bodies, contacts, nk, w, la, yo, ko, k, th):
+    """Contact k sliding from c = 0 along ``s = cos(th) t1 + sin(th) t2`` (written to
+    ``CC_SX..``): the forces solved, returns (status, f, h) with ``f = (s x dc/dt) . n``
+    (zero when the slip grows along s or against it) and ``h = s . dc/dt``."""
+    o = LA_K + k * LK_S
+    cs = math.cos(th)
+    sn = math.sin(th)
+    for q in range(3):
+        contacts[k, CC_SX + q] = cs * la[o + LK_T1 + q] + sn * la[o + LK_T2 + q]
+    st = _forces(bodies, contacts, nk, w, yo, la, ko)
+    a1 = 0.0
+    a2 = 0.0
+    for q in range(3):
+        a1 += la[o + LK_AC + q] * la[o + LK_T1 + q]
+        a2 += la[o + LK_AC + q] * la[o + LK_T2 + q]
+    return st, a2 * cs - a1 * sn, a1 * cs + a2 * sn
+
+
+@njit(cache=True, _nrt=False)
+def _slip_angle(bodies, contacts, nk, w, la, yo, ko, k):
+    """The start direction of contact k's slip from c = 0, the others' modes and directions
+    held: the angle th in its tangent plane where its slip acceleration is along s
+    (``f = 0``, ``h > 0`` of ``_slip_rates``): ``SLIPDIR_SCAN`` samples, the bracket nearest
+    the current direction, bisection to ``SLIPDIR_TOL``. None: the direction is left as
+    it was. Returns True when a root was found."""
+    o = LA_K + k * LK_S
+    sx = contacts[k, CC_SX]
+    sy = contacts[k, CC_SX + 1]
+    sz = contacts[k, CC_SX + 2]
+    th0 = math.atan2(sx * la[o + LK_T2] + sy * la[o + LK_T2 + 1] + sz * la[o + LK_T2 + 2],
+                     sx * la[o + LK_T1] + sy * la[o + LK_T1 + 1] + sz * la[o + LK_T1 + 2])
+    dth = 2.0 * math.pi / SLIPDIR_SCAN
+    best = -1.0
+    bd = math.inf
+    st, fp, hp = _slip_rates(bodies, contacts, nk, w, la, yo, ko, k, th0)
+    okp = st == CS_OK
+    for i in range(1, SLIPDIR_SCAN + 1):
+        th = th0 + dth * i        # once around, from the current direction
+        st, f, h = _slip_rates(bodies, contacts, nk, w, la, yo, ko, k, th)
+        ok = st == CS_OK
+        if ok and okp and hp > 0.0 and h > 0.0 and (f <= 0.0) != (fp <= 0.0):
+            lo = th - dth
+            hi = th
+            flo = fp
+            for it in range(SLIPDIR_BISECT):
+                if hi - lo <= SLIPDIR_TOL:
+                    break
+                mid = 0.5 * (lo + hi)
+                st, fm, hm = _slip_rates(bodies, contacts, nk, w, la, yo, ko, k, mid)
+                if (fm <= 0.0) == (flo <= 0.0):
+                    lo = mid
+                    flo = fm
+                else:
+                    hi = mid
+            root = 0.5 * (lo + hi)
+            dist = min(abs(root - th0), 2.0 * math.pi - abs(root - th0))
+            if dist < bd:
+                bd = dist
+                best = root
+        fp = f
+        hp = h
+        okp = ok
+    if bd == math.inf:
+        contacts[k, CC_SX] = sx
+        contacts[k, CC_SX + 1] = sy
+        contacts[k, CC_SX + 2] = sz
+        return False
+    cs = math.cos(best)
+    sn = math.sin(best)
+    for q in range(3):
+        contacts[k, CC_SX + q] = cs * la[o + LK_T1 + q] + sn * la[o + LK_T2 + q]
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def _slip_fixed_point(bodies, contacts, nk, w, la, yo, ko, nopt):
+    """Forces of the current combination, every contact that starts to slip from c = 0
+    (``w[nopt + k] == 3``, in MODE_SLIP) along a direction its slip acceleration agrees
+    with (the Coulomb law at a slip's start: the friction opposes the slip that grows
+    along s): sweeps over those contacts, each one's direction found by ``_slip_angle``
+    with the others held, until every one agrees to ``SLIPDIR_TOL`` (at most
+    ``SLIPDIR_ITER`` sweeps; one sweep for a single such contact). Not converged: the last
+    directions, the consistency test judges them. Returns the force status."""
+    for sweep in range(SLIPDIR_ITER + 1):
+        st = _forces(bodies, contacts, nk, w, yo, la, ko)
+        if st != CS_OK or sweep == SLIPDIR_ITER:
+            return st
+        moved = False
+        for k in range(nk):
+            if w[nopt + k] != 3.0 or contacts[k, CC_MODE] != MODE_SLIP:
+                continue
+            o = LA_K + k * LK_S
+            ax = la[o + LK_AC]
+            ay = la[o + LK_AC + 1]
+            az = la[o + LK_AC + 2]
+            al = math.sqrt(ax * ax + ay * ay + az * az)
+            if not al > 0.0:
+                continue
+            sx = la[o + LK_SD]
+            sy = la[o + LK_SD + 1]
+            sz = la[o + LK_SD + 2]
+            cx, cy, cz = _cross(sx, sy, sz, ax / al, ay / al, az / al)
+            if (sx * ax + sy * ay + sz * az > 0.0
+                    and math.sqrt(cx * cx + cy * cy + cz * cz) <= SLIPDIR_TOL):
+                continue
+            if _slip_angle(bodies, contacts, nk, w, la, yo, ko, k):
+                moved = True
+            st = _forces(bodies, contacts, nk, w, yo, la, ko)
+            if st != CS_OK:
+                return st
+        if not moved:
+            return st
+    return CS_OK
 
 
 @njit(cache=True, _nrt=False)
@@ -1110,7 +1248,7 @@ def _enumerate(bodies, contacts, nk, gx, gy, gz, L, w, la, kfix, prefer):
                 contacts[k, CC_MODE] = mode
             if prefer and diff != d:
                 continue
-            st = _forces(bodies, contacts, nk, w, yo, la, ko)
+            st = _slip_fixed_point(bodies, contacts, nk, w, la, yo, ko, nopt)
             if st != CS_OK:
                 continue
             if _consistent(contacts, nk, w, la, nopt):

@@ -530,3 +530,44 @@ def test_rough_stack_sticks_slips_and_leaves():
     assert cl.after(C.CE_LEAVE, 0) == C.CS_OK
     assert cl.c[0, C.CC_MODE] == C.MODE_LIFT
     assert abs(cl.c[1, C.CC_LAMN] - 2.0 * G) < 1e-10 * G
+
+
+def groove(mu):
+    """A sphere at rest in an asymmetric V groove (two fixed planes at 0.5 and 0.8 rad
+    from the horizontal), gravity tilted along the groove and a little across it."""
+    r = 0.3
+    n1 = np.array([math.sin(0.5), 0.0, math.cos(0.5)])
+    n2 = np.array([-math.sin(0.8), 0.0, math.cos(0.8)])
+    gdir = np.array([0.1, math.sin(0.3), -math.cos(0.3)])
+    gdir /= np.linalg.norm(gdir)
+    return Cluster([sphere(np.zeros(3), r)], [contact(0, n=n1, d=-r, mu=mu),
+                                              contact(0, n=n2, d=-r, mu=mu)], g=G * gdir, L=r)
+
+
+def test_groove_slip_directions_follow_coulomb():
+    """Both contacts start to slip from rest (mu = 0.05): the selection turns each start
+    direction (first opposite to its all-stick force, which is not the answer here) until
+    its slip accelerates along it, s || dc/dt; with mu = 2 the sphere rolls (both stick)
+    with the forces in their cones; the motion afterwards dissipates energy."""
+    cl = groove(0.05)
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == [C.MODE_SLIP, C.MODE_SLIP]
+    st, acc = cl.forces()
+    assert st == C.CS_OK
+    out = np.zeros(12)
+    for k in range(2):
+        C.cluster_rates(cl.b, cl.c, k, acc, cl.w, cl.la, out)
+        s = cl.c[k, C.CC_SX:C.CC_SX + 3]
+        a = out[6:9]
+        assert np.dot(s, a) > 0.1 * G
+        assert np.linalg.norm(np.cross(s, a)) < 1e-10 * np.linalg.norm(a)
+        assert abs(np.linalg.norm(cl.c[k, C.CC_TX:C.CC_TX + 3])
+                   - 0.05 * cl.c[k, C.CC_LAMN]) < 1e-12 * G
+    e0 = cl.energy()
+    st, ev, k, t = cl.advance(0.0, 0.2)
+    assert (st, ev) == (C.CS_OK, C.CE_NONE) and cl.energy() < e0 - 1e-3
+    cl = groove(2.0)
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == [C.MODE_STICK, C.MODE_STICK]
+    T = np.linalg.norm(cl.c[:, C.CC_TX:C.CC_TX + 3], axis=1)
+    assert np.all(T < 2.0 * cl.c[:, C.CC_LAMN]) and np.all(cl.c[:, C.CC_LAMN] > 0.0)
