@@ -127,7 +127,13 @@ resting on or rolling against each other / the floor), build ``bodies`` and the 
 candidates; at ``CE_GAP`` leave the mode for the impact law (then re-enter).
 
 Not here: a rest *event* during a phase (rest is tested at a call's start), shapes
-other than spheres, and a mode selection beyond ``KSEL_MAX`` contacts.
+other than spheres, and a mode selection beyond ``KSEL_MAX`` contacts. Known limitation
+of the selection: redundant sticking contacts (a sphere in a V groove: the two contact
+points pinned leave one rolling motion, and a squeeze along the chord between them is
+indeterminate) are judged on the minimum-norm split of their forces only; when that
+split leaves a cone but another one would not, the enumeration goes on to slip modes
+and may end in ``CS_NO_MODE`` (an asymmetric groove at mu = 0.5 does). The fix is a
+small LP over the null space of the sticking rows (the split inside the cones).
 """
 import math
 
