@@ -67,6 +67,9 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   (closed form, constant acceleration), slides along it without friction, or rests;
   rolling needs a squeeze that puts both contact forces in their cones, else (or while
   it slips faster) the run stops (``ERR_UNSUPPORTED``: slipping along a groove).
+  Where neither holds it (it bounces on the other plane, or spins in the corner of three
+  planes) it is held on the pressed plane in integrated contact with the planes it
+  touches as wall candidates (``_sphere_held``).
 * Box (on the face most aligned with the plane) and capsule (on its side):
   ``E_ex = m v_N^2 / 2 + w . I w / 2 + m |g_n| (h - h_rest)``; when below the threshold
   and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
@@ -3043,6 +3046,33 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
 
 
 @njit(cache=True)
+def _sphere_held(i, p, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm,
+                 ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
+    """Sphere i (in flight after the impacts at t) accumulates on plane p while touching
+    other planes where no closed-form mode holds it (``_groove_enter`` found none: a
+    bounce on the other plane, or a spin in a corner of three planes): it enters integrated
+    contact on p (``pivot3d``, its centre held at distance r), with the planes it touches
+    as wall candidates (``_second_plane``: each held too when the motion on p drives the
+    sphere into it), until it lifts off, its contacts stick (one: ``_sphere_rolls``; two:
+    ``_groove_enter``; three: a rest, ``_pv_still``) or it hits a plane. Returns 0, 1 (p
+    does not push it: nothing changed) or an error code."""
+    if pivot is None:
+        return _not_compiled(err, t, i, FEATURE_PIVOT)
+    gn = planes[p, 0] * grav[0] + planes[p, 1] * grav[1] + planes[p, 2] * grav[2]
+    walls = _second_plane(i, st, bint, bflt, feats, planes, p, gn, bp_off, tolf)
+    rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, walls, t, st, bint, bflt, feats,
+                      planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                      ev_f, cnt, c_f, cw, Ii, err, tolf[TF_PAINLEVE])
+    if rc == 2:         # flew off after an impact without collision
+        return 0
+    if rc == 0 and pm[i, M_MODE] == PM_PIVOT and pv[i, CP_K] == 1.0 and pv[i, CP_S] == 1.0:
+        # its slip below slip_eps stuck at once: it rolls on p in closed form
+        return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
+                             pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+    return rc
+
+
+@njit(cache=True)
 def _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, pv, tolf,
                   ev_t, ev_i, ev_f, cnt, c_f, cw, err):
     """Sphere i in integrated contact whose contact sticks (its slip stopped): it leaves
@@ -3867,6 +3897,14 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                                              planes, grav, law_par, bp_law, pm, ttr, tz, tolf,
                                              pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
                                              pivot)
+                    if rc != 1:
+                        return rc
+                    # not held by both in closed form (q is bounced on, or the sphere spins
+                    # in a corner of three planes): held on p with q and the other planes
+                    # it touches as wall candidates (integrated contact)
+                    rc = _sphere_held(i, p, t, st, bint, bflt, feats, planes, grav, law_par,
+                                      bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                                      ev_f, cnt, c_f, cw, Ii, err, pivot)
                     if rc != 1:
                         return rc
                 else:
