@@ -230,6 +230,11 @@ SLIPDIR_ATOL = 1e-8     # consistency: a slip from c = 0 needs |s x dc/dt| <= SL
 SLIPDIR_ITER = 8        # sweeps over the contacts starting to slip at most
 SLIPDIR_SCAN = 72       # samples of a slip's start angle around its tangent plane
 SLIPDIR_BISECT = 80     # bisections of a start angle at most
+SPLIT_ITER = 200        # projection steps of the redundant-split search at most (_best_split)
+SPLIT_TARGET = 1e-9     # the split search aims each violated margin at +SPLIT_TARGET F (N:
+#                         into the cones by more than FORCE_TOL F, so that it stops finitely)
+SPLIT_SLIP_TOL = 1e-8   # a null vector of A whose slip-normal components exceed this (unit
+#                         vector) would change the motion (A is not symmetric there): not used
 STOP_RTOL = 1e-6        # a slip its mode stops within STOP_RTOL sqrt(L/|g|) counts as stopped
 REST_VTOL = 1e-10       # rest: |v| + |omega| L <= REST_VTOL sqrt(|g| L) for every sphere
 REST_ATOL = 1e-10       # rest: |a| + |alpha| L <= REST_ATOL |g| for every sphere
@@ -304,7 +309,10 @@ LA_R = LA_V + NMAX * NMAX
 LA_X = LA_R + NMAX
 LA_EQ = LA_X + NMAX         # contact of each unknown (float)
 LA_ET = LA_EQ + NMAX        # 0: normal (column n or n - mu s), 1: t1, 2: t2
-N_LA = LA_ET + NMAX
+LA_NI = LA_ET + NMAX        # the split search: columns of V spanning the null space
+LA_Z = LA_NI + NMAX         # the split search: a step in null coordinates
+LA_XB = LA_Z + NMAX         # the split search: the best split found
+N_LA = LA_XB + NMAX
 
 
 @njit(cache=True, _nrt=False)
@@ -524,6 +532,116 @@ def _solve(la, n, floor):
 
 
 @njit(cache=True, _nrt=False)
+def _worst_margin(c, la, n, x0):
+    """The smallest force margin of the unknowns at ``la[x0:]`` (rows LA_EQ / LA_ET):
+    ``lam_N`` of every normal unknown, ``mu lam_N - |T|`` of every sticking one (N), and the
+    index of the normal unknown it belongs to (-1: none); the second index is 1 for a
+    cone margin, 0 for a normal one."""
+    worst = math.inf
+    wi = -1
+    wc = 0
+    for i in range(n):
+        if la[LA_ET + i] != 0.0:
+            continue
+        ln = la[x0 + i]
+        if ln < worst:
+            worst = ln
+            wi = i
+            wc = 0
+        k = int(la[LA_EQ + i])
+        mu = c[k, CC_MU]
+        if (i + 1 < n and la[LA_EQ + i + 1] == k and la[LA_ET + i + 1] == 1.0
+                and math.isfinite(mu)):
+            m = mu * ln - math.hypot(la[x0 + i + 1], la[x0 + i + 2])
+            if m < worst:
+                worst = m
+                wi = i
+                wc = 1
+    return worst, wi, wc
+
+
+@njit(cache=True, _nrt=False)
+def _best_split(c, la, n, F):
+    """Redundant sticking contacts: the min-norm solution at LA_X (``_solve``; its SVD at
+    LA_U / LA_V) is one split of forces among many, ``x0 + N z`` (N: the right singular
+    vectors of singular values below ``SVD_RTOL sigma_max``, ``minnorm``'s rule), all giving
+    the same motion. When some margin of x0 (``_worst_margin``: ``lam_N``, and
+    ``mu lam_N - |T|`` of a sticking contact) is negative, look for z putting every force in
+    its cone: a second-order-cone feasibility problem in z, solved by Polyak's subgradient
+    projections (Polyak, USSR Comput. Math. Math. Phys. 9, 1969; the cyclic projections of
+    convex feasibility): each step projects onto the linearisation of the worst margin,
+    aimed at ``+SPLIT_TARGET F``, ``SPLIT_ITER`` steps at most. The best split found (largest
+    worst margin) replaces LA_X; the caller judges it (``FORCE_TOL F``). Null vectors with
+    slip-normal components (``SPLIT_SLIP_TOL``) are not used: A is symmetric only on
+    the sticking / frictionless unknowns, where ``A v = 0`` means ``J^T v = 0`` (no motion)."""
+    worst, wi, wc = _worst_margin(c, la, n, LA_X)
+    if not worst < 0.0:
+        return
+    smax = 0.0
+    for j in range(n):
+        s2 = 0.0
+        for i in range(n):
+            s2 += la[LA_U + i * NMAX + j] ** 2
+        smax = max(smax, s2)
+    nd = 0
+    for j in range(n):
+        s2 = 0.0
+        for i in range(n):
+            s2 += la[LA_U + i * NMAX + j] ** 2
+        if s2 > SVD_RTOL * SVD_RTOL * smax:
+            continue
+        ok = True
+        for i in range(n):
+            k = int(la[LA_EQ + i])
+            if (c[k, CC_MODE] == MODE_SLIP and c[k, CC_MU] != 0.0
+                    and abs(la[LA_V + i * NMAX + j]) > SPLIT_SLIP_TOL):
+                ok = False
+        if ok:
+            la[LA_NI + nd] = j
+            nd += 1
+    if nd == 0:
+        return
+    best = worst
+    for i in range(n):
+        la[LA_XB + i] = la[LA_X + i]
+    target = SPLIT_TARGET * F
+    for it in range(SPLIT_ITER):
+        # the subgradient of the worst margin in x, projected on the null space (LA_Z)
+        g2 = 0.0
+        for d in range(nd):
+            j = int(la[LA_NI + d])
+            gz = la[LA_V + wi * NMAX + j]
+            if wc == 1:
+                k = int(la[LA_EQ + wi])
+                t1 = la[LA_X + wi + 1]
+                t2 = la[LA_X + wi + 2]
+                tl = math.hypot(t1, t2)
+                gz *= c[k, CC_MU]
+                if tl > 0.0:
+                    gz -= (t1 * la[LA_V + (wi + 1) * NMAX + j]
+                           + t2 * la[LA_V + (wi + 2) * NMAX + j]) / tl
+            la[LA_Z + d] = gz
+            g2 += gz * gz
+        if not g2 > 0.0:
+            break                  # the worst margin does not depend on the split
+        beta = (target - worst) / g2
+        for d in range(nd):
+            j = int(la[LA_NI + d])
+            f = beta * la[LA_Z + d]
+            for i in range(n):
+                la[LA_X + i] += f * la[LA_V + i * NMAX + j]
+        worst, wi, wc = _worst_margin(c, la, n, LA_X)
+        if worst > best:
+            best = worst
+            for i in range(n):
+                la[LA_XB + i] = la[LA_X + i]
+        if worst >= 0.0:
+            break
+    for i in range(n):
+        la[LA_X + i] = la[LA_XB + i]
+
+
+@njit(cache=True, _nrt=False)
 def _forces(bodies, c, nk, w, yo, la, ko):
     """Contact forces and accelerations at the state w[yo:yo + 13 nb] for the modes
     c[:nk, CC_MODE]; dy/dt into w[ko:ko + 13 nb]; lam, T, g'', dc/dt into la. Returns CS_*."""
@@ -589,6 +707,7 @@ def _forces(bodies, c, nk, w, yo, la, ko):
                 amax = max(amax, abs(la[LA_A + i * NMAX + j]))
         if not _solve(la, n, SOLVE_RTOL * amax * w[H_F]):
             return CS_SINGULAR
+        _best_split(c, la, n, w[H_F])
     # accelerations
     for i in range(nb):
         o = yo + NS * i

@@ -571,3 +571,91 @@ def test_groove_slip_directions_follow_coulomb():
     assert list(cl.c[:, C.CC_MODE]) == [C.MODE_STICK, C.MODE_STICK]
     T = np.linalg.norm(cl.c[:, C.CC_TX:C.CC_TX + 3], axis=1)
     assert np.all(T < 2.0 * cl.c[:, C.CC_LAMN]) and np.all(cl.c[:, C.CC_LAMN] > 0.0)
+
+
+def groove_squeeze(mu, r=0.3, m=1.0):
+    """Closed form of the asymmetric ``groove`` rolling from rest with both contacts
+    sticking: the sphere turns about the chord p1 p2 (both contact points at rest), so
+    ``alpha = ((x - p1) x m g) . e / (I + m h^2)`` (e along the chord, h the centre's distance
+    to it); the contact forces are then known up to a squeeze s along the chord
+    (``F1 + s d, F2 - s d``, d = (p2 - p1) / |p2 - p1|: no net force or moment). Each cone
+    ``|T_k(s)| <= mu lam_k(s)``, ``lam_k(s) >= 0`` is a quadratic inequality in s: its
+    interval (empty: None). Returns the two intervals, the particular split and d, and
+    the centre's acceleration."""
+    n1 = np.array([math.sin(0.5), 0.0, math.cos(0.5)])
+    n2 = np.array([-math.sin(0.8), 0.0, math.cos(0.8)])
+    gdir = np.array([0.1, math.sin(0.3), -math.cos(0.3)])
+    g = G * gdir / np.linalg.norm(gdir)
+    I = 0.4 * m * r * r
+    p1, p2 = -r * n1, -r * n2
+    e = (p1 - p2) / np.linalg.norm(p1 - p2)
+    h = -p1 - np.dot(-p1, e) * e
+    alpha = np.dot(np.cross(-p1, m * g), e) / (I + m * np.dot(h, h))
+    a = alpha * np.cross(e, -p1)
+    # one split: the forces along the normals and the chord's normal plane (lstsq, rank 5)
+    sk = lambda v: np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    Am = np.block([[np.eye(3), np.eye(3)], [sk(p1), sk(p2)]])
+    F = np.linalg.lstsq(Am, np.concatenate([m * a - m * g, I * alpha * e]), rcond=None)[0]
+    d = (p2 - p1) / np.linalg.norm(p2 - p1)
+    ivs = []
+    for Fk, nk, sg in ((F[:3], n1, 1.0), (F[3:], n2, -1.0)):
+        a0, a1 = np.dot(Fk, nk), sg * np.dot(d, nk)
+        c0, c1 = Fk - a0 * nk, sg * (d - np.dot(d, nk) * nk)
+        qa = mu * mu * a1 * a1 - np.dot(c1, c1)
+        qb = 2.0 * (mu * mu * a0 * a1 - np.dot(c0, c1))
+        qc = mu * mu * a0 * a0 - np.dot(c0, c0)
+        disc = qb * qb - 4.0 * qa * qc
+        assert qa < 0.0          # the chord is outside both cones at these mu
+        if disc <= 0.0:
+            ivs.append(None)
+            continue
+        lo, hi = sorted(((-qb - math.sqrt(disc)) / (2 * qa), (-qb + math.sqrt(disc)) / (2 * qa)))
+        sn = -a0 / a1            # lam_k = 0: the cone's two nappes; keep lam_k >= 0
+        lo, hi = (max(lo, sn), hi) if a1 > 0.0 else (lo, min(hi, sn))
+        ivs.append((lo, hi) if lo < hi else None)
+    return ivs, F, d, a
+
+
+@pytest.mark.parametrize("mu", [0.5, 0.2])
+def test_groove_redundant_stick_split_inside_cones(mu):
+    """At mu = 0.5 and 0.2 the minimum-norm split leaves a cone but a squeeze along the
+    chord puts both forces inside theirs (closed form: the two intervals of s intersect):
+    the selection sticks both contacts with such a split, and the sphere rolls down the
+    groove (no event) at the closed-form acceleration, conserving energy."""
+    ivs, F, d, a = groove_squeeze(mu)
+    lo, hi = max(ivs[0][0], ivs[1][0]), min(ivs[0][1], ivs[1][1])
+    assert lo < hi and lo > 0.0      # a split exists, and it is not the min-norm one (s > 0)
+    cl = groove(mu)
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == [C.MODE_STICK, C.MODE_STICK]
+    f = [cl.c[k, C.CC_LAMN] * cl.c[k, C.CC_NX:C.CC_NX + 3] + cl.c[k, C.CC_TX:C.CC_TX + 3]
+         for k in range(2)]
+    # the same net force and moment as the closed form, a squeeze inside the interval
+    assert np.linalg.norm(f[0] + f[1] - F[:3] - F[3:]) < 1e-10 * G
+    s = np.dot(f[0] - F[:3], d)
+    assert np.linalg.norm(f[0] - F[:3] - s * d) < 1e-9 * G
+    assert np.linalg.norm(f[1] - F[3:] + s * d) < 1e-9 * G
+    assert lo - 1e-9 * G <= s <= hi + 1e-9 * G
+    T = np.linalg.norm(cl.c[:, C.CC_TX:C.CC_TX + 3], axis=1)
+    assert np.all(T <= mu * cl.c[:, C.CC_LAMN] + 1e-10 * G)
+    st, acc = cl.forces()
+    assert st == C.CS_OK and np.linalg.norm(acc[0, :3] - a) < 1e-10 * G
+    e0 = cl.energy()
+    t1 = 0.2
+    st, ev, k, t = cl.advance(0.0, t1)
+    assert (st, ev) == (C.CS_OK, C.CE_NONE)
+    assert np.linalg.norm(cl.b[0, C.CB_X:C.CB_X + 3] - 0.5 * a * t1 * t1) < 1e-9
+    assert abs(cl.energy() - e0) < 1e-9 * G * 0.3
+
+
+def test_groove_without_split_slips():
+    """At mu = 0.1 no squeeze puts the second contact's force in its cone (closed form:
+    its interval is empty): the selection does not stick both contacts."""
+    ivs, F, d, a = groove_squeeze(0.1)
+    assert ivs[1] is None
+    cl = groove(0.1)
+    st = cl.select()
+    assert st in (C.CS_OK, C.CS_NO_MODE)
+    assert list(cl.c[:, C.CC_MODE]) != [C.MODE_STICK, C.MODE_STICK]
+    if st == C.CS_OK:
+        assert cl.c[1, C.CC_MODE] != C.MODE_STICK
