@@ -566,7 +566,7 @@ def _best_split(c, la, n, F):
     LA_U / LA_V) is one split of forces among many, ``x0 + N z`` (N: the right singular
     vectors of singular values below ``SVD_RTOL sigma_max``, ``minnorm``'s rule), all giving
     the same motion. When some margin of x0 (``_worst_margin``: ``lam_N``, and
-    ``mu lam_N - |T|`` of a sticking contact) is negative, look for z putting every force in
+    ``mu lam_N - |T|`` of a sticking contact) is below ``SPLIT_TARGET F``, look for z putting every force in
     its cone: a second-order-cone feasibility problem in z, solved by Polyak's subgradient
     projections (Polyak, USSR Comput. Math. Math. Phys. 9, 1969; the cyclic projections of
     convex feasibility): each step projects onto the linearisation of the worst margin,
@@ -574,8 +574,9 @@ def _best_split(c, la, n, F):
     worst margin) replaces LA_X; the caller judges it (``FORCE_TOL F``). Null vectors with
     slip-normal components (``SPLIT_SLIP_TOL``) are not used: A is symmetric only on
     the sticking / frictionless unknowns, where ``A v = 0`` means ``J^T v = 0`` (no motion)."""
+    target = SPLIT_TARGET * F
     worst, wi, wc = _worst_margin(c, la, n, LA_X)
-    if not worst < 0.0:
+    if not worst < target:
         return
     smax = 0.0
     for j in range(n):
@@ -604,7 +605,6 @@ def _best_split(c, la, n, F):
     best = worst
     for i in range(n):
         la[LA_XB + i] = la[LA_X + i]
-    target = SPLIT_TARGET * F
     for it in range(SPLIT_ITER):
         # the subgradient of the worst margin in x, projected on the null space (LA_Z)
         g2 = 0.0
@@ -635,7 +635,7 @@ def _best_split(c, la, n, F):
             best = worst
             for i in range(n):
                 la[LA_XB + i] = la[LA_X + i]
-        if worst >= 0.0:
+        if worst >= target:
             break
     for i in range(n):
         la[LA_X + i] = la[LA_XB + i]

@@ -659,3 +659,27 @@ def test_groove_without_split_slips():
     assert list(cl.c[:, C.CC_MODE]) != [C.MODE_STICK, C.MODE_STICK]
     if st == C.CS_OK:
         assert cl.c[1, C.CC_MODE] != C.MODE_STICK
+
+
+def test_backspin_stops_at_rest_after_the_slip_stop():
+    """Rest is reached in finite time only at a slip stop (module docstring, "Rest"): a
+    sphere with backspin ``omega0 = v0 / (0.4 r)`` has zero angular momentum about its
+    contact point, which friction keeps; v and r omega fall to zero together. The stop
+    fires (CE_STOP at the closed-form time), the stick projection removes the remaining
+    slip keeping that momentum (zero): the next call finds the rest."""
+    r, mu, v0 = 0.2, 0.3, 0.7
+    w0 = v0 / (0.4 * r)
+    cl = Cluster([sphere((0.0, 0.0, r), r, v=(v0, 0.0, 0.0), w=(0.0, -w0, 0.0))],
+                 [contact(0, mu=mu, mode=C.MODE_SLIP)], L=r)
+    c0 = v0 + r * w0
+    V = v0 + w0 * r + math.sqrt(G * r)
+    t_stop = (c0 - C.SLIP_EPS * V) / (3.5 * mu * G)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_STOP, 0)
+    assert abs(t - t_stop) < 1e-12 * t_stop
+    assert cl.after(ev, k) == C.CS_OK and cl.c[0, C.CC_MODE] == C.MODE_STICK
+    st, ev, k, t2 = cl.advance(t, 10.0)
+    assert (st, ev, t2) == (C.CS_REST, C.CE_NONE, t)
+    vr = (np.linalg.norm(cl.b[0, C.CB_VX:C.CB_VX + 3])
+          + r * np.linalg.norm(cl.b[0, C.CB_WX:C.CB_WX + 3]))
+    assert vr <= C.REST_VTOL * math.sqrt(G * r)
