@@ -54,7 +54,8 @@ the force column is ``n - mu s``), ``MODE_LIFT`` (inactive). The unknowns (at mo
 ``NMAX = 3 KMAX``) solve ``A lam = r``, ``A_ij = row_i M^-1 col_j``,
 ``r_i = -(row_i u'_free + b_i)``, by ``minnorm.minnorm_solve`` (one-sided Jacobi SVD):
 redundant contacts (a sphere on three spheres, a pyramid) get the minimum-norm split of
-the forces. Residual not at round-off: ``CS_SINGULAR``. A sliding contact whose own
+the forces, unless that split leaves a cone (below): then the split inside the cones.
+Residual not at round-off: ``CS_SINGULAR``. A sliding contact whose own
 effective normal mass ``n M^-1 (n - mu s)`` is not positive: ``CS_PAINLEVE``
 (the criterion of ``pivot3d``; for spheres the arms are parallel to n, so this is
 ``sum 1/m > 0``: never, the check guards the force system's form). Never NaN.
@@ -71,7 +72,10 @@ renormalised, then the velocities (twice) onto ``dg/dt = 0`` (every active conta
 Events (functions that must stay positive; located on the dense output by
 secant/bisection to ``EVENT_RTOL |t| + EVENT_ATOL L / V``, ``cluster2d._locate``'s rule):
 per active contact k at ``N_EVK k``: ``lam_N`` (``CE_LEAVE``); a sticking contact's cone
-margin ``mu lam_N - |T|`` (``CE_SLIP``); a sliding contact's ``|c| - SLIP_EPS V``
+margin ``mu lam_N - |T|`` (``CE_SLIP``; both of the split ``_forces`` returns at each
+evaluation: for a redundant sticking set, the split inside the cones of "Redundant
+splits" below, so the event fires when no split holds every force in its cone, to
+within ``FORCE_ARM F``, and names the contact whose margin the search left lowest); a sliding contact's ``|c| - SLIP_EPS V``
 (``CE_STOP``; while a slip started from sticking is still below ``SLIP_EPS V``: its growth
 ``s . dc/dt``, as ``pivot3d``); and the gap of each candidate (``cands``: ``CE_GAP``).
 A function starting below its arm (``FORCE_ARM F``, ``SLIP_ARM V``, ``GAP_ARM L``) fires
@@ -97,10 +101,39 @@ along it (``s || dc/dt``, ``s . dc/dt > 0``: the Coulomb law at the start of a s
 over several such contacts, not guaranteed to converge for several coupled ones: after
 ``SLIPDIR_ITER`` sweeps the last directions are judged by the consistency test).
 
+Redundant splits (``_best_split``, in ``_forces``, so selection, events and rest all see
+it): when the force system is rank deficient (singular values below ``SVD_RTOL sigma_max``,
+``minnorm``'s rule) its solutions are ``x0 + N z`` (x0 the min-norm one, N the null
+right singular vectors), all giving the same motion. When the smallest margin of x0
+(every ``lam_N``, and ``mu lam_N - |T|`` of every sticking contact; N) is below
+``SPLIT_TARGET F``, z is searched for every margin ``>= SPLIT_TARGET F`` (a second-order
+cone feasibility problem, 1-3 unknowns typically) by Polyak's subgradient projections
+(Polyak 1969): each step projects onto the linearisation of the worst margin aimed at
+``+SPLIT_TARGET F``, at most ``SPLIT_ITER`` steps; the best split found (largest worst
+margin) is the one stored and judged (``FORCE_TOL F``). Null vectors with components on
+slip normal unknowns above ``SPLIT_SLIP_TOL`` are not used (A is not symmetric there: A v
+= 0 need not leave the motion unchanged). The split found is a feasible one near the
+cones' boundary (margin ``SPLIT_TARGET F``), not the one maximising the smallest margin,
+nor the physical one (rigid bodies leave it undetermined). The asymmetric groove at
+mu = 0.5 and 0.2 sticks on such a split (the min-norm split leaves a cone); at mu = 0.1
+no squeeze along the chord holds the second contact's force in its cone: it slips.
+
 Rest (``cluster_advance``): every free sphere ``|v| + |omega| L <= REST_VTOL sqrt(|g| L)``,
 every active contact sticking (or frictionless) with ``lam_N > FORCE_TOL F`` and strictly
 inside its cone, every ``|a| + |alpha| L <= REST_ATOL |g|``: ``CS_REST``, nothing
-integrated. Checked at the start of a call (the stepper's enter and after each event).
+integrated. Checked at the start of a call (the stepper's enter and after each event),
+not as an event: with every contact sticking or frictionless the forces do no work
+(energy conserved), and a state with zero velocity and zero acceleration is an
+equilibrium, which the motion (unique, the forces being smooth while the modes hold)
+reaches only asymptotically, never in finite time; a zero of the velocity alone is a
+turning point, not rest. Dissipation needs a slip, and a slip ends at ``CE_STOP``, an
+event: the call after it (``cluster_after_event``: stick) checks rest. At a stop where
+every velocity vanishes with the slip (a sphere with backspin ``omega0 = v0 / (0.4 r)``:
+zero angular momentum about the contact point, kept by friction and by the stick
+projection, an impulse at the contact point) the remaining velocity is at round-off and
+the next call returns ``CS_REST``. Not detected: a stop whose residual velocity (of order
+``SLIP_EPS V``) the stick projection does not remove, above ``REST_VTOL``; and a rest
+approached asymptotically (e.g. damped only by impacts, which are the stepper's).
 
 Energy: normal forces do no work (``dg/dt = 0``), sticking ones none (``c = 0``), sliding
 ones ``-mu lam_N |c| <= 0``.
@@ -126,14 +159,13 @@ resting on or rolling against each other / the floor), build ``bodies`` and the 
 ``CE_LEAVE / CE_SLIP / CE_STOP`` call ``cluster_after_event`` and move lifted contacts to the
 candidates; at ``CE_GAP`` leave the mode for the impact law (then re-enter).
 
-Not here: a rest *event* during a phase (rest is tested at a call's start), shapes
-other than spheres, and a mode selection beyond ``KSEL_MAX`` contacts. Known limitation
-of the selection: redundant sticking contacts (a sphere in a V groove: the two contact
-points pinned leave one rolling motion, and a squeeze along the chord between them is
-indeterminate) are judged on the minimum-norm split of their forces only; when that
-split leaves a cone but another one would not, the enumeration goes on to slip modes
-and may end in ``CS_NO_MODE`` (an asymmetric groove at mu = 0.5 does). The fix is a
-small LP over the null space of the sticking rows (the split inside the cones).
+Not here: a rest *event* during a phase (why not: "Rest" above), shapes other than
+spheres, and a mode selection beyond ``KSEL_MAX`` contacts. Limitations of the
+redundant split: the search is a first-order method, so a feasible set thinner than
+about ``SPLIT_TARGET F`` or needing more than ``SPLIT_ITER`` steps may be missed (the
+selection then goes on to slip modes); the split is chosen afresh at each force
+evaluation (continuous in time only where the search's path is), and slip contacts'
+null components are not searched.
 """
 import math
 

@@ -4,7 +4,9 @@ Closed forms (a sphere rolling off a fixed sphere: lift-off at cos phi = (10/17)
 frictionless (2/3) cos phi0; the stick -> slip angle against a brentq root of the
 rolling forces), an independent scipy integration of a sphere on a free sphere on a
 frictionless floor, energy and momentum, rest of a pyramid with its minimum-norm split,
-g'' and dc/dt against finite differences, and the input checks.
+g'' and dc/dt against finite differences, the input checks, the asymmetric groove
+sticking on a split inside the cones where a closed-form squeeze along the chord exists
+(and slipping where none does), and rest found right after a backspin sphere's slip stop.
 """
 import math
 
