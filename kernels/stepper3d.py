@@ -75,14 +75,15 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   and consistent (``_rest_consistent``: the snap does not lift the body, ``SNAP_RTOL``,
   and a box's centre of mass is over that face) the run jumps to the accumulation point,
   snaps the body onto the face (rotation to the face, normal velocity and rotation
-  removed: event "contact") and it then rests or
-  slides without rotating (closed form while the slip is along the slope or the plane
-  level; a slip across a slope curves, as a puck's: the face's corners or the capsule's
-  caps are held and the motion integrated, ``_integrate_slide``). The face must carry the friction moment (the
+  removed: event "contact") and it then rests or slides without rotating (closed form
+  while the slip is along the slope or the plane is level; a slip across a slope curves,
+  as a puck's: the face's corners or the capsule's caps are held and the motion
+  integrated, ``_integrate_slide``). The face must carry the friction moment (the
   pressure centre ``-h F / N`` inside it), else the box tips over the edge or the corner
   the pressure centre passed (``_tip``: integrated contact on those corners, as
   ``stepper2d._tip``; ``ERR_TIPPING`` only where no pivot state is consistent or the box
-  starts so); a capsule must slide along its axis, else ``ERR_UNSUPPORTED``.
+  starts so); a capsule whose friction turns it about its axis (it rolls) or whose
+  pressure centre passes a cap is held on both caps and integrated (``_integrate_slide``).
 * During an accumulation jump (last impact to ``t_inf``) the reported trajectory and the
   other candidate events use the held motion (``_held_into``: height of the last impact,
   no normal velocity, tangential motion exact, a box or capsule not rotating), so the
@@ -2836,9 +2837,12 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             dd = math.sqrt(dx * dx + dy * dy + dz * dz)
             if (math.sqrt(bx * bx + by * by) > FACE_RTOL * (dd + bflt[i, B_RADIUS])
                     or abs(bz) > bflt[i, B_HALF + 2] * (1.0 + FACE_RTOL)):
-                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2],
-                         math.sqrt(fx * fx + fy * fy + fz * fz), N, 2.0)
-                return ERR_UNSUPPORTED
+                # friction has a moment about the axis (the capsule rolls) or the pressure
+                # centre lies beyond a cap (it tips onto that cap): both caps are held and
+                # the motion integrated (_integrate_slide), from the loop's switch at t
+                mode = PM_SLIDE
+                pm[i, M_AUX] = AUX_INTEGRATE
+                ttr[i] = t
     pm[i, M_MODE] = mode
     pm[i, M_PLANE] = p
     return 0

@@ -495,7 +495,6 @@ class Simulation3D:
                 f"{at} (a bug of stepper3d.scene_features; please report it)")
         elif rc == k.ERR_UNSUPPORTED:
             what = {1.0: "a sphere with non-spherical inertia in persistent contact",
-                    2.0: "a capsule on its side sliding across its axis (it would roll)",
                     3.0: "settling on one plane while touching another (a box or capsule "
                          "on a face or side, or a sphere still bouncing on the second): "
                          "persistent contact with two planes at once",

@@ -194,3 +194,48 @@ def test_capsule_slides_along_its_axis_then_rolls_down_the_slope():
     assert (v[1] - v[0]) @ ep / (t2 - t1) == pytest.approx(
         G * math.sin(theta) * (es @ ep) / (1 + Ia / (r * r)), rel=1e-9)
     assert abs((v[1] - v[0]) @ ax[0]) < 1e-8 * np.linalg.norm(v[1])  # not along its axis
+
+
+def _capsule_axis_moment(L, r):
+    """Moment (kg m^2) about its axis of a 1 kg capsule (cylinder of length L and two
+    hemispheres of radius r, one density): ``m_c r^2 / 2 + m_s 2 r^2 / 5``."""
+    vc, vs = math.pi * r * r * L, 4.0 / 3.0 * math.pi * r ** 3
+    return (vc / (vc + vs)) * r * r / 2 + (vs / (vc + vs)) * 0.4 * r * r
+
+
+def test_capsule_thrown_across_its_axis_slides_then_rolls():
+    """On a level floor, thrown across its axis without spin: friction spins it up about the
+    axis until the contact line sticks; its angular momentum about the contact line is
+    kept, so it then rolls at ``v0 / (1 + I_a / (m r^2))`` (it used to stop the run: "a
+    capsule on its side sliding across its axis ... is not supported")."""
+    L, r, v0, mu = 0.3, 0.03, 1.0, 0.4
+    sim, n, h = _slope(0.0, "capsule", (0.0, v0, 0.0), mu)
+    res = sim.run(1.0)
+    assert res.status == "done"
+    kinds = list(res.events["kind"])
+    assert "pivot" in kinds and "stick" in kinds, kinds
+    t_stick = float(res.events["t"][kinds.index("stick")])
+    Ia = _capsule_axis_moment(L, r)
+    # sliding: the slip v - w r falls at mu g (1 + m r^2 / I_a) and sticks at slip_eps
+    v_f = v0 / (1.0 + Ia / (r * r))
+    eps = sim.tolerances["slip_eps"]
+    assert t_stick == pytest.approx((v0 - eps) / (mu * G * (1 + r * r / Ia)), rel=1e-9)
+    s = res.sample([0.5, 1.0])
+    assert s["velocity"][:, 0, 1] == pytest.approx([v_f, v_f], rel=1e-8)
+    assert np.max(np.abs(s["position"][:, 0] @ n - r)) < 1e-9 * r
+    assert res.energy([0.0, 1.0])[1] < res.energy([0.0, 1.0])[0]
+
+
+def test_capsule_at_rest_across_a_slope_rolls_down():
+    """Laid on a slope with its axis level (across the fall line), at rest: it rolls down
+    with ``a = g sin(theta) / (1 + I_a / (m r^2))`` (friction mu = 0.5 > the rolling need)."""
+    theta, L, r = 0.2, 0.3, 0.03
+    sim, n, h = _slope(theta, "capsule", (0.0, 0.0, 0.0), 0.5)
+    res = sim.run(0.5)
+    assert res.status == "done"
+    es = _down(theta)
+    v = res.sample([0.1, 0.5])["velocity"][:, 0]
+    a = (v[1] - v[0]) @ es / 0.4
+    assert a == pytest.approx(G * math.sin(theta) / (1 + _capsule_axis_moment(L, r) / (r * r)),
+                              rel=1e-8)
+    assert abs(v[1][0]) < 1e-9 * np.linalg.norm(v[1])      # straight down, axis level
