@@ -17,6 +17,8 @@ import pytest
 
 from rbimpact import Box3D, Capsule, Law, Scene3D, Simulation
 
+from _slope_helpers import slip_stop_time
+
 G = 9.81
 
 
@@ -54,29 +56,10 @@ def _down(theta):
 
 
 def _stick_time(v0, theta, mu, eps):
-    """Time at which the puck's speed has fallen to ``eps``: with ``phi`` the angle from
-    ``e_s`` to v, ``tau = tan(phi / 2)`` and ``q = k / a``, ``|v| = (C / 2) tau^(q-1)
-    (1 + tau^2)`` and ``t(tau) = (C / 2a) [T(tau0) - T(tau)]``, ``T(tau) =
-    tau^(q-1)/(q-1) + tau^(q+1)/(q+1)``, ``C = |v0| sin(phi0) / tau0^q``."""
-    es = _down(theta)
-    a = G * math.sin(theta)
+    """Time at which the puck's speed has fallen to ``eps`` (``_slope_helpers``, with the
+    sphere's rolling factor replaced by 1: ``q = mu / tan(theta)``)."""
     q = mu / math.tan(theta)
-    V0 = np.linalg.norm(v0)
-    phi0 = math.acos(max(-1.0, min(1.0, (v0 @ es) / V0)))
-    tau0 = math.tan(phi0 / 2.0)
-    C = V0 * math.sin(phi0) / tau0 ** q
-
-    def T(tau):
-        return tau ** (q - 1) / (q - 1) + tau ** (q + 1) / (q + 1)
-
-    lo, hi = 0.0, tau0      # |v|(tau) increases with tau on (0, tau0] for q > 1
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if 0.5 * C * mid ** (q - 1) * (1 + mid * mid) > eps:
-            hi = mid
-        else:
-            lo = mid
-    return C / (2.0 * a) * (T(tau0) - T(hi)), q
+    return slip_stop_time(v0, _down(theta), G * math.sin(theta), q, eps), q
 
 
 def _puck(theta, mu, x0, v0, t_end):

@@ -19,6 +19,8 @@ import pytest
 
 from rbimpact import Law, Scene3D, Simulation, Sphere
 
+from _slope_helpers import slip_stop_time
+
 G = 9.81
 
 
@@ -46,23 +48,7 @@ def _stick_time(u0, theta, mu, eps):
     n, es = _frame(theta)
     a = G * math.sin(theta)
     q = mu * G * math.cos(theta) * 3.5 / a
-    U0 = np.linalg.norm(u0)
-    cphi = (u0 @ es) / U0
-    phi0 = math.acos(max(-1.0, min(1.0, cphi)))
-    tau0 = math.tan(phi0 / 2.0)
-    C = U0 * math.sin(phi0) / tau0 ** q
-
-    def T(tau):
-        return tau ** (q - 1) / (q - 1) + tau ** (q + 1) / (q + 1)
-
-    lo, hi = 0.0, tau0      # |u|(tau) is increasing in tau on (0, tau0] for q > 1
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if 0.5 * C * mid ** (q - 1) * (1 + mid * mid) > eps:
-            hi = mid
-        else:
-            lo = mid
-    return C / (2.0 * a) * (T(tau0) - T(hi)), q
+    return slip_stop_time(u0, es, a, q, eps), q
 
 
 def _newton_euler(theta, r, mu, v0, w0, t_end):
