@@ -2664,6 +2664,19 @@ def _tip_features(i, face, side, bint, feats):
     return k1, k2
 
 
+@njit(cache=True, inline="always")
+def _slip_curves(ex, ey, ez, gtx, gty, gtz, gt, mu):
+    """A slip along the unit vector e on a plane whose tangential gravity is g_t (m/s^2,
+    |g_t| = gt) curves under friction mu > 0 unless g_t is parallel to e (to
+    ``PARALLEL_RTOL``: |e x g_t| <= PARALLEL_RTOL |g_t|)."""
+    if not (gt > 0.0 and mu > 0.0):
+        return False
+    sx = ey * gtz - ez * gty
+    sy = ez * gtx - ex * gtz
+    sz = ex * gty - ey * gtx
+    return math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt
+
+
 @njit(cache=True)
 def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr, tolf,
                    err):
@@ -2741,13 +2754,9 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             # (no closed form): the contact is integrated from now on (the loop's
             # scheduled switch at ttr = t, _integrate_slide); the accelerations set below
             # hold for that instant only
-            if gt > 0.0 and mu > 0.0:
-                sx = ey * gtz - ez * gty
-                sy = ez * gtx - ex * gtz
-                sz = ex * gty - ey * gtx
-                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    pm[i, M_AUX] = AUX_INTEGRATE
-                    ttr[i] = t
+            if _slip_curves(ex, ey, ez, gtx, gty, gtz, gt, mu):
+                pm[i, M_AUX] = AUX_INTEGRATE
+                ttr[i] = t
         st[i, SA] = gtx + fx / m
         st[i, SA + 1] = gty + fy / m
         st[i, SA + 2] = gtz + fz / m
@@ -2789,17 +2798,13 @@ def _persist_setup(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, t
             k = (ex * gtx + ey * gty + ez * gtz) - mu * N / m
             if k < 0.0 and mu > 0.0:     # without friction nothing stops the slip
                 ttr[i] = t + vt / (-k)
-            if gt > 0.0 and mu > 0.0:
-                # across the slope the slip curves (a translation v' = g_t - mu |g_n| u:
-                # the pressure centre moves along u, so friction has no moment about n
-                # and the body does not start to spin); it is integrated with the face's
-                # features held (_integrate_slide), from the loop's switch at ttr = t
-                sx = ey * gtz - ez * gty
-                sy = ez * gtx - ex * gtz
-                sz = ex * gty - ey * gtx
-                if math.sqrt(sx * sx + sy * sy + sz * sz) > PARALLEL_RTOL * gt:
-                    pm[i, M_AUX] = AUX_INTEGRATE
-                    ttr[i] = t
+            # across the slope the slip curves (a translation v' = g_t - mu |g_n| u: the
+            # pressure centre moves along u, so friction has no moment about n and the
+            # body does not start to spin); it is integrated with the face's features
+            # held (_integrate_slide), from the loop's switch at ttr = t
+            if _slip_curves(ex, ey, ez, gtx, gty, gtz, gt, mu):
+                pm[i, M_AUX] = AUX_INTEGRATE
+                ttr[i] = t
         if mode == PM_REST:
             st[i, SA] = 0.0
             st[i, SA + 1] = 0.0
@@ -3019,34 +3024,42 @@ def _integrate_slide(i, t, st, tref, bint, bflt, feats, planes, grav, law_par, b
     p = pm[i, M_PLANE]
     pm[i, M_AUX] = 0
     ttr[i] = INF
-    sphere = bint[i, B_KIND] == SH_SPHERE
-    _pv_set_body(pv, i, bflt, grav, tolf)
-    K = 0
-    if sphere:
-        _pv_set_contact(pv, i, 0, p, bint[i, B_FIRST], feats, planes, law_par, bp_law)
-        K = 1
+    if bint[i, B_KIND] == SH_SPHERE:
+        rc = _pivot_enter(i, p, bint[i, B_FIRST], p, -1, 1, NO_WALLS, t, st, bint, bflt,
+                          feats, planes, grav, law_par, bp_law, pm, ttr, tz, tolf, pv, fw,
+                          ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
+                          0.0)    # (no impact without collision here)
     else:
+        # the face's features on p (the face was just snapped onto it: at least two)
+        _pv_set_body(pv, i, bflt, grav, tolf)
+        K = 0
         rad = bflt[i, B_RADIUS]
         for f in range(bint[i, B_FIRST], bint[i, B_FIRST] + bint[i, B_COUNT]):
             if K < KMAX and _feature_contact(st, i, feats, f, planes, p,
                                              rad)[0] <= tolf[TF_GAP_TOL]:
                 _pv_set_contact(pv, i, K, p, f, feats, planes, law_par, bp_law)
                 K += 1
-    for k in range(K, 2):
-        _pv_set_contact(pv, i, k, p, -1, feats, planes, law_par, bp_law)
-    pv[i, CP_K] = K
-    rc = _pivot_hold(i, NO_WALLS, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
-                     pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err,
-                     0.0)    # (no impact without collision here)
+        pv[i, CP_K] = K
+        rc = _pivot_hold(i, NO_WALLS, t, st, bint, bflt, feats, planes, grav, law_par,
+                         bp_law, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw,
+                         Ii, err, 0.0)
     if rc < 0:
         return rc
     if rc == 1:     # the plane no longer pushes
         _release(i, t, st, planes, grav, pm, ttr, ev_t, ev_i, ev_f, cnt, c_f, cw)
         return 0
-    if sphere and pv[i, CP_S] == 1.0:     # a slip below slip_eps: it stuck at once
+    if _sphere_stuck(i, bint, pm, pv):
         return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
     return 0
+
+
+@njit(cache=True, inline="always")
+def _sphere_stuck(i, bint, pm, pv):
+    """Sphere i in integrated contact on one plane whose slip stuck (below slip_eps): it
+    leaves the integrator and rolls in closed form (``_sphere_rolls``)."""
+    return (pm[i, M_MODE] == PM_PIVOT and bint[i, B_KIND] == SH_SPHERE
+            and pv[i, CP_K] == 1.0 and pv[i, CP_S] == 1.0)
 
 
 @njit(cache=True)
@@ -3069,7 +3082,7 @@ def _sphere_held(i, p, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, 
                       ev_f, cnt, c_f, cw, Ii, err, tolf[TF_PAINLEVE])
     if rc == 2:         # flew off after an impact without collision
         return 0
-    if rc == 0 and pm[i, M_MODE] == PM_PIVOT and pv[i, CP_K] == 1.0 and pv[i, CP_S] == 1.0:
+    if rc == 0 and _sphere_stuck(i, bint, pm, pv):
         # its slip below slip_eps stuck at once: it rolls on p in closed form
         return _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              pv, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
@@ -4119,37 +4132,39 @@ def loop_for(law):
                                                  ev_f, cnt, c_f, cw, Ii, err)
                     if rc < 0:
                         return rc
-                    if (recompute and pm[i, M_MODE] == PM_PIVOT
-                            and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S] == 1.0):
-                        if pv[i, CP_K] == 1.0:
-                            rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par,
-                                               bp_law, pm, ttr, pv, tolf, ev_t, ev_i, ev_f,
-                                               cnt, c_f, cw, err)
-                            q = -1 if rc != 0 else _pressed_plane(i, st, bflt, planes,
-                                                                   bp_off, pm, tolf)
-                            if q >= 0:
-                                # rolling on its plane presses it into another it touches
-                                # (the groove's other plane): held by both
-                                rc = _groove_enter(i, pm[i, M_PLANE], q, t, st, bflt, planes,
-                                                   grav, law_par, bp_law, pm, ttr, tolf, ev_t,
-                                                   ev_i, ev_f, cnt, c_f, cw, err)
-                                if rc == GROOVE_SLIPS:
-                                    rc = _groove_slide(i, pm[i, M_PLANE], q, t, st, bint, bflt,
-                                                       feats, planes, grav, law_par, bp_law,
-                                                       pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
-                                                       ev_f, cnt, c_f, cw, Ii, err, pivot)
-                                elif rc == 1:
-                                    _set_err(err, t, i, -1 - q, st[i, SX], st[i, SX + 1],
-                                             st[i, SX + 2], 3.0, 0.0, 0.0)
-                                    rc = ERR_UNSUPPORTED
-                        elif pv[i, (CP_S + 1)] == 1.0:
-                            # both contacts of a sphere in a groove stick: it rolls along
-                            # the groove in closed form (or keeps integrating if not)
-                            rc = _groove_enter(i, int(pv[i, CP_PLANE]), int(pv[i, (CP_PLANE + 1)]),
-                                               t, st, bflt, planes, grav, law_par, bp_law, pm,
-                                               ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
-                            if rc > 0:
-                                rc = 0
+                    if recompute and _sphere_stuck(i, bint, pm, pv):
+                        rc = _sphere_rolls(i, t, st, bint, bflt, planes, grav, law_par,
+                                           bp_law, pm, ttr, pv, tolf, ev_t, ev_i, ev_f,
+                                           cnt, c_f, cw, err)
+                        q = -1 if rc != 0 else _pressed_plane(i, st, bflt, planes,
+                                                               bp_off, pm, tolf)
+                        if q >= 0:
+                            # rolling on its plane presses it into another it touches
+                            # (the groove's other plane): held by both
+                            rc = _groove_enter(i, pm[i, M_PLANE], q, t, st, bflt, planes,
+                                               grav, law_par, bp_law, pm, ttr, tolf, ev_t,
+                                               ev_i, ev_f, cnt, c_f, cw, err)
+                            if rc == GROOVE_SLIPS:
+                                rc = _groove_slide(i, pm[i, M_PLANE], q, t, st, bint, bflt,
+                                                   feats, planes, grav, law_par, bp_law,
+                                                   pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                                                   ev_f, cnt, c_f, cw, Ii, err, pivot)
+                            elif rc == 1:
+                                _set_err(err, t, i, -1 - q, st[i, SX], st[i, SX + 1],
+                                         st[i, SX + 2], 3.0, 0.0, 0.0)
+                                rc = ERR_UNSUPPORTED
+                        if rc < 0:
+                            return rc
+                    elif (recompute and pm[i, M_MODE] == PM_PIVOT
+                          and bint[i, B_KIND] == SH_SPHERE and pv[i, CP_S] == 1.0
+                          and pv[i, (CP_S + 1)] == 1.0):
+                        # both contacts of a sphere in a groove stick: it rolls along
+                        # the groove in closed form (or keeps integrating if not)
+                        rc = _groove_enter(i, int(pv[i, CP_PLANE]), int(pv[i, (CP_PLANE + 1)]),
+                                           t, st, bflt, planes, grav, law_par, bp_law, pm,
+                                           ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw, err)
+                        if rc > 0:
+                            rc = 0
                         if rc < 0:
                             return rc
                 elif (ttr[i] <= t and pm[i, M_MODE] == PM_SLIDE
