@@ -341,7 +341,7 @@ LA_X = LA_R + NMAX
 LA_EQ = LA_X + NMAX         # contact of each unknown (float)
 LA_ET = LA_EQ + NMAX        # 0: normal (column n or n - mu s), 1: t1, 2: t2
 LA_NI = LA_ET + NMAX        # the split search: columns of V spanning the null space
-LA_Z = LA_NI + NMAX         # the split search: a step in null coordinates
+LA_Z = LA_NI + NMAX         # the split search: squared singular values, then a null step
 LA_XB = LA_Z + NMAX         # the split search: the best split found
 N_LA = LA_XB + NMAX
 
@@ -609,18 +609,17 @@ def _best_split(c, la, n, F):
     worst, wi, wc = _worst_margin(c, la, n, LA_X)
     if not worst < target:
         return
+    # the squared singular values (column norms of U = A V) at LA_Z until the search uses it
     smax = 0.0
     for j in range(n):
         s2 = 0.0
         for i in range(n):
             s2 += la[LA_U + i * NMAX + j] ** 2
+        la[LA_Z + j] = s2
         smax = max(smax, s2)
     nd = 0
     for j in range(n):
-        s2 = 0.0
-        for i in range(n):
-            s2 += la[LA_U + i * NMAX + j] ** 2
-        if s2 > SVD_RTOL * SVD_RTOL * smax:
+        if la[LA_Z + j] > SVD_RTOL * SVD_RTOL * smax:
             continue
         ok = True
         for i in range(n):
