@@ -176,8 +176,7 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
-                     reject_factor, solution, step_factor)
+from .dopri5 import MAX_TRIES, dense_out, dopri5_step
 from .minnorm import minnorm_solve
 from .toi3d import tangent_basis
 
@@ -342,7 +341,7 @@ LA_X = LA_R + NMAX
 LA_EQ = LA_X + NMAX         # contact of each unknown (float)
 LA_ET = LA_EQ + NMAX        # 0: normal (column n or n - mu s), 1: t1, 2: t2
 LA_NI = LA_ET + NMAX        # the split search: columns of V spanning the null space
-LA_Z = LA_NI + NMAX         # the split search: a step in null coordinates
+LA_Z = LA_NI + NMAX         # the split search: squared singular values, then a null step
 LA_XB = LA_Z + NMAX         # the split search: the best split found
 N_LA = LA_XB + NMAX
 
@@ -610,18 +609,17 @@ def _best_split(c, la, n, F):
     worst, wi, wc = _worst_margin(c, la, n, LA_X)
     if not worst < target:
         return
+    # the squared singular values (column norms of U = A V) at LA_Z until the search uses it
     smax = 0.0
     for j in range(n):
         s2 = 0.0
         for i in range(n):
             s2 += la[LA_U + i * NMAX + j] ** 2
+        la[LA_Z + j] = s2
         smax = max(smax, s2)
     nd = 0
     for j in range(n):
-        s2 = 0.0
-        for i in range(n):
-            s2 += la[LA_U + i * NMAX + j] ** 2
-        if s2 > SVD_RTOL * SVD_RTOL * smax:
+        if la[LA_Z + j] > SVD_RTOL * SVD_RTOL * smax:
             continue
         ok = True
         for i in range(n):
@@ -1471,65 +1469,25 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, gz, L, w, la):
 
 
 @njit(cache=True, _nrt=False)
+def _stage(bodies, c, nk, la, w, yo, ko):
+    """The right-hand side of ``dopri5_step``: ``_forces`` at w[yo:yo + NY] into w[ko:...]."""
+    return _forces(bodies, c, nk, w, yo, la, ko)
+
+
+@njit(cache=True, _nrt=False)
 def _step(bodies, c, nk, w, la, NY, h):
     """One error-controlled DOPRI5 step from block B_Y (stage 1 at B_K). Returns
     (status, attempts); the accepted step length is w[H_H]."""
-    Y = N_H + B_Y * NY
-    YT = N_H + B_YT * NY
-    Y1 = N_H + B_Y1 * NY
-    K = N_H + B_K * NY
-    RC = N_H + B_RC * NY
-    SC = N_H + B_SC * NY
-    tol = w[H_TOL]
-    att = 0
-    while True:
-        att += 1
-        if att > 1000 or not h > 0.0:
-            return CS_TOO_MANY_STEPS, att
-        arg2(w, NY, Y, K, YT, h)
-        st = _forces(bodies, c, nk, w, YT, la, K + NY)
-        if st != CS_OK:
-            return st, att
-        arg3(w, NY, Y, K, YT, h)
-        st = _forces(bodies, c, nk, w, YT, la, K + 2 * NY)
-        if st != CS_OK:
-            return st, att
-        arg4(w, NY, Y, K, YT, h)
-        st = _forces(bodies, c, nk, w, YT, la, K + 3 * NY)
-        if st != CS_OK:
-            return st, att
-        arg5(w, NY, Y, K, YT, h)
-        st = _forces(bodies, c, nk, w, YT, la, K + 4 * NY)
-        if st != CS_OK:
-            return st, att
-        arg6(w, NY, Y, K, YT, h)
-        st = _forces(bodies, c, nk, w, YT, la, K + 5 * NY)
-        if st != CS_OK:
-            return st, att
-        solution(w, NY, Y, K, Y1, h)
-        st = _forces(bodies, c, nk, w, Y1, la, K + 6 * NY)
-        if st != CS_OK:
-            return st, att
-        err = 0.0
-        for j in range(NY):
-            r = abs(error_estimate(w, NY, K, h, j)) / (tol * w[SC + j])
-            if r > err:
-                err = r
-        if err <= 1.0:
-            dense_store(w, NY, Y, Y1, K, RC, h)
-            w[H_H] = h
-            w[H_HNEXT] = h * step_factor(err)
-            return CS_OK, att
-        h = h * reject_factor(err)
+    return dopri5_step(_stage, (bodies, c, nk, la), w, NY, N_H + B_Y * NY, N_H + B_YT * NY,
+                       N_H + B_Y1 * NY, N_H + B_K * NY, N_H + B_RC * NY, N_H + B_SC * NY,
+                       H_H, H_HNEXT, w[H_TOL], h, MAX_TRIES, True, 0.0, 0.0,
+                       CS_TOO_MANY_STEPS)
 
 
 @njit(cache=True, _nrt=False, inline="always")
 def _dense(w, NY, s, yo):
     """Dense output at s (within the current step) into w[yo:yo + NY]."""
-    th = (s - w[H_S0]) / w[H_H]
-    RC = N_H + B_RC * NY
-    for j in range(NY):
-        w[yo + j] = dense_eval(w, NY, RC, th, j)
+    dense_out(w, NY, N_H + B_RC * NY, H_S0, H_H, s, w, yo)
 
 
 @njit(cache=True, _nrt=False)

@@ -1,14 +1,24 @@
-"""The Dormand-Prince RK5(4)7M step shared by the 3D integrators (``flight3d``: the
-torque-free rotation; ``pivot3d``: integrated point/edge contact).
+"""The Dormand-Prince RK5(4)7M step shared by the integrators (``flight3d``: the
+torque-free rotation; ``pivot2d``, ``pivot3d``: integrated point/edge contact;
+``cluster2d``, ``cluster3d``: persistent contact between several bodies).
 
 Tableau: Hairer, Norsett & Wanner, *Solving ODEs I*, Table II.5.2; dense output: the
 coefficients of their code DOPRI5 (4th order, continuous). Each integrator keeps its
 state in one float64 workspace ``w``: ``n`` components at offsets ``Y`` (step start),
 ``YT`` (stage argument), ``Y1`` (step end), seven stages at ``K + i n`` (i = 0..6) and the
 dense-output coefficients at ``RC + r n`` (r = 0..4). The integrator evaluates its own
-right-hand side between the stage updates below; everything else of a step is here.
+right-hand side between the stage updates below; everything else of a step is here:
+``dopri5_step`` (one error-controlled step around a given right-hand side, used by
+``pivot2d``, ``pivot3d``, ``cluster2d`` and ``cluster3d``) and ``dense_out``. ``flight3d``
+calls the pieces itself (its right-hand side depends on time, never fails and its error norm
+skips zero scales).
+
 All functions are ``inline="always"``: the compiled steps are those of the hand-written
-loops they replace.
+loops they replace. A right-hand side passed to ``dopri5_step`` is a module-level jitted
+function of the caller: the generic step is inlined into the caller's own cached ``_step``,
+so the call is resolved when that one compiles and it is cached on disk like any other
+(a jitted function passed to a function that is not inlined, or closed over by a factory,
+compiles in every process).
 """
 from numba import njit
 
@@ -31,6 +41,9 @@ D1, D3, D4, D5, D6, D7 = (-12715105075.0 / 11282082432.0, 87487479700.0 / 327004
 SAFETY = 0.9
 FAC_MIN = 0.2
 FAC_MAX = 5.0
+
+STEP_OK = 0             # the status of an accepted step and of a right-hand side that succeeded
+MAX_TRIES = 1000        # attempts of one step at most (pivot2d, cluster2d, cluster3d)
 
 
 @njit(cache=True, inline="always")
@@ -124,3 +137,76 @@ def dense_eval(w, n, RC, th, j):
     th1 = 1.0 - th
     return w[RC + j] + th * (w[RC + n + j] + th1 * (w[RC + 2 * n + j] + th * (
         w[RC + 3 * n + j] + th1 * w[RC + 4 * n + j])))
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def stage_arg(w, n, Y, K, YT, Y1, h, i):
+    """Argument of stage ``i + 1`` (i = 1..6) into ``w``; returns its offset (``YT``, or
+    ``Y1`` for the 5th-order step end that is the argument of stage 7)."""
+    if i == 1:
+        arg2(w, n, Y, K, YT, h)
+    elif i == 2:
+        arg3(w, n, Y, K, YT, h)
+    elif i == 3:
+        arg4(w, n, Y, K, YT, h)
+    elif i == 4:
+        arg5(w, n, Y, K, YT, h)
+    elif i == 5:
+        arg6(w, n, Y, K, YT, h)
+    else:
+        solution(w, n, Y, K, Y1, h)
+        return Y1
+    return YT
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def dopri5_step(rhs, args, w, n, Y, YT, Y1, K, RC, SC, H, HNEXT, tol, h, max_tries,
+                check_h, shrink, hmin, too_many):
+    """One error-controlled step of ``n`` components from ``w[Y:Y+n]`` with first trial
+    ``h`` (s; stage 1 already at ``w[K:K+n]``). Stage ``i`` is ``rhs(*args, w, yo, ko)``:
+    dy/ds at ``w[yo:yo+n]`` into ``w[ko:ko+n]``, returning ``STEP_OK`` or a failure status.
+    The scaled error is ``max_j |err_j| / (tol w[SC+j])``; an accepted step stores its dense
+    output at ``RC``, its length at ``w[H]`` and the next trial at ``w[HNEXT]``.
+
+    A failing stage ends the step with its status when ``shrink`` is 0; otherwise the step
+    is retried with ``h * shrink`` unless that is below ``hmin`` (s). After ``max_tries``
+    attempts (or, with ``check_h``, at a trial step that is not positive) the status is
+    ``too_many``. Returns (status, attempts)."""
+    att = 0
+    while True:
+        att += 1
+        if att > max_tries or (check_h and not h > 0.0):
+            return too_many, att
+        st = STEP_OK
+        for i in range(1, 7):
+            yo = stage_arg(w, n, Y, K, YT, Y1, h, i)
+            st = rhs(*args, w, yo, K + i * n)
+            if st != STEP_OK:
+                break
+        if st != STEP_OK:
+            if not shrink > 0.0:
+                return st, att
+            h *= shrink
+            if h < hmin:
+                return st, att
+            continue
+        err = 0.0
+        for j in range(n):
+            r = abs(error_estimate(w, n, K, h, j)) / (tol * w[SC + j])
+            if r > err:
+                err = r
+        if err <= 1.0:
+            dense_store(w, n, Y, Y1, K, RC, h)
+            w[H] = h
+            w[HNEXT] = h * step_factor(err)
+            return STEP_OK, att
+        h = h * reject_factor(err)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def dense_out(w, n, RC, S0, H, s, out, oo):
+    """Dense output at ``s`` (s, within the step of length ``w[H]`` from ``w[S0]``) into
+    ``out[oo:oo+n]``."""
+    th = (s - w[S0]) / w[H]
+    for j in range(n):
+        out[oo + j] = dense_eval(w, n, RC, th, j)

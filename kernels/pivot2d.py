@@ -117,8 +117,7 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
-                     reject_factor, solution, step_factor)
+from .dopri5 import MAX_TRIES, dense_out, dopri5_step
 from .flight2d import body_energy, fly_into
 
 # ---- workspace w (float64[N_W], flat): contact parameters, integrator, scratch ----------
@@ -542,52 +541,23 @@ def _rhs(w, yo, ko):
 
 
 @njit(cache=True, _nrt=False)
+def _stage(w, yo, ko):
+    """The right-hand side of ``dopri5_step``: ``_rhs``, PI_OK or PI_FORCES."""
+    return PI_OK if _rhs(w, yo, ko) == PV_OK else PI_FORCES
+
+
+@njit(cache=True, _nrt=False)
 def _step(w, h):
     """One error-controlled step from w[W_Y] with first trial h (stage 1 already at
     w[W_K]). Returns (code, number of attempts); the accepted step is w[W_H]."""
-    tol = w[W_TOL]
-    att = 0
-    while True:
-        att += 1
-        if att > 1000 or not h > 0.0:
-            return PI_TOO_MANY_STEPS, att
-        arg2(w, NY, W_Y, W_K, W_YT, h)
-        if _rhs(w, W_YT, W_K + 4) != PV_OK:
-            return PI_FORCES, att
-        arg3(w, NY, W_Y, W_K, W_YT, h)
-        if _rhs(w, W_YT, W_K + 8) != PV_OK:
-            return PI_FORCES, att
-        arg4(w, NY, W_Y, W_K, W_YT, h)
-        if _rhs(w, W_YT, W_K + 12) != PV_OK:
-            return PI_FORCES, att
-        arg5(w, NY, W_Y, W_K, W_YT, h)
-        if _rhs(w, W_YT, W_K + 16) != PV_OK:
-            return PI_FORCES, att
-        arg6(w, NY, W_Y, W_K, W_YT, h)
-        if _rhs(w, W_YT, W_K + 20) != PV_OK:
-            return PI_FORCES, att
-        solution(w, NY, W_Y, W_K, W_Y1, h)
-        if _rhs(w, W_Y1, W_K + 24) != PV_OK:
-            return PI_FORCES, att
-        err = 0.0
-        for j in range(NY):
-            r = abs(error_estimate(w, NY, W_K, h, j)) / (tol * w[W_SC + j])
-            if r > err:
-                err = r
-        if err <= 1.0:
-            dense_store(w, NY, W_Y, W_Y1, W_K, W_RC, h)
-            w[W_H] = h
-            w[W_HNEXT] = h * step_factor(err)
-            return PI_OK, att
-        h = h * reject_factor(err)
+    return dopri5_step(_stage, (), w, NY, W_Y, W_YT, W_Y1, W_K, W_RC, W_SC, W_H, W_HNEXT,
+                       w[W_TOL], h, MAX_TRIES, True, 0.0, 0.0, PI_TOO_MANY_STEPS)
 
 
 @njit(cache=True, _nrt=False, inline="always")
 def _dense(w, s, yo):
     """Dense output at s (within the current step) into w[yo:yo+4]."""
-    th = (s - w[W_S0]) / w[W_H]
-    for j in range(NY):
-        w[yo + j] = dense_eval(w, NY, W_RC, th, j)
+    dense_out(w, NY, W_RC, W_S0, W_H, s, w, yo)
 
 
 # ------------------------------------------------------------------ events

@@ -63,8 +63,7 @@ from .cache_guard import guard
 # flush stale compiled callers before any kernel module below is imported (cache_guard)
 guard(__name__, __file__)
 
-from .dopri5 import (arg2, arg3, arg4, arg5, arg6, dense_eval, dense_store, error_estimate,
-                     reject_factor, solution, step_factor)
+from .dopri5 import dense_out, dopri5_step
 from .flight3d import pose_at, qmul, qnormalize, qrot, qrot_inv
 from .minnorm import minnorm_solve
 
@@ -190,7 +189,7 @@ PE_JAM = 5          # one sliding contact reaches a Painleve jam: its normal-for
 # [2 KMAX:3 KMAX] slip speeds, then the gaps of every feature to every plane
 NEV_CONTACT = 3 * KMAX
 
-# Dormand-Prince RK5(4)7M (the same step as flight3d): kernels/dopri5.py
+# Dormand-Prince RK5(4)7M, the step loop shared with pivot2d and the clusters: kernels/dopri5.py
 
 
 # ------------------------------------------------------------------ linear algebra
@@ -824,6 +823,15 @@ def _failed(pw, rc):
 
 
 @njit(cache=True)
+def _stage(cp, fw, pw, yo, ko):
+    """The right-hand side of ``dopri5_step``: ``_rhs`` at pw[yo:yo+NY] into pw[ko:ko+NY];
+    PI_OK, or PI_FORCES with the pivot_forces code in pw[PW_WHY]."""
+    if _failed(pw, _rhs(pw[yo:yo + NY], cp, fw, pw[ko:ko + NY])):
+        return PI_FORCES
+    return PI_OK
+
+
+@njit(cache=True)
 def pivot_step(pw, cp, fw):
     """Take one accepted step after the current one (or the first). Returns PI_*."""
     if pw[PW_H] > 0.0:
@@ -838,72 +846,20 @@ def pivot_step(pw, cp, fw):
         _keep_energy(pw, cp)
         pw[PW_S0] = pw[PW_S0] + pw[PW_H]
     h = min(pw[PW_HNEXT], pw[PW_HMAX])
-    tol = pw[PW_TOL]
-    K = PW_K
-    Y = PW_Y
-    YT = PW_YT
-    if _failed(pw, _rhs(pw[Y:Y + NY], cp, fw, pw[K:K + NY])):
+    if _stage(cp, fw, pw, PW_Y, PW_K) != PI_OK:
         return PI_FORCES
-    while True:
-        pw[PW_NSTEP] += 1.0
-        if pw[PW_NSTEP] > pw[PW_MAXSTEP]:
-            return PI_TOO_MANY_STEPS
-        arg2(pw, NY, Y, K, YT, h)
-        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 13:K + 13 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        arg3(pw, NY, Y, K, YT, h)
-        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 26:K + 26 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        arg4(pw, NY, Y, K, YT, h)
-        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 39:K + 39 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        arg5(pw, NY, Y, K, YT, h)
-        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 52:K + 52 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        arg6(pw, NY, Y, K, YT, h)
-        if _failed(pw, _rhs(pw[YT:YT + NY], cp, fw, pw[K + 65:K + 65 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        solution(pw, NY, Y, K, PW_Y1, h)
-        if _failed(pw, _rhs(pw[PW_Y1:PW_Y1 + NY], cp, fw, pw[K + 78:K + 78 + NY])):
-            h *= STAGE_SHRINK       # a stage beyond a mode change: shorten the step
-            if h < STAGE_HMIN * pw[PW_HMAX]:
-                return PI_FORCES
-            continue
-        err = 0.0
-        for j in range(NY):
-            r = abs(error_estimate(pw, NY, K, h, j)) / (tol * pw[PW_SC + j])
-            if r > err:
-                err = r
-        if err <= 1.0:
-            dense_store(pw, NY, Y, PW_Y1, K, PW_RC, h)
-            pw[PW_H] = h
-            pw[PW_HNEXT] = h * step_factor(err)
-            return PI_OK
-        h = h * reject_factor(err)
+    # a stage beyond a mode change (no consistent contact force) shortens the step
+    code, att = dopri5_step(_stage, (cp, fw), pw, NY, PW_Y, PW_YT, PW_Y1, PW_K, PW_RC, PW_SC,
+                            PW_H, PW_HNEXT, pw[PW_TOL], h, pw[PW_MAXSTEP] - pw[PW_NSTEP],
+                            False, STAGE_SHRINK, STAGE_HMIN * pw[PW_HMAX], PI_TOO_MANY_STEPS)
+    pw[PW_NSTEP] += att
+    return code
 
 
 @njit(cache=True)
 def pivot_dense(pw, s, out):
     """State at s (within the current step) into out[0:13], quaternion normalised."""
-    h = pw[PW_H]
-    th = (s - pw[PW_S0]) / h
-    for j in range(NY):
-        out[j] = dense_eval(pw, NY, PW_RC, th, j)
+    dense_out(pw, NY, PW_RC, PW_S0, PW_H, s, out, 0)
     q0, q1, q2, q3 = qnormalize(out[3], out[4], out[5], out[6])
     out[3] = q0
     out[4] = q1
