@@ -1366,8 +1366,13 @@ def _enumerate(bodies, contacts, nk, gx, gy, gz, L, w, la, kfix, prefer):
               if rated else 0.0)
         w[cur + k] = contacts[k, CC_MODE]
         mode = contacts[k, CC_MODE]
-        # a slip its current mode stops within the window stops now (d|c|/dt = c.dc/dt/|c|)
+        # a slip its current mode stops within the window stops now (d|c|/dt = c.dc/dt/|c|):
+        # sticking counts as its mode on entry (near-simultaneous stops are one: the other
+        # slips of a symmetric cluster stop with the one whose event fired, whose own
+        # events start below their arms and would not fire)
         stopping = mode == MODE_SLIP and ca < 0.0 and cl * cl <= -ca * window
+        if stopping and k != kfix:
+            w[cur + k] = MODE_STICK
         if k == kfix:
             w[nopt + k] = 1.0
         elif contacts[k, CC_MU] == 0.0:

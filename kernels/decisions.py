@@ -176,3 +176,11 @@ def pair_persistence(v, s, converged, vzero, accel, rest_length):
             return 0.0      # another contact of the pair, not this one turning back
         return PP_CHATTER
     return 0.0
+
+
+#: a pair released from persistent contact (``codes.PR_REL``: its contact lifted at a
+#: tangency of order three) is searched from the first offset ``REL_S0 T 2^k`` (T =
+#: sqrt(R / |a_rel|), or R / |v_rel|; R the sum of the radii) where its gap exceeds gap_tol
+#: and grows: searched from a gap of zero, the conservative advancement would crawl
+#: (dimensionless; a re-contact within that offset of the release is not seen)
+REL_S0 = 1e-7

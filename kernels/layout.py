@@ -27,3 +27,22 @@ M_AUX = 3       # 2D: face vertex 1, or the held contact's status (0 stick, +-1 
 M_PLANE2 = 4    # 2D: the second plane of a body held on two planes (PM_PIVOT), else -1
 M_FEAT2 = 5     # 2D: the vertex held on M_PLANE2
 N_PM = 6        # pm columns (3D uses the first four)
+
+# cid header of a persistent body-body contact (a cluster; stepper2d with cluster2d,
+# stepper3d with cluster3d): cid[CL_HDR:] holds the stepper index of each cluster row, then
+# the stepper source of each contact row (a plane p >= 0, or -2 - q for pair q)
+CL_N = 0         # members (0: no cluster)
+CL_NK = 1        # active contacts
+CL_NC = 2        # candidates
+CL_EV = 3        # event pending at the leader's ttr (the cluster kernel's CE_*)
+CL_IDX = 4       # its index
+CL_LEAD = 5      # the leader (stepper body index), -1
+CL_FROZEN = 6    # 1: at rest (frozen)
+CL_PEND = 7      # pair whose impacts accumulate (enter a cluster at the next pass), -1
+CL_CHAT = 8      # consecutive mode events closer than CL_CHAT_RTOL T (stick-slip chatter)
+CL_HDR = 10
+CL_CHAT_RTOL = 1e-6
+"""Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
+CL_CHAT_MAX = 50
+"""Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
+NCAND = 16       # candidate contact rows of a cluster

@@ -177,6 +177,8 @@ guard(__name__, __file__)
 from . import evbuf
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
+from .layout import (CL_CHAT, CL_CHAT_MAX, CL_CHAT_RTOL, CL_EV, CL_FROZEN, CL_HDR,  # noqa: F401
+                     CL_IDX, CL_LEAD, CL_N, CL_NC, CL_NK, CL_PEND, NCAND)
 from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M_MODE,  # noqa: F401
                      M_PLANE, M_PLANE2, N_PM)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
@@ -192,7 +194,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
-from .decisions import (PAIR_VN_RTOL, accumulation_time, impacts_before_rest,  # noqa: F401
+from .decisions import (PAIR_VN_RTOL, REL_S0, accumulation_time, impacts_before_rest,  # noqa: F401
                         pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
                         touching_accel, touching_rate)
 from .dispatch import resolve_2d_as
@@ -823,11 +825,6 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
-
-
-REL_S0 = 1e-7
-"""First offset (in units of sqrt(R / |g|)) of the search of a pair of disks released from
-persistent contact (``_released_pair_s0``; doubled until the gap opens)."""
 
 
 @_inner
@@ -3041,21 +3038,6 @@ def _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark, seg, cnt, tmp, er
 # contacts in the instant's impact cluster with the closing one; the persistence rule then
 # re-enters it), rest (CS_REST: frozen, velocities zero, until a body outside hits it:
 # then it dissolves into the instant as at CE_GAP).
-CL_N = 0         # members (0: no cluster)
-CL_NK = 1        # active contacts
-CL_NC = 2        # candidates
-CL_EV = 3        # event pending at the leader's ttr (cluster2d.CE_*)
-CL_IDX = 4       # its index
-CL_LEAD = 5      # the leader (stepper body index), -1
-CL_FROZEN = 6    # 1: at rest (frozen)
-CL_PEND = 7      # pair whose impacts accumulate (enter a cluster at the next pass), -1
-CL_CHAT = 8      # consecutive mode events closer than CL_CHAT_RTOL T (stick-slip chatter)
-CL_HDR = 10
-CL_CHAT_RTOL = 1e-6
-"""Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
-CL_CHAT_MAX = 50
-"""Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
-NCAND = 16       # candidate rows
 
 
 def cluster_sizes(nb):

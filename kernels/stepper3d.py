@@ -124,17 +124,25 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   about the normal, or sliding): the body is snapped onto the face as above; when the
   energy removed exceeds the accumulation threshold (its spin) the event is "capture"
   (``capture=True``, the default) -- a spinning box on a face has no closed form here --
-  else the run fails (``capture=False``: ``ERR_CHATTER``). Sphere pairs whose impacts
-  accumulate also end with ``ERR_CHATTER``.
+  else the run fails (``capture=False``: ``ERR_CHATTER``).
+* Two spheres whose impacts accumulate (after an impact of the pair its re-contact is
+  within a rise of rest_length, ``decisions.pair_persistence``; or the accumulation rule at
+  the instant): persistent contact, ``PM_CLUSTER`` (``kernels/cluster3d.py``, issue 16
+  item 2; stepper2d's design): the spheres touching them and their planes are integrated
+  together, with stick, slip and lift-off of every contact, until the cluster dissolves
+  (its last sphere-sphere contact lifts: each sphere settles on its plane or flies), an
+  outside gap closes (an impact at that instant with the cluster's contacts), or it rests
+  (frozen until hit). See "Persistent sphere contact" below the instant's code.
 
 Body pairs of other shapes than two spheres (issue 16; the switch ``pgen``): the time of
 impact of ``pair3d_toi`` from both rows at the search's start, no further than either
 body's next scheduled event (``_general_pair``); the contact points of
 ``pair3d_manifold`` at the impact (``_pair_contacts``), in the instant's clusters with the
 plane contacts. After an impact of the pair its next search decides whether the bodies
-stay in contact (``decisions.pair_persistence``, shared with 2D): persistent body-body
-contact is not built, so ``ERR_PERSISTENT_PAIR`` names the pair (``codes.PP_*`` reason),
-as it does when a body held by an integrated contact has such a partner.
+stay in contact (``decisions.pair_persistence``, shared with 2D): persistent contact
+between such bodies is not built, so ``ERR_PERSISTENT_PAIR`` names the pair
+(``codes.PP_*`` reason), as it does when a body held by an integrated contact or in a
+moving cluster has such a partner.
 """
 import functools
 import math
@@ -151,8 +159,9 @@ from . import evbuf
 from .joint_polish import polish as joint_polish, stick_sets
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
-from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, M_AUX, M_FEAT, M_MODE,
-                     M_PLANE)
+from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, CL_CHAT, CL_CHAT_MAX,
+                     CL_CHAT_RTOL, CL_EV, CL_FROZEN, CL_HDR, CL_IDX, CL_LEAD, CL_N, CL_NC,
+                     CL_NK, CL_PEND, M_AUX, M_FEAT, M_MODE, M_PLANE, NCAND)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PGS, ERR_ROT, ERR_SEQ, ERR_STALL, ERR_TIPPING,
@@ -162,10 +171,11 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    FEATURES, FEATURE_JOINT, FEATURE_PAIR, FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT,
                    PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED, POL_SIMULTANEOUS, RC_BUFFER_FULL, RC_DONE,
                    RC_MAX_EVENTS, ERR_PERSISTENT_PAIR, PP_CHATTER, PP_HELD,  # noqa: F401
-                   PP_TOGETHER,
-                   PR_CHECK, PR_HIT, PR_OFF, PR_ON)
+                   PP_TOGETHER, PM_CLUSTER, PP_CLUSTER, PP_NO_MODE, PP_SHAPES, PP_SPLIT,
+                   PP_STICK_SLIP, PP_TWO, PR_CHECK, PR_HIT, PR_OFF, PR_ON, PR_REL)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, P_TOL, REST_POISSON, spd3_solve
-from .decisions import (accumulation_time, impacts_before_rest, pair_accel_bound,
+from . import cluster3d as cl
+from .decisions import (REL_S0, accumulation_time, impacts_before_rest, pair_accel_bound,
                         pair_persistence, pair_zero_speed, perforates, touching_accel,
                         touching_rate)
 from .dispatch import resolve_3d_as
@@ -346,8 +356,9 @@ def event_margin(toli, nb):
 
 
 def segment_margin(nb):
-    """Free segment rows the loop needs before it handles one more instant (evbuf)."""
-    return int(evbuf.segment_margin_py(MAXC, nb))
+    """Free segment rows the loop needs before it handles one more instant (evbuf), plus
+    the pieces of one cluster pass (``cluster3d.PIECE_BUDGET``)."""
+    return int(evbuf.segment_margin_py(MAXC, nb)) + cl.PIECE_BUDGET
 
 
 # ------------------------------------------------------------------ small helpers
@@ -782,21 +793,39 @@ def _centre_motion(st, tref, i, t, tz, zp, planes):
 
 @njit(cache=True)
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr,
-                    bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err):
+                    bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err, cid):
     """Next impact time of body pair q (states at t_now). Two spheres: closed form
-    (``toi3d.sphere_sphere_toi``, over the rest of the run); any other pair of shapes
-    (``pgen``: the general pair switch, True, or None in a loop compiled for sphere pairs
-    only): ``_general_pair``."""
+    (``toi3d.sphere_sphere_toi``, over the rest of the run); right after an impact of the
+    pair (``PR_HIT``) its re-contact is checked by ``decisions.pair_persistence``: impacts
+    that accumulate mark the pair for persistent contact (``cid[CL_PEND]``, a cluster at
+    the next pass); a pair just released from it (``PR_REL``) is searched past the
+    tangency (``_released_s0``). Any other pair of shapes (``pgen``: the general pair
+    switch, True, or None in a loop compiled for sphere pairs only): ``_general_pair``.
+    A pair inside the cluster is its contact or candidate (no search); a pair with one
+    body in a moving cluster has no closed-form motion to search (``PP_HELD``); a frozen
+    cluster's bodies are at rest."""
     if pr_off[q] == PR_OFF:
         pr_t[q] = INF
         return 0
     a = pairs[q, 0]
     b = pairs[q, 1]
+    ina = pm[a, M_MODE] == PM_CLUSTER
+    inb = pm[b, M_MODE] == PM_CLUSTER
+    if ina and inb:
+        pr_t[q] = INF
+        return 0
+    if (ina or inb) and cid[CL_FROZEN] == 0:
+        i = a if ina else b
+        _set_err(err, t_now, a, b, st[i, SX], st[i, SX + 1], st[i, SX + 2], PP_HELD, float(i),
+                 0.0)
+        return ERR_PERSISTENT_PAIR
     if not (bint[a, B_KIND] == SH_SPHERE and bint[b, B_KIND] == SH_SPHERE):
         if pgen is None:    # pruned by type: a loop for sphere pairs compiles no pair3d code
             return _not_compiled(err, t_now, a, FEATURE_PAIR)
         return _general_pair(q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp,
                              ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err)
+    hit = pr_off[q] == PR_HIT
+    rel = pr_off[q] == PR_REL
     pr_off[q] = PR_ON
     xa, ya, za, ua, va, wa, aa, ba, ca = _centre_motion(st, tref, a, t_now, tz, zp, planes)
     xb, yb, zb, ub, vb, wb, ab, bb, cb = _centre_motion(st, tref, b, t_now, tz, zp, planes)
@@ -806,19 +835,81 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, p
     u0 = ua - ub
     u1 = va - vb
     u2 = wa - wb
+    e0 = aa - ab
+    e1 = ba - bb
+    e2 = ca - cb
     R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
+    S = tolf[TF_T_END] - t_now
+    s0 = 0.0
+    if rel:
+        s0 = _released_s0(d0, d1, d2, u0, u1, u2, e0, e1, e2, R, S, tolf[TF_GAP_TOL])
+        h = 0.5 * s0 * s0
+        d0 += u0 * s0 + e0 * h
+        d1 += u1 * s0 + e1 * h
+        d2 += u2 * s0 + e2 * h
+        u0 += e0 * s0
+        u1 += e1 * s0
+        u2 += e2 * s0
     dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
     un = (d0 * u0 + d1 * u1 + d2 * u2) / dist
-    if dist - R <= tolf[TF_GAP_TOL] and un != 0.0 and touching_rate(un, math.sqrt(
-            ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)) == 0.0:
+    sp = math.sqrt(ua * ua + va * va + wa * wa) + math.sqrt(ub * ub + vb * vb + wb * wb)
+    v = un
+    if dist - R <= tolf[TF_GAP_TOL] and un != 0.0 and touching_rate(un, sp) == 0.0:
         # touching at a normal rate that is round-off: zero (decisions.TOUCH_RTOL)
         u0 -= un * d0 / dist
         u1 -= un * d1 / dist
         u2 -= un * d2 / dist
-    s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, aa - ab, ba - bb, ca - cb, R, t_now,
-                                tolf[TF_T_END] - t_now, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL],
-                                tolf[TF_GAP_TOL], toli[TI_TOI_MAXIT])
+    s, code = sphere_sphere_toi(d0, d1, d2, u0, u1, u2, e0, e1, e2, R, t_now + s0, S - s0,
+                                tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                                toli[TI_TOI_MAXIT])
+    s += s0
+    if hit and code == TOI_OK and s < INF:
+        # the pair's re-contact rule (stepper2d's): a re-contact within a rise of
+        # rest_length (s = 0: a round-off approach left by a plastic impact) is the spheres
+        # staying in contact (one contact only: no other contact of the pair to tell apart,
+        # so no bound of g'')
+        sp += (bflt[a, B_RADIUS] * math.sqrt(st[a, SW] ** 2 + st[a, SW + 1] ** 2
+                                             + st[a, SW + 2] ** 2)
+               + bflt[b, B_RADIUS] * math.sqrt(st[b, SW] ** 2 + st[b, SW + 1] ** 2
+                                               + st[b, SW + 2] ** 2))
+        vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL])
+        if pair_persistence(v, s, True, vz, INF, tolf[TF_REST_LENGTH]) == PP_CHATTER:
+            if cid[CL_PEND] < 0 or cid[CL_PEND] == q:
+                cid[CL_PEND] = q
+                pr_t[q] = INF
+                return 0
+            _set_err(err, t_now, a, b, xb + bflt[b, B_RADIUS] * d0 / dist,
+                     yb + bflt[b, B_RADIUS] * d1 / dist, zb + bflt[b, B_RADIUS] * d2 / dist,
+                     PP_CHATTER, v, s)
+            return ERR_PERSISTENT_PAIR
     return _pair_found(q, a, b, t_now, s, code, st, pr_t, err)
+
+
+@njit(cache=True)
+def _released_s0(d0, d1, d2, u0, u1, u2, e0, e1, e2, R, S, gtol):
+    """Offset s0 (s) from which to search a pair of spheres just released from persistent
+    contact (relative centre offset d, velocity u, acceleration e at the release; R the sum
+    of the radii): the first of ``REL_S0 T 2^k`` (``T = sqrt(R / |e|)``, or R / |u|) where
+    the gap exceeds gap_tol and grows, at most S (``decisions.REL_S0``)."""
+    ea = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+    ua = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    T = math.sqrt(R / ea) if ea > 0.0 else (R / ua if ua > 0.0 else S)
+    s = REL_S0 * T
+    for _ in range(60):
+        if s >= S:
+            return S
+        h = 0.5 * s * s
+        x0 = d0 + u0 * s + e0 * h
+        x1 = d1 + u1 * s + e1 * h
+        x2 = d2 + u2 * s + e2 * h
+        w0 = u0 + e0 * s
+        w1 = u1 + e1 * s
+        w2 = u2 + e2 * s
+        if (math.sqrt(x0 * x0 + x1 * x1 + x2 * x2) - R > gtol
+                and x0 * w0 + x1 * w1 + x2 * w2 > 0.0):
+            return s
+        s *= 2.0
+    return s
 
 
 @njit(cache=True, inline="always")
@@ -1156,7 +1247,11 @@ def _recompute_motion(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
                       bp_off, ws, tolf, toli, skip, pose, err, ttr, pk, pv, pw, fw, ybuf, vals,
                       vals0, vfl, hrow, pivot):
     """The candidate events of body i's own motion (state at t_now): its planes, or its
-    integrated contact's events. ``pivot``: feature switch."""
+    integrated contact's events (none for a cluster member: its cluster's). ``pivot``:
+    feature switch."""
+    if pm[i, M_MODE] == PM_CLUSTER:
+        bt[i] = INF
+        return 0
     if pm[i, M_MODE] == PM_PIVOT:
         if pivot is None:
             return _not_compiled(err, t_now, i, FEATURE_PIVOT)
@@ -1169,7 +1264,7 @@ def _recompute_motion(i, t_now, st, tref, bint, bflt, feats, planes, pm, tz, zp,
 @njit(cache=True)
 def _recompute_pairs(t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr, bt,
                      pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, bmark, err, pair,
-                     pgen):
+                     pgen, cid):
     """Recompute every pair with a marked body (``bmark``), after the planes of every
     marked body (a general pair's search stops at either body's next scheduled event).
     ``pair``, ``pgen``: feature switches (any pair; pairs of other shapes than spheres)."""
@@ -1180,7 +1275,7 @@ def _recompute_pairs(t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz, z
             return _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
         rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, planes, grav, pairs, pm, tz,
                              zp, ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe,
-                             err)
+                             err, cid)
         if rc < 0:
             return rc
     return 0
@@ -3706,7 +3801,7 @@ def _sequential(law, members, K, t, st, bflt, law_ids, law_par, c_i, c_f, v3, W3
 def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, tolf, toli,
              st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
              pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_f, skip, pose, fw, ybuf,
-             vals, vals0, vfl, pscr, pfe, err, pair, pgen):
+             vals, vals0, vfl, pscr, pfe, cid, err, pair, pgen):
     """Start a run at glob[0]: settle bodies that start resting on a plane, log the first
     trajectory segments and compute every candidate event (``pair``, ``pgen``: feature
     switches, see ``run_loop``)."""
@@ -3755,7 +3850,8 @@ def init_run(bint, bflt, feats, planes, grav, law_ids, law_par, bp_law, pairs, t
         if pair is None:
             return _not_compiled(err, t, pairs[q, 0], FEATURE_PAIR)
         rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp,
-                             ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err)
+                             ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe, err,
+                             cid)
         if rc < 0:
             return rc
     return 0
@@ -3868,9 +3964,14 @@ def _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, 
 @njit(cache=True)
 def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law, pm, ttr,
                   tz, zp, bp_off, c_i, c_f, tolf, capture_on, pv, fw, ev_t, ev_i, ev_f, cnt,
-                  Ii, err, toli, pivot):
+                  Ii, err, toli, pivot, pairs, cid):
     """Body i (in flight) took part in the impacts at t: schedule an accumulation point,
-    enter integrated point/edge contact, snap onto a face, or leave it in flight."""
+    enter integrated point/edge contact, snap onto a face, or leave it in flight. Two
+    spheres whose impacts accumulate are marked for persistent contact (``cid[CL_PEND]``:
+    a cluster at the next pass)."""
+    q = cid[CL_PEND]
+    if q >= 0 and (pairs[q, 0] == i or pairs[q, 1] == i):
+        return 0    # it enters persistent contact with its pair (a cluster, run_loop)
     cw = MAXC - 1
     # accumulation of bounces on a face (Zeno): excess energy below the threshold
     for c in range(nc):
@@ -3992,8 +4093,10 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                          0.0)
                 return ERR_CHATTER
             return rc
-    # sphere pairs (and anything else) accumulating: not supported (a pair of other shapes
-    # is checked by its next search, decisions.pair_persistence)
+    # sphere pairs accumulating: persistent contact (a cluster of them, their planes and the
+    # spheres touching them, entered at the next pass of run_loop); anything else is not
+    # supported (a pair of other shapes is checked by its next search,
+    # decisions.pair_persistence)
     for c in range(nc):
         if c_i[c, CI_A] != i and not (c_i[c, CI_TYPE] == 1 and c_i[c, CI_B] == i):
             continue
@@ -4005,10 +4108,623 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         vN, v1, v2 = _contact_velocity(st, c_i, c_f, c)
         acc = _gap_accel(st, bflt, c_i, c_f, c)
         if acc < 0.0 and vN * vN < _vz2(tolf, -acc):
+            if c_i[c, CI_TYPE] == 1 and cid[CL_PEND] < 0:
+                for q in range(pairs.shape[0]):
+                    if ((pairs[q, 0] == c_i[c, CI_A] and pairs[q, 1] == c_i[c, CI_B])
+                            or (pairs[q, 1] == c_i[c, CI_A] and pairs[q, 0] == c_i[c, CI_B])):
+                        cid[CL_PEND] = q
+                        return 0
             _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
                      c_f[c, CF_P + 2], vN, acc, 0.0)
             return ERR_CHATTER
     return 0
+
+
+# ------------------------------------------------------------------ persistent sphere contact
+
+
+# Persistent contact between spheres (issue 16 item 2, PM_CLUSTER; stepper2d's design,
+# integrated by kernels/cluster3d.py): when the impacts of a pair of spheres accumulate
+# (after an impact of the pair its re-contact is within a rise of rest_length,
+# decisions.pair_persistence: PP_CHATTER; or at the instant, _after_impact's accumulation
+# rule), the pair is marked (cid[CL_PEND]) and at the next pass enters a *cluster*
+# (_cluster_enter): the spheres connected to it through sphere-sphere contacts within
+# gap_tol and their planes within gap_tol, projected onto g = dg/dt = 0 with consistent
+# modes (cluster3d.cluster_select_modes). One cluster at a time, stored in cbod (its body
+# rows, cluster3d.CB_*), ccon (cluster3d.KMAX active contact rows, then NCAND candidates),
+# cwk (cluster3d's la, then its w, then two spare slots: the last the time of the last
+# mode event) and cid (header layout.CL_*). Its leader (the first member) carries the next
+# pass in ttr (_cluster_pass: cluster_advance to its first event, recorded as segments
+# with constant accelerations, which flight3d.pose_at replays); every member is
+# PM_CLUSTER (its plane and pair searches are off; a pair with a body outside a moving
+# cluster is refused, PP_HELD). Events: a contact leaving (CE_LEAVE: it becomes a
+# candidate; with no sphere-sphere contact left the cluster dissolves, each member
+# settling on a plane it still touches (_settle) or flying), stick/slip (CE_SLIP,
+# CE_STOP: cluster_after_event), a candidate gap closing (CE_GAP: the cluster dissolves
+# into flight at that instant, its active contacts in the instant's impact cluster with
+# the closing one; the persistence rule then enters it again), rest (CS_REST: frozen,
+# velocities zero, until a body outside hits it: then it dissolves into the instant as at
+# CE_GAP). Requires spherical inertia (PP_SHAPES otherwise).
+
+
+def cluster_sizes(nb):
+    """``(cbod shape, ccon shape, cwk size, cid size)`` of a scene of nb bodies (cwk: la,
+    w, the modes of the active contacts before a mode event (cluster3d.KMAX), a spare slot
+    and the time of the last mode event)."""
+    return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC),
+            cl.N_LA + int(cl.work_size(nb, NCAND)) + cl.KMAX + 2,
+            CL_HDR + nb + cl.KMAX + NCAND)
+
+
+@njit(cache=True, inline="always")
+def _cl_scale(cid, bflt):
+    """The cluster's length scale L (m): the sum of its members' diameters."""
+    L = 0.0
+    for r in range(cid[CL_N]):
+        L += 2.0 * bflt[cid[CL_HDR + r], B_RADIUS]
+    return L
+
+
+@njit(cache=True)
+def _cl_row(ccon, cid, nb, k, kind, a, b, nx, ny, nz, d, mu, src):
+    """Fill contact row k of ccon (a plane: its normal and offset; its stepper source
+    ``src`` into cid)."""
+    for j in range(cl.N_CC):
+        ccon[k, j] = 0.0
+    ccon[k, cl.CC_KIND] = kind
+    ccon[k, cl.CC_A] = a
+    ccon[k, cl.CC_B] = b
+    ccon[k, cl.CC_NX] = nx
+    ccon[k, cl.CC_NX + 1] = ny
+    ccon[k, cl.CC_NX + 2] = nz
+    ccon[k, cl.CC_D] = d
+    ccon[k, cl.CC_MU] = mu
+    ccon[k, cl.CC_MODE] = cl.MODE_SLIP  # until chosen: the entry's projection keeps slips
+    cid[CL_HDR + nb + k] = src
+
+
+@njit(cache=True, inline="always")
+def _cl_copy(ccon, cid, nb, dst, src):
+    for j in range(cl.N_CC):
+        ccon[dst, j] = ccon[src, j]
+    cid[CL_HDR + nb + dst] = cid[CL_HDR + nb + src]
+
+
+@njit(cache=True)
+def _cl_lift(ccon, cid, nb, k):
+    """Move active contact k to the candidates. Returns 0 or -1 (no candidate row left)."""
+    nk = cid[CL_NK]
+    nc = cid[CL_NC]
+    if nc >= NCAND:
+        return -1
+    _cl_copy(ccon, cid, nb, cl.KMAX + nc, k)
+    cid[CL_NC] = nc + 1
+    if k != nk - 1:
+        _cl_copy(ccon, cid, nb, k, nk - 1)
+    cid[CL_NK] = nk - 1
+    return 0
+
+
+@njit(cache=True, inline="always")
+def _cl_pairs_left(ccon, cid):
+    """Active sphere-sphere contacts of the cluster."""
+    c = 0
+    for k in range(cid[CL_NK]):
+        if ccon[k, cl.CC_KIND] != cl.KIND_PLANE:
+            c += 1
+    return c
+
+
+@njit(cache=True)
+def _cl_refuse(err, t, a, b, st, why, x1, x2):
+    """A named refusal of persistent sphere contact (``ERR_PERSISTENT_PAIR``, reason
+    ``why``, a ``PP_*``)."""
+    _set_err(err, t, a, b, st[a, SX], st[a, SX + 1], st[a, SX + 2], why, x1, x2)
+    return ERR_PERSISTENT_PAIR
+
+
+@njit(cache=True, inline="always")
+def _cl_energy(st, bflt, grav, cid):
+    e = 0.0
+    for r in range(cid[CL_N]):
+        e += _energy(st, bflt, grav, cid[CL_HDR + r])
+    return e
+
+
+@njit(cache=True)
+def _cl_log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, n, c_f, cw, st, bflt, ccon, k, dE):
+    """Log event ``kind`` of cluster contact row k between sphere a and sphere b (or plane
+    -1 - b): its point ``x_a - r_a n`` and frame into row cw of c_f, the contact force (N;
+    normal, t1, t2) in the impulse slots."""
+    if ccon[k, cl.CC_KIND] == cl.KIND_PLANE:
+        nx = ccon[k, cl.CC_NX]
+        ny = ccon[k, cl.CC_NX + 1]
+        nz = ccon[k, cl.CC_NX + 2]
+    else:
+        dx = st[a, SX] - st[b, SX]
+        dy = st[a, SX + 1] - st[b, SX + 1]
+        dz = st[a, SX + 2] - st[b, SX + 2]
+        dd = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx = dx / dd
+        ny = dy / dd
+        nz = dz / dd
+    _frame(c_f, cw, nx, ny, nz)
+    r = bflt[a, B_RADIUS]
+    for j in range(3):
+        c_f[cw, CF_P + j] = st[a, SX + j] - r * c_f[cw, CF_N + j]
+    T1 = 0.0
+    T2 = 0.0
+    for j in range(3):
+        T1 += ccon[k, cl.CC_TX + j] * c_f[cw, CF_T1 + j]
+        T2 += ccon[k, cl.CC_TX + j] * c_f[cw, CF_T2 + j]
+    _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, PM_CLUSTER, n, c_f, cw, 0.0, 0.0, 0.0, 0.0,
+         0.0, 0.0, ccon[k, cl.CC_LAMN], T1, T2, dE)
+
+
+@njit(cache=True)
+def _cl_member_to(i, t, st, tref, bint, bflt, planes, grav, tz, zp, ws, tolf, toli, pose, pm,
+                  pv, pw, fw, err):
+    """Bring sphere i to t for a cluster (a pending accumulation jump is cancelled: its held
+    motion, as the impact step does). Returns 0 or an error code."""
+    if tz[i] < INF:
+        p = zp[i]
+        _held_into(st[i], bint[i, B_KIND], planes[p, 0], planes[p, 1], planes[p, 2], st[i])
+        ws[i, WS_MODE] = -1.0
+        tz[i] = INF
+    rc = _bring(i, t, st, tref, bint, bflt, ws, tolf, toli, pose, pm, pv, pw, fw, err)
+    if rc < 0:
+        return rc
+    for j in range(3):
+        st[i, SA + j] = grav[j]
+        st[i, SAL + j] = 0.0
+    return 0
+
+
+@njit(cache=True)
+def _cluster_enter(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, bp_off, pairs,
+                   pr_off, pr_t, pm, tz, zp, ttr, bt, ws, tolf, toli, pose, pv, pw, fw, cbod,
+                   ccon, cwk, cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f, err):
+    """Enter persistent contact for pair ``cid[CL_PEND]`` (its impacts accumulate at t):
+    gather the cluster, project it onto g = dg/dt = 0, select the modes
+    (``cluster3d.cluster_select_modes``) and schedule its first pass at t. The members are
+    marked (``bmark``). Returns 0 (a cluster, or none when every sphere-sphere contact
+    lifts: the members fly or settle) or an error code (a named refusal,
+    ``ERR_PERSISTENT_PAIR``)."""
+    nb = st.shape[0]
+    q = cid[CL_PEND]
+    cid[CL_PEND] = -1
+    a = pairs[q, 0]
+    b = pairs[q, 1]
+    if cid[CL_N] > 0:
+        return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
+    gtol = tolf[TF_GAP_TOL]
+    # members: the spheres connected through sphere-sphere contacts within gap_tol at t
+    cid[CL_HDR] = a
+    cid[CL_HDR + 1] = b
+    n = 2
+    head = 0
+    while head < n:
+        i = cid[CL_HDR + head]
+        head += 1
+        if bint[i, B_KIND] != SH_SPHERE or bint[i, B_ROT] != ROT_SPHERICAL:
+            return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(i), 0.0)
+        if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
+            return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
+        rc = _cl_member_to(i, t, st, tref, bint, bflt, planes, grav, tz, zp, ws, tolf, toli,
+                           pose, pm, pv, pw, fw, err)
+        if rc < 0:
+            return rc
+        for q2 in range(pairs.shape[0]):
+            if pr_off[q2] == PR_OFF:
+                continue
+            j = -1
+            if pairs[q2, 0] == i:
+                j = pairs[q2, 1]
+            elif pairs[q2, 1] == i:
+                j = pairs[q2, 0]
+            if j < 0 or bint[j, B_KIND] != SH_SPHERE or pm[j, M_MODE] == PM_PIVOT:
+                continue
+            known = False
+            for r in range(n):
+                if cid[CL_HDR + r] == j:
+                    known = True
+            if known:
+                continue
+            xj, yj, zj, u0, u1, u2, a0, a1, a2 = _centre_motion(st, tref, j, t, tz, zp, planes)
+            g = (math.sqrt((xj - st[i, SX]) ** 2 + (yj - st[i, SX + 1]) ** 2
+                           + (zj - st[i, SX + 2]) ** 2) - bflt[i, B_RADIUS] - bflt[j, B_RADIUS])
+            if g <= gtol and n < nb:
+                cid[CL_HDR + n] = j
+                n += 1
+    cid[CL_N] = n
+    ids = cid[CL_HDR:CL_HDR + n]
+    for r in range(n):
+        i = ids[r]
+        for j in range(cl.NS):
+            cbod[r, j] = st[i, j]
+        cbod[r, cl.CB_M] = bflt[i, B_MASS]
+        cbod[r, cl.CB_I] = bflt[i, B_I1]
+        cbod[r, cl.CB_R] = bflt[i, B_RADIUS]
+        cbod[r, cl.CB_FIXED] = 0.0
+    # contacts (active within gap_tol) and candidates: the pairs among the members, then
+    # the members' planes
+    nk = 0
+    nc = 0
+    for q2 in range(pairs.shape[0]):
+        if pr_off[q2] == PR_OFF:
+            continue
+        ra = -1
+        rb = -1
+        for r in range(n):
+            if ids[r] == pairs[q2, 0]:
+                ra = r
+            if ids[r] == pairs[q2, 1]:
+                rb = r
+        if ra < 0 or rb < 0:
+            continue
+        i = pairs[q2, 0]
+        j = pairs[q2, 1]
+        g = (math.sqrt((st[i, SX] - st[j, SX]) ** 2 + (st[i, SX + 1] - st[j, SX + 1]) ** 2
+                       + (st[i, SX + 2] - st[j, SX + 2]) ** 2)
+             - bflt[i, B_RADIUS] - bflt[j, B_RADIUS])
+        k = nk if g <= gtol else cl.KMAX + nc
+        if (g <= gtol and nk >= cl.KSEL_MAX) or (g > gtol and nc >= NCAND):
+            cid[CL_N] = 0
+            return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS),
+                              0.0 if g <= gtol else 1.0)
+        _cl_row(ccon, cid, nb, k, cl.KIND_SPHERE, ra, rb, 0.0, 0.0, 0.0, 0.0,
+                law_par[pairs[q2, 2], P_MU], -2 - q2)
+        if g <= gtol:
+            nk += 1
+        else:
+            nc += 1
+    for r in range(n):
+        i = ids[r]
+        for p in range(planes.shape[0]):
+            if bp_off[i, p] != 0:
+                continue
+            g = (planes[p, 0] * st[i, SX] + planes[p, 1] * st[i, SX + 1]
+                 + planes[p, 2] * st[i, SX + 2] - planes[p, 3] - bflt[i, B_RADIUS])
+            k = nk if g <= gtol else cl.KMAX + nc
+            if (g <= gtol and nk >= cl.KSEL_MAX) or (g > gtol and nc >= NCAND):
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 0.0 if g <= gtol else 1.0)
+            _cl_row(ccon, cid, nb, k, cl.KIND_PLANE, r, -1, planes[p, 0], planes[p, 1],
+                    planes[p, 2], planes[p, 3], law_par[bp_law[i, p], P_MU], p)
+            if g <= gtol:
+                nk += 1
+            else:
+                nc += 1
+    cid[CL_NK] = nk
+    cid[CL_NC] = nc
+    e0 = _cl_energy(st, bflt, grav, cid)
+    L = _cl_scale(cid, bflt)
+    la = cwk[:cl.N_LA]
+    w = cwk[cl.N_LA:]
+    bod = cbod[:n]
+    con = ccon[:cl.KMAX]
+    cs = cl.cluster_project(bod, con, nk, grav[0], grav[1], grav[2], L, w, la)
+    if cs == cl.CS_OK:
+        cs = cl.cluster_select_modes(bod, con, nk, grav[0], grav[1], grav[2], L, w, la)
+    if cs != cl.CS_OK:
+        cid[CL_N] = 0
+        return _cl_refuse(err, t, a, b, st, PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                          float(cs), 0.0)
+    k = 0
+    while k < cid[CL_NK]:
+        if ccon[k, cl.CC_MODE] == cl.MODE_LIFT:
+            src = cid[CL_HDR + nb + k]
+            if src < 0:
+                pr_off[-2 - src] = PR_REL
+            if _cl_lift(ccon, cid, nb, k) < 0:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+        else:
+            k += 1
+    for r in range(n):
+        i = ids[r]
+        for j in range(cl.NS):
+            st[i, j] = cbod[r, j]
+        for j in range(3):
+            st[i, SA + j] = 0.0
+            st[i, SAL + j] = 0.0
+        pm[i, M_MODE] = PM_CLUSTER
+        pm[i, M_AUX] = 0
+        tz[i] = INF
+        ttr[i] = INF
+        bt[i] = INF
+        ws[i, WS_MODE] = -1.0
+    for q2 in range(pairs.shape[0]):
+        if pm[pairs[q2, 0], M_MODE] == PM_CLUSTER and pm[pairs[q2, 1], M_MODE] == PM_CLUSTER:
+            pr_t[q2] = INF
+            if pr_off[q2] == PR_HIT:
+                pr_off[q2] = PR_ON
+    cid[CL_LEAD] = ids[0]
+    cid[CL_EV] = cl.CE_NONE
+    cid[CL_FROZEN] = 0
+    cid[CL_CHAT] = 0
+    # the event names the pair's contact (its row, if still active, else row 0)
+    kq = 0
+    for kk in range(cid[CL_NK]):
+        if cid[CL_HDR + nb + kk] == -2 - q:
+            kq = kk
+    _cl_log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, a, b, n, c_f, MAXC - 1, st, bflt, ccon, kq,
+            _cl_energy(st, bflt, grav, cid) - e0)
+    for r in range(n):
+        bmark[ids[r]] = 1
+    if _cl_pairs_left(ccon, cid) == 0:
+        # every sphere-sphere contact lifts at once: no cluster
+        return _cluster_dissolve(True, t, st, tref, bint, bflt, planes, grav, law_par,
+                                 bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i,
+                                 ev_f, seg_t, seg_b, seg_s, cnt, c_f, err)
+    ttr[ids[0]] = t
+    return 0
+
+
+@njit(cache=True)
+def _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark):
+    """The cluster ends at t: every member takes its state from cbod and flies from t
+    (marked); the cluster header is cleared. Returns the number of members."""
+    n = cid[CL_N]
+    for r in range(n):
+        i = cid[CL_HDR + r]
+        for j in range(cl.NS):
+            st[i, j] = cbod[r, j]
+        for j in range(3):
+            st[i, SA + j] = grav[j]
+            st[i, SAL + j] = 0.0
+        tref[i] = t
+        pm[i, M_MODE] = PM_FLIGHT
+        pm[i, M_AUX] = 0
+        tz[i] = INF
+        ttr[i] = INF
+        bmark[i] = 1
+    cid[CL_N] = 0
+    cid[CL_LEAD] = -1
+    cid[CL_EV] = cl.CE_NONE
+    cid[CL_FROZEN] = 0
+    return n
+
+
+@njit(cache=True)
+def _cluster_dissolve(settle, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, tz,
+                      ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s,
+                      cnt, c_f, err):
+    """End the cluster at t (states in cbod): every member flies from t, or (``settle``)
+    settles on a plane it still touches through an active contact (``_settle``: rest, roll
+    or slide on it; the loop integrates a slide across a slope). Members marked; their
+    segments are recorded by the caller. Returns 0 or an error code."""
+    n = _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
+    nb = st.shape[0]
+    for r in range(n):
+        i = cid[CL_HDR + r]
+        if settle:
+            for k in range(cid[CL_NK]):
+                if (ccon[k, cl.CC_KIND] == cl.KIND_PLANE and int(ccon[k, cl.CC_A]) == r
+                        and pm[i, M_MODE] == PM_FLIGHT):
+                    p = cid[CL_HDR + nb + k]
+                    rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm,
+                                 ttr, False, ev_t, ev_i, ev_f, cnt, c_f, MAXC - 1, tolf, err)
+                    if rc < 0:
+                        return rc
+                    if rc != 0:     # no rest there: it flies
+                        pm[i, M_MODE] = PM_FLIGHT
+                        for j in range(3):
+                            st[i, SA + j] = grav[j]
+                            st[i, SAL + j] = 0.0
+                        ttr[i] = INF
+        if not _finite(st, i):
+            _set_err(err, t, i, 0, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE
+    return 0
+
+
+@njit(cache=True)
+def _cluster_to_instant(t, extra, st, tref, grav, pm, tz, ttr, bt, bpl, bft, pr_t, cbod, ccon,
+                        cid, bmark):
+    """The cluster dissolves into flight at t for an impact there: every member is due at t
+    (``bt``), its plane contacts (and candidate ``extra`` >= 0, the closing one, named by
+    ``bpl``/``bft``) and its pairs' (``pr_t``) in the instant, so that the impact step
+    resolves them in one cluster (the closing contact with the held ones at v_N = 0)."""
+    nb = st.shape[0]
+    nk = cid[CL_NK]
+    for r in range(cid[CL_N]):
+        i = cid[CL_HDR + r]
+        bt[i] = t
+        bpl[i] = -1
+        bft[i] = -1
+    for kk in range(nk + 1):
+        k = kk
+        if kk == nk:
+            if extra < 0:
+                break
+            k = cl.KMAX + extra
+        src = cid[CL_HDR + nb + k]
+        if src >= 0:
+            i = cid[CL_HDR + int(ccon[k, cl.CC_A])]
+            if bpl[i] < 0 or kk == nk:
+                bpl[i] = src
+                bft[i] = 0
+        else:
+            pr_t[-2 - src] = t
+    _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
+
+
+@njit(cache=True)
+def _cluster_pass(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, tz, ttr, bt, bpl,
+                  bft, pr_t, pr_off, tolf, cbod, ccon, cwk, cid, bmark, ev_t, ev_i, ev_f, seg_t,
+                  seg_b, seg_s, cnt, c_f, err):
+    """The cluster's event due at t (its leader's ttr), then its next integration pass
+    (``cluster3d.cluster_advance``, recorded). Returns (rc, action): action 0 a pass ran
+    (members marked), 1 the cluster dissolved or froze (members marked), 2 an impact is
+    pending at t (the impact step)."""
+    nb = st.shape[0]
+    n = cid[CL_N]
+    lead = cid[CL_LEAD]
+    ttr[lead] = INF
+    ev = cid[CL_EV]
+    idx = cid[CL_IDX]
+    cid[CL_EV] = cl.CE_NONE
+    L = _cl_scale(cid, bflt)
+    la = cwk[:cl.N_LA]
+    w = cwk[cl.N_LA:]
+    bod = cbod[:n]
+    con = ccon[:cl.KMAX]
+    cand = ccon[cl.KMAX:]
+    ids = cid[CL_HDR:CL_HDR + n]
+    gx = grav[0]
+    gy = grav[1]
+    gz = grav[2]
+    cw = MAXC - 1
+    if ev == cl.CE_GAP:
+        _cluster_to_instant(t, idx, st, tref, grav, pm, tz, ttr, bt, bpl, bft, pr_t, cbod,
+                            ccon, cid, bmark)
+        return 0, 2
+    if ev == cl.CE_LEAVE or ev == cl.CE_SLIP or ev == cl.CE_STOP:
+        k = idx
+        a = ids[int(ccon[k, cl.CC_A])]
+        src = cid[CL_HDR + nb + k]
+        b = -1 - src if src >= 0 else ids[int(ccon[k, cl.CC_B])]
+        # stick-slip chatter: mode events closer than CL_CHAT_RTOL T apart (T =
+        # sqrt(L / |g|)); from the third, the modes of every contact are chosen again;
+        # CL_CHAT_MAX of them: refused (stepper2d's rule)
+        gl = math.sqrt(gx * gx + gy * gy + gz * gz)
+        vmax = 0.0
+        for r in range(n):
+            vmax = max(vmax, math.sqrt(bod[r, cl.CB_VX] ** 2 + bod[r, cl.CB_VX + 1] ** 2
+                                       + bod[r, cl.CB_VX + 2] ** 2))
+        T = math.sqrt(L / gl) if gl > 0.0 else L / max(vmax, 1e-300)
+        ti = cwk.shape[0] - 1
+        if cid[CL_CHAT] > 0 and t - cwk[ti] <= CL_CHAT_RTOL * T:
+            cid[CL_CHAT] += 1
+        else:
+            cid[CL_CHAT] = 1
+        cwk[ti] = t
+        if cid[CL_CHAT] >= CL_CHAT_MAX:
+            return _cl_refuse(err, t, a, b, st, PP_STICK_SLIP, float(cid[CL_CHAT]), t), 0
+        mo = ti - 1 - cl.KMAX       # the modes before the event
+        for kk in range(cid[CL_NK]):
+            cwk[mo + kk] = ccon[kk, cl.CC_MODE]
+        if cid[CL_CHAT] >= 3 and ev != cl.CE_LEAVE:
+            cs = cl.cluster_select_modes(bod, con, cid[CL_NK], gx, gy, gz, L, w, la)
+        else:
+            cs = cl.cluster_after_event(bod, con, cid[CL_NK], ev, k, gx, gy, gz, L, w, la)
+        if cs != cl.CS_OK:
+            return _cl_refuse(err, t, a, b, st,
+                              PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                              float(cs), 0.0), 0
+        mode = ccon[k, cl.CC_MODE]
+        kind = EV_SLIDE
+        if mode == cl.MODE_LIFT:
+            kind = EV_RELEASE
+        elif mode == cl.MODE_STICK:
+            kind = EV_STICK
+        for r in range(n):      # the members' states at t, for the event's point
+            for j in range(cl.NS):
+                st[ids[r], j] = cbod[r, j]
+        _cl_log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, n, c_f, cw, st, bflt, ccon, k, 0.0)
+        # the other contacts whose mode the event changed (a slip stopping with it: stick;
+        # lift-offs are logged below)
+        for kk in range(cid[CL_NK]):
+            mode = ccon[kk, cl.CC_MODE]
+            if kk == k or mode == cwk[mo + kk] or mode == cl.MODE_LIFT:
+                continue
+            src = cid[CL_HDR + nb + kk]
+            _cl_log(ev_t, ev_i, ev_f, cnt, t, EV_STICK if mode == cl.MODE_STICK else EV_SLIDE,
+                    ids[int(ccon[kk, cl.CC_A])],
+                    -1 - src if src >= 0 else ids[int(ccon[kk, cl.CC_B])], n, c_f, cw, st,
+                    bflt, ccon, kk, 0.0)
+        # every contact the new modes lift leaves (the event's own, or a neighbour whose
+        # normal force the new modes would make pulling)
+        lifted = False
+        kk = 0
+        while kk < cid[CL_NK]:
+            if ccon[kk, cl.CC_MODE] != cl.MODE_LIFT:
+                kk += 1
+                continue
+            lifted = True
+            src = cid[CL_HDR + nb + kk]
+            a2 = ids[int(ccon[kk, cl.CC_A])]
+            b2 = -1 - src if src >= 0 else ids[int(ccon[kk, cl.CC_B])]
+            if kk != k:
+                _cl_log(ev_t, ev_i, ev_f, cnt, t, EV_RELEASE, a2, b2, n, c_f, cw, st, bflt,
+                        ccon, kk, 0.0)
+            if src < 0:
+                pr_off[-2 - src] = PR_REL
+            if _cl_lift(ccon, cid, nb, kk) < 0:
+                return _cl_refuse(err, t, a2, a2, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 1.0), 0
+        if lifted:
+            if _cl_pairs_left(ccon, cid) == 0:
+                rc = _cluster_dissolve(True, t, st, tref, bint, bflt, planes, grav, law_par,
+                                       bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t,
+                                       ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f, err)
+                return rc, 1
+            # a member with no active contact left would fly inside the cluster: not built
+            for r in range(n):
+                held = False
+                for kk in range(cid[CL_NK]):
+                    if int(ccon[kk, cl.CC_A]) == r or int(ccon[kk, cl.CC_B]) == r:
+                        held = True
+                if not held:
+                    return _cl_refuse(err, t, ids[r], ids[r], st, PP_SPLIT, 0.0, 0.0), 0
+    k0 = cnt[1]
+    cs, ev, idx, ts = cl.cluster_advance(bod, con, cid[CL_NK], cand, cid[CL_NC], gx, gy, gz, L,
+                                         t, tolf[TF_T_END], w, la, seg_t, seg_b, seg_s, cnt,
+                                         ids)
+    for k in range(k0, cnt[1]):
+        seg_s[k, cl.N_ROW] = 0.0        # a closed-form row (flight3d.pose_at replays it)
+    if cs == cl.CS_REST:
+        # frozen: nothing moves until a body outside hits it
+        for r in range(n):
+            i = ids[r]
+            for j in range(3):
+                st[i, SX + j] = cbod[r, cl.CB_X + j]
+            for j in range(4):
+                st[i, SQ + j] = cbod[r, cl.CB_QW + j]
+            for j in range(SV, 19):
+                st[i, j] = 0.0
+            for j in range(3):
+                cbod[r, cl.CB_VX + j] = 0.0
+                cbod[r, cl.CB_WX + j] = 0.0
+            tref[i] = t
+            bmark[i] = 1
+        if cid[CL_FROZEN] == 0:
+            i = ids[0]
+            _cl_log(ev_t, ev_i, ev_f, cnt, t, EV_REST, i, ids[1], n, c_f, cw, st, bflt, ccon,
+                    0, 0.0)
+        cid[CL_FROZEN] = 1
+        return 0, 1
+    if cs != cl.CS_OK:
+        return _cl_refuse(err, t, lead, lead, st, PP_CLUSTER, float(cs), 0.0), 0
+    for r in range(n):
+        i = ids[r]
+        for j in range(cl.NS):
+            st[i, j] = cbod[r, j]
+        if not _finite(st, i):
+            _set_err(err, ts, i, 0, st[i, SX], st[i, SX + 1], st[i, SX + 2], 0.0, 0.0, 0.0)
+            return ERR_NONFINITE, 0
+        tref[i] = ts
+    cid[CL_EV] = ev
+    cid[CL_IDX] = idx
+    ttr[lead] = INF if (ev == cl.CE_NONE and ts >= tolf[TF_T_END]) else ts
+    return 0, 0
+
+
+@njit(cache=True)
+def _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bt, bpl, bft, pr_t, tolf, cbod, ccon,
+                 cid, bmark):
+    """A body outside a frozen cluster meets a member within this instant: the cluster
+    dissolves into the instant (``_cluster_to_instant``)."""
+    tw = t + tolf[TF_SIMUL_TIME]
+    for q in range(pairs.shape[0]):
+        if pr_t[q] <= tw and (pm[pairs[q, 0], M_MODE] == PM_CLUSTER
+                              or pm[pairs[q, 1], M_MODE] == PM_CLUSTER):
+            _cluster_to_instant(t, -1, st, tref, grav, pm, tz, ttr, bt, bpl, bft, pr_t, cbod,
+                                ccon, cid, bmark)
+            return
 
 
 def scene_features(bint, planes, grav, n_pairs):
@@ -4056,7 +4772,7 @@ def loop_for(law):
                  toli, st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws,
                  glob, cnt, pk, pv, pw, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb,
                  Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf, vals, vals0,
-                 vfl, pscr, pmf, pfe, err, pivot, pair, pgen, joint):
+                 vfl, pscr, pmf, pfe, cbod, ccon, cwk, cid, err, pivot, pair, pgen, joint):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
         contract. ``pivot``, ``pair``, ``pgen``, ``joint``: the scene's feature switches
         (``scene_features``; ``pgen``: pairs of other shapes than two spheres)."""
@@ -4066,7 +4782,7 @@ def loop_for(law):
         t_end = tolf[TF_T_END]
         max_events = toli[TI_MAX_EVENTS]
         margin_e = evbuf.event_margin(toli[TI_SEQ_MAXSTEPS], MAXC, nb)
-        margin_s = evbuf.segment_margin(MAXC, nb)
+        margin_s = evbuf.segment_margin(MAXC, nb) + cl.PIECE_BUDGET
         cap_e = ev_t.shape[0]
         cap_s = seg_t.shape[0]
         policy = toli[TI_POLICY]
@@ -4086,6 +4802,8 @@ def loop_for(law):
             for q in range(npr):
                 if pr_t[q] < tmin:
                     tmin = pr_t[q]
+            if pair is not None and cid[CL_PEND] >= 0:
+                tmin = t_now        # a pair whose impacts accumulate enters a cluster now
             if tmin > t_end:
                 glob[0] = t_end
                 return RC_DONE
@@ -4104,10 +4822,64 @@ def loop_for(law):
             t = tmin
             glob[0] = t
 
+            # ---- persistent sphere contact (a cluster): entry, its passes, a hit when frozen
+            cact = -1
+            if pair is not None:
+                if cid[CL_PEND] >= 0:
+                    for i in range(nb):
+                        bmark[i] = 0
+                    rc = _cluster_enter(t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
+                                        bp_off, pairs, pr_off, pr_t, pm, tz, zp, ttr, bt, ws,
+                                        tolf, toli, pose, pv, pw, fw, cbod, ccon, cwk, cid,
+                                        bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f,
+                                        err)
+                    if rc < 0:
+                        return rc
+                    cact = 1 if cid[CL_N] == 0 else 0   # dissolved at once: record, search
+                elif cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t:
+                    for i in range(nb):
+                        bmark[i] = 0
+                    rc, cact = _cluster_pass(t, st, tref, bint, bflt, planes, grav, law_par,
+                                             bp_law, pm, tz, ttr, bt, bpl, bft, pr_t, pr_off,
+                                             tolf, cbod, ccon, cwk, cid, bmark, ev_t, ev_i,
+                                             ev_f, seg_t, seg_b, seg_s, cnt, c_f, err)
+                    if rc < 0:
+                        return rc
+                    if cact == 0:
+                        continue    # a pass ran (recorded): nothing else changed
+                elif cid[CL_N] > 0 and cid[CL_FROZEN] != 0:
+                    for i in range(nb):
+                        bmark[i] = 0
+                    _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bt, bpl, bft, pr_t,
+                                 tolf, cbod, ccon, cid, bmark)
+            if cact == 0 or cact == 1:
+                # entered (members' passes record their motion from t), or dissolved or
+                # frozen (segments from t); then the members' planes and pairs
+                for i in range(nb):
+                    if bmark[i] == 0:
+                        continue
+                    if cact == 1 or pm[i, M_MODE] != PM_CLUSTER:
+                        ws[i, WS_MODE] = -1.0
+                        _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv)
+                    rc = _recompute_motion(i, t, st, tref, bint, bflt, feats, planes, pm, tz,
+                                           zp, bt, bpl, bft, bp_off, ws, tolf, toli, skip,
+                                           pose, err, ttr, pk, pv, pw, fw, ybuf, vals, vals0,
+                                           vfl, c_f[MAXC - 2], pivot)
+                    if rc < 0:
+                        return rc
+                rc = _recompute_pairs(t, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp,
+                                      ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr,
+                                      pfe, bmark, err, pair, pgen, cid)
+                if rc < 0:
+                    return rc
+                continue
+
             # ---- scheduled switches: accumulation points, end of slip, integrated contacts
             did = False
             for i in range(nb):
                 recompute = True
+                if pm[i, M_MODE] == PM_CLUSTER:
+                    continue        # its cluster's passes (above)
                 if tz[i] <= t:
                     p = zp[i]
                     tz[i] = INF
@@ -4209,7 +4981,7 @@ def loop_for(law):
                     bmark[i] = 1
                     rc = _recompute_pairs(t, st, tref, bint, bflt, planes, grav, pairs, pm, tz,
                                           zp, ttr, bt, pr_t, pr_off, ws, pv, pw, fw, tolf,
-                                          toli, pscr, pfe, bmark, err, pair, pgen)
+                                          toli, pscr, pfe, bmark, err, pair, pgen, cid)
                     if rc < 0:
                         return rc
             if did:
@@ -4227,7 +4999,7 @@ def loop_for(law):
                     # a held body's pair is due for its distance check, not an impact
                     rc = _recompute_pair(pgen, q, t, st, tref, bint, bflt, planes, grav,
                                          pairs, pm, tz, zp, ttr, bt, pr_t, pr_off, ws, pv,
-                                         pw, fw, tolf, toli, pscr, pfe, err)
+                                         pw, fw, tolf, toli, pscr, pfe, err, cid)
                     if rc < 0:
                         return rc
                 elif pr_t[q] <= tw:
@@ -4437,7 +5209,8 @@ def loop_for(law):
                     # groove), decided below as for any body in flight
                 rc = _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par,
                                    bp_law, pm, ttr, tz, zp, bp_off, c_i, c_f, tolf, capture_on,
-                                   pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, toli, pivot)
+                                   pv, fw, ev_t, ev_i, ev_f, cnt, Ii, err, toli, pivot,
+                                   pairs, cid)
                 if rc < 0:
                     return rc
             for i in range(nb):
@@ -4465,7 +5238,7 @@ def loop_for(law):
                     return rc
             rc = _recompute_pairs(t, st, tref, bint, bflt, planes, grav, pairs, pm, tz, zp, ttr,
                                   bt, pr_t, pr_off, ws, pv, pw, fw, tolf, toli, pscr, pfe,
-                                  bmark, err, pair, pgen)
+                                  bmark, err, pair, pgen, cid)
             if rc < 0:
                 return rc
     return run_loop

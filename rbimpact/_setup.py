@@ -281,18 +281,24 @@ def call_loop(loop, args):
         return loop(*args)
 
 
+def _cluster_kernel(k):
+    """The name of the cluster kernel of stepper module ``k``."""
+    return k.cl.__name__.rsplit(".", 1)[-1]
+
+
 def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_length):
     """The message of a run stopped by ``ERR_PERSISTENT_PAIR`` (2D and 3D; ``k`` the stepper
     module): reason ``why`` (``codes.PP_*``), the pair's bodies as text, ``third`` the body
     the reason names (the held body of ``PP_HELD``, the other member of ``PP_SHAPES`` and
     ``PP_TWO``; else unused), the time and point texts, the reason's number ``v`` (the post-impact normal speed,
-    m/s; a cluster2d ``CS_*`` status; a count of mode events) and ``s`` (the next impact,
+    m/s; a cluster2d / cluster3d ``CS_*`` status; a count of mode events) and ``s`` (the next impact,
     s after it)."""
     if why == codes.PP_NO_MODE:
         return (f"Painleve: {body} and {other} in persistent contact {at}: no consistent "
                 f"stick/slip/lift-off mode of their cluster exists (every combination of "
-                f"cluster2d's enumeration has a pulling normal force, a force outside its "
-                f"friction cone or a contact accelerating into another, to the tolerances "
+                f"{_cluster_kernel(k)}'s enumeration has a pulling normal force, a force "
+                f"outside its friction cone or a contact accelerating into another, to the "
+                f"tolerances "
                 f"FORCE_TOL and ACC_TOL); the impact without collision that would resolve it "
                 f"is not built for clusters")
     if why == codes.PP_HELD:
@@ -305,12 +311,14 @@ def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_lengt
                   f"speed {v:.3g} m/s, the round-off of a plastic impact; no separation "
                   f"found)")
     elif why == codes.PP_CLUSTER:
-        detail = (f"the persistent contact of {body} and {other} {at} failed in cluster2d "
+        detail = (f"the persistent contact of {body} and {other} {at} failed in "
+                  f"{_cluster_kernel(k)} "
                   f"(status CS {int(v)}: 2 singular, 3 Painleve, 4 step limit, 6 too many "
                   f"contacts, 7 inconsistent modes)")
     elif why == codes.PP_SHAPES:
         detail = (f"{body} and {other} stay in contact {at} with {third} in the cluster: "
-                  f"persistent contact is built for disks only")
+                  f"persistent contact is built for disks (2D) and spheres of spherical inertia "
+                  f"(3D) only")
     elif why == codes.PP_FEATURE:
         detail = (f"a contact point of the cluster of {body} leaves its feature {at} "
                   f"(contact switch not built)")

@@ -436,10 +436,10 @@ def check_result(spec, sim, res, note):
     s = res.sample(t)
     gaps = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
     ev = res.events
-    # integrated motion: a pivot phase, a 2D cluster of bodies in persistent contact
-    # (stepper2d PM_CLUSTER: a "contact" event of mode PM_CLUSTER), 3D general inertia
+    # integrated motion: a pivot phase, a cluster of bodies in persistent contact
+    # (PM_CLUSTER: a "contact" event of mode PM_CLUSTER), 3D general inertia
     integrated = bool(np.any(ev["kind"] == "pivot")) or bool(
-        dim == 2 and np.any((ev["kind"] == "contact") & (ev["mode"] == PM_CLUSTER))) or (
+        np.any((ev["kind"] == "contact") & (ev["mode"] == PM_CLUSTER))) or (
         dim == 3 and spec["shape"] != "sphere")
     pen_tol = (PEN_RTOL_INTEGRATED if integrated else PEN_RTOL) * L + PEN_ATOL
     worst = 0.0

@@ -376,15 +376,22 @@ class Simulation3D:
         pmf = np.zeros((k.MAX_MF, k.N_MF))     # a pair's contact manifold
         pfe = np.zeros(k.N_FE, np.int64)       # a pair's contact features
         err = np.zeros(k.N_ERR)
+        # persistent sphere contact (stepper3d.cluster_sizes): bodies, contacts, work, header
+        cb_shape, cc_shape, cw_size, cid_size = k.cluster_sizes(nb)
+        cbod, ccon, cwk = np.zeros(cb_shape), np.zeros(cc_shape), np.zeros(cw_size)
+        cid = np.zeros(cid_size, np.int64)
+        cid[k.CL_PEND] = -1
+        cid[k.CL_LEAD] = -1
         scene_arrays = (self._bint, self._bflt, self._feats, self._planes, self._grav,
                         self._law_ids, self._law_par, self._bp_law, self._pairs, tolf, toli)
         state = (st, tref, pm, tz, zp, ttr, bt, bpl, bft, bp_off, pr_t, pr_off, ws, glob, cnt,
                  pk, pv, pw)
         run_loop, (pivot, pair, pgen, joint) = compiled_loop(self, k)
         rc = call_loop(k.init_run, (*scene_arrays, *state, *bufs, c_f, skip, pose, fw, ybuf,
-                                    vals, vals0, vfl, pscr, pfe, err, pair, pgen))
+                                    vals, vals0, vfl, pscr, pfe, cid, err, pair, pgen))
         work = (c_i, c_f, Wb, Pb, vb, tb, comp, bmark, v3, W3, P3, Ii, skip, pose, fw, ybuf,
-                vals, vals0, vfl, pscr, pmf, pfe, err, pivot, pair, pgen, joint)
+                vals, vals0, vfl, pscr, pmf, pfe, cbod, ccon, cwk, cid, err, pivot, pair, pgen,
+                joint)
         if rc == 0:
             rc = call_loop(run_loop, (*scene_arrays, *state, *bufs, *work))
             while rc == k.RC_BUFFER_FULL:
