@@ -4283,7 +4283,7 @@ def _cl_member_to(i, t, st, tref, bint, bflt, planes, grav, tz, zp, ws, tolf, to
 @njit(cache=True)
 def _cluster_enter(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, bp_off, pairs,
                    pr_off, pr_t, pm, tz, zp, ttr, bt, ws, tolf, toli, pose, pv, pw, fw, cbod,
-                   ccon, cwk, cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f, err):
+                   ccon, cwk, cid, bmark, ev_t, ev_i, ev_f, cnt, c_f, err):
     """Enter persistent contact for pair ``cid[CL_PEND]`` (its impacts accumulate at t):
     gather the cluster, project it onto g = dg/dt = 0, select the modes
     (``cluster3d.cluster_select_modes``) and schedule its first pass at t. The members are
@@ -4458,7 +4458,7 @@ def _cluster_enter(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, bp_of
         # every sphere-sphere contact lifts at once: no cluster
         return _cluster_dissolve(True, t, st, tref, bint, bflt, planes, grav, law_par,
                                  bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i,
-                                 ev_f, seg_t, seg_b, seg_s, cnt, c_f, err)
+                                 ev_f, cnt, c_f, err)
     ttr[ids[0]] = t
     return 0
 
@@ -4490,8 +4490,7 @@ def _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark):
 
 @njit(cache=True)
 def _cluster_dissolve(settle, t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, tz,
-                      ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s,
-                      cnt, c_f, err):
+                      ttr, tolf, cbod, ccon, cid, bmark, ev_t, ev_i, ev_f, cnt, c_f, err):
     """End the cluster at t (states in cbod): every member flies from t, or (``settle``)
     settles on a plane it still touches through an active contact (``_settle``: rest, roll
     or slide on it; the loop integrates a slide across a slope). Members marked; their
@@ -4660,7 +4659,7 @@ def _cluster_pass(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, tz
             if _cl_pairs_left(ccon, cid) == 0:
                 rc = _cluster_dissolve(True, t, st, tref, bint, bflt, planes, grav, law_par,
                                        bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark, ev_t,
-                                       ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f, err)
+                                       ev_i, ev_f, cnt, c_f, err)
                 return rc, 1
             # a member with no active contact left would fly inside the cluster: not built
             for r in range(n):
@@ -4831,8 +4830,7 @@ def loop_for(law):
                     rc = _cluster_enter(t, st, tref, bint, bflt, planes, grav, law_par, bp_law,
                                         bp_off, pairs, pr_off, pr_t, pm, tz, zp, ttr, bt, ws,
                                         tolf, toli, pose, pv, pw, fw, cbod, ccon, cwk, cid,
-                                        bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, c_f,
-                                        err)
+                                        bmark, ev_t, ev_i, ev_f, cnt, c_f, err)
                     if rc < 0:
                         return rc
                     cact = 1 if cid[CL_N] == 0 else 0   # dissolved at once: record, search
