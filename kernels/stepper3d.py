@@ -4846,8 +4846,8 @@ def loop_for(law):
                     if cact == 0:
                         continue    # a pass ran (recorded): nothing else changed
                 elif cid[CL_N] > 0 and cid[CL_FROZEN] != 0:
-                    for i in range(nb):
-                        bmark[i] = 0
+                    # (no bmark reset: a hit dissolves it into the impact step, which marks
+                    # the bodies due at t itself)
                     _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bt, bpl, bft, pr_t,
                                  tolf, cbod, ccon, cid, bmark)
             if cact == 0 or cact == 1:
