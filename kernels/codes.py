@@ -54,13 +54,18 @@ PP_HELD = 3.0        # a body of the pair is held on a plane by an integrated co
 PP_NO_MODE = 4.0     # cluster_select_modes: no consistent stick/slip/lift-off (Painleve)
 PP_CLUSTER = 5.0     # cluster2d failed (err[6]: its CS_* status: singular, Painleve, steps,
                      # too many contacts) or the cluster holds more than the tables
-PP_SHAPES = 6.0      # a cluster with a body other than a disk (not built yet)
-PP_FEATURE = 7.0     # a contact point leaves its feature (CE_FEATURE: not built yet)
+PP_SHAPES = 6.0      # a cluster with an ellipse (2D) or a body other than a sphere (3D)
+PP_FEATURE = 7.0     # 2D: a contact point leaves its feature and no switch is found (three
+                     # gatherings of the cluster within CL_CHAT_RTOL sqrt(L / |g|))
 PP_TWO = 8.0         # a second cluster while one is in motion, or a cluster body held
                      # otherwise (pivot, wedge)
 PP_SPLIT = 9.0       # a body leaves a cluster that keeps body-body contacts (not built)
 PP_STICK_SLIP = 10.0  # stick-slip events of a cluster accumulate (CL_CHAT_MAX of them
                       # closer than CL_CHAT_RTOL sqrt(L / |g|) apart: stepper2d)
+PP_CORNER = 11.0     # 2D: two touching features the cluster's rows cannot describe (two
+                     # sharp corners; err[6]: cluster2d_rows.PR_*)
+PP_UNWATCHED = 12.0  # 2D: two bodies of a cluster that did not touch at its entry overlap
+                     # after a pass (pairs without a contact row are checked, not watched)
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0

@@ -40,6 +40,8 @@ CL_LEAD = 5      # the leader (stepper body index), -1
 CL_FROZEN = 6    # 1: at rest (frozen)
 CL_PEND = 7      # pair whose impacts accumulate (enter a cluster at the next pass), -1
 CL_CHAT = 8      # consecutive mode events closer than CL_CHAT_RTOL T (stick-slip chatter)
+CL_SWITCH = 9    # 2D: 1 once the cluster was gathered again at a feature switch (its time:
+                 # the spare slot of cw before the last)
 CL_HDR = 10
 CL_CHAT_RTOL = 1e-6
 """Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""

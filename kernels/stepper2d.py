@@ -178,7 +178,7 @@ from . import evbuf
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
 from .layout import (CL_CHAT, CL_CHAT_MAX, CL_CHAT_RTOL, CL_EV, CL_FROZEN, CL_HDR,  # noqa: F401
-                     CL_IDX, CL_LEAD, CL_N, CL_NC, CL_NK, CL_PEND, NCAND)
+                     CL_IDX, CL_LEAD, CL_N, CL_NC, CL_NK, CL_PEND, CL_SWITCH, NCAND)
 from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M_MODE,  # noqa: F401
                      M_PLANE, M_PLANE2, N_PM)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
@@ -189,11 +189,12 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
-                   PM_CLUSTER, PP_CLUSTER, PP_FEATURE, PP_NO_MODE, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
+                   PM_CLUSTER, PP_CLUSTER, PP_CORNER, PP_FEATURE, PP_NO_MODE, PP_UNWATCHED, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
                    PP_TWO,
                    PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
+from . import cluster2d_rows as clr
 from .decisions import (PAIR_VN_RTOL, REL_S0, accumulation_time, impacts_before_rest,  # noqa: F401
                         pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
                         touching_accel, touching_rate)
@@ -807,15 +808,29 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     elif pgen is None:      # pruned by type: a loop for disk pairs compiles no pair_toi
         return _not_compiled(err, t_now, a, FEATURE_PAIR)
     else:
+        s0 = 0.0
+        if rel:
+            # released from persistent contact (a cluster contact lifted at g = g' = 0):
+            # searched from where the gap exceeds gap_tol and grows, as two disks
+            s0 = _released_general_s0(a, b, tmp, bint, bflt, verts, S, tolf[TF_GAP_TOL])
         s, code = pair_toi(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB],
                            verts, bint[a, B_FIRST], bint[a, B_COUNT], tmp[0],
                            bint[b, B_KIND], bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB],
-                           verts, bint[b, B_FIRST], bint[b, B_COUNT], tmp[1], t_now, S,
-                           tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
+                           verts, bint[b, B_FIRST], bint[b, B_COUNT], tmp[1], t_now + s0,
+                           S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
                            toli[TI_TOI_MAXIT])
+        s += s0
         if hit:
             rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err)
             if rc < 0:
+                if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
+                        cid[CL_PEND] < 0 or cid[CL_PEND] == q) and (
+                        bint[a, B_KIND] != SH_ELLIPSE and bint[b, B_KIND] != SH_ELLIPSE):
+                    # rounded polygons (disks, rods, capsules, polygons) that stay in
+                    # contact: a cluster from the next pass (run_loop)
+                    cid[CL_PEND] = q
+                    pr_t[q] = INF
+                    return 0
                 return rc
     if code == TOI_MISSED:
         _set_err(err, t_now, a, b, tmp[0, X], tmp[0, Y], 0.0, 0.0, 0.0)
@@ -849,6 +864,58 @@ def _released_pair_s0(tmp, R, S, gtol):
         uy = tmp[0, VY] - tmp[1, VY] + (tmp[0, AY] - tmp[1, AY]) * s
         if math.hypot(dx, dy) - R > gtol and dx * ux + dy * uy > 0.0:
             break
+        s *= 2.0
+    fly_into(tmp[0], s, tmp[0])
+    fly_into(tmp[1], s, tmp[1])
+    return s
+
+
+@_inner
+def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
+    """Offset s0 (s) from which to search a pair of rounded polygons just released from
+    persistent contact (rows tmp[0], tmp[1] at the release, moved to s0 in place): the
+    first of ``REL_S0 T 2^k`` (``T = sqrt(R / |a|)`` with R the sum of the reaches and
+    ``a`` the relative acceleration of the centres, or ``R / v`` with v the relative speed
+    and spins) where the gap (``pair2d.frame_rel``) exceeds gap_tol and grows, at most S
+    (``_released_pair_s0``'s rule for two disks)."""
+    K1a, _ = body_reach(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB],
+                        verts, bint[a, B_FIRST], bint[a, B_COUNT])
+    K1b, _ = body_reach(bint[b, B_KIND], bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB],
+                        verts, bint[b, B_FIRST], bint[b, B_COUNT])
+    R = K1a + bflt[a, B_RADIUS] + K1b + bflt[b, B_RADIUS]
+    da = (math.hypot(tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY])
+          + (abs(tmp[0, ALPHA]) + abs(tmp[1, ALPHA])) * R)
+    dv = (math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
+          + (abs(tmp[0, OMEGA]) + abs(tmp[1, OMEGA])) * R)
+    T = math.sqrt(R / da) if da > 0.0 else (R / dv if dv > 0.0 else S)
+    s = REL_S0 * T
+    s_prev = 0.0
+    for _ in range(60):
+        if s >= S:
+            s = S
+            break
+        h = 0.5 * s * s
+        dx = tmp[1, X] - tmp[0, X] + (tmp[1, VX] - tmp[0, VX]) * s + (tmp[1, AX] - tmp[0, AX]) * h
+        dy = tmp[1, Y] - tmp[0, Y] + (tmp[1, VY] - tmp[0, VY]) * s + (tmp[1, AY] - tmp[0, AY]) * h
+        tha = tmp[0, ANGLE] + tmp[0, OMEGA] * s + tmp[0, ALPHA] * h
+        thb = tmp[1, ANGLE] + tmp[1, OMEGA] * s + tmp[1, ALPHA] * h
+        g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
+            bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
+            bint[a, B_FIRST], bint[a, B_COUNT], tha, bint[b, B_KIND], bflt[b, B_RADIUS],
+            bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST], bint[b, B_COUNT], dx, dy,
+            thb)
+        v = point_rate(nx, ny, pax, pay, pbx - dx, pby - dy,
+                       tmp[0, VX] + tmp[0, AX] * s, tmp[0, VY] + tmp[0, AY] * s,
+                       tmp[0, OMEGA] + tmp[0, ALPHA] * s, tmp[1, VX] + tmp[1, AX] * s,
+                       tmp[1, VY] + tmp[1, AY] * s, tmp[1, OMEGA] + tmp[1, ALPHA] * s)
+        if g > gtol and v > 0.0:
+            break
+        if g < -gtol:
+            # another contact of the pair closed meanwhile: searched from the last sample
+            # before it (pair_toi finds it there)
+            s = s_prev
+            break
+        s_prev = s
         s *= 2.0
     fly_into(tmp[0], s, tmp[0])
     fly_into(tmp[1], s, tmp[1])
@@ -3056,11 +3123,15 @@ def _cl_speed(bod):
 
 
 @_inner
-def _cl_scale(cid, bflt):
-    """The cluster's length scale L (m): the sum of its members' diameters."""
+def _cl_scale(cid, bint, bflt, verts):
+    """The cluster's length scale L (m): the sum of its members' diameters (twice the core
+    reach plus the radius, ``pair2d_shape.body_reach``; a disk's diameter)."""
     L = 0.0
     for r in range(cid[CL_N]):
-        L += 2.0 * bflt[cid[CL_HDR + r], B_RADIUS]
+        i = cid[CL_HDR + r]
+        K1, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
+                           verts, bint[i, B_FIRST], bint[i, B_COUNT])
+        L += 2.0 * (K1 + bflt[i, B_RADIUS])
     return L
 
 
@@ -3133,6 +3204,47 @@ def _cl_energy(st, bflt, grav, cid):
 
 
 @_inner
+def _cl_gap(shapes, i, si, j, sj, bint, bflt, verts):
+    """Gap (m) of bodies i and j at the state rows si, sj and the unit normal from j into
+    i: closed form for two disks, ``pair2d.frame_rel`` otherwise (``shapes``: the shape
+    switch, None for disks only)."""
+    if bint[i, B_KIND] == SH_DISK and bint[j, B_KIND] == SH_DISK:
+        dx = si[X] - sj[X]
+        dy = si[Y] - sj[Y]
+        dist = math.hypot(dx, dy)
+        return dist - bflt[i, B_RADIUS] - bflt[j, B_RADIUS], dx / dist, dy / dist
+    if shapes is None:
+        return INF, 0.0, 0.0
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
+        bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB], verts,
+        bint[i, B_FIRST], bint[i, B_COUNT], si[ANGLE], bint[j, B_KIND], bflt[j, B_RADIUS],
+        bflt[j, B_EA], bflt[j, B_EB], verts, bint[j, B_FIRST], bint[j, B_COUNT],
+        sj[X] - si[X], sj[Y] - si[Y], sj[ANGLE])
+    return g, nx, ny
+
+
+@_inner
+def _cl_point(shapes, a, b, st, bint, bflt, verts):
+    """The logged contact point (world, m) and normal (from b into a) of bodies a, b
+    entering a cluster: on b's boundary along the centres' line for two disks, the middle
+    of the witness points of ``pair2d.frame_rel`` otherwise."""
+    if (bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK) or shapes is None:
+        dx = st[a, X] - st[b, X]
+        dy = st[a, Y] - st[b, Y]
+        dist = math.hypot(dx, dy)
+        nx = dx / dist
+        ny = dy / dist
+        rb_ = bflt[b, B_RADIUS]
+        return st[b, X] + rb_ * nx, st[b, Y] + rb_ * ny, nx, ny
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
+        bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
+        bint[a, B_FIRST], bint[a, B_COUNT], st[a, ANGLE], bint[b, B_KIND], bflt[b, B_RADIUS],
+        bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST], bint[b, B_COUNT],
+        st[b, X] - st[a, X], st[b, Y] - st[a, Y], st[b, ANGLE])
+    return st[a, X] + 0.5 * (pax + pbx), st[a, Y] + 0.5 * (pay + pby), nx, ny
+
+
+@_inner
 def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off, pairs,
                    pr_off, pr_t, bp_t, pm, tz, zp, ttr, tolf, cbod, ccon, cw, cid, bmark, tmp,
                    ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err):
@@ -3149,7 +3261,8 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     if cid[CL_N] > 0:
         return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
     gtol = tolf[TF_GAP_TOL]
-    # members: the connected bodies through disk-disk contacts within gap_tol at t
+    # members: the connected bodies through contacts within gap_tol at t (disks, rods,
+    # capsules, polygons; an ellipse touching one is refused)
     cid[CL_HDR] = a
     cid[CL_HDR + 1] = b
     n = 2
@@ -3157,7 +3270,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     while head < n:
         i = cid[CL_HDR + head]
         head += 1
-        if bint[i, B_KIND] != SH_DISK:
+        if bint[i, B_KIND] == SH_ELLIPSE or (shapes is None and bint[i, B_KIND] != SH_DISK):
             return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(i), 0.0)
         if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
             return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
@@ -3185,16 +3298,19 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             for r in range(n):
                 if cid[CL_HDR + r] == j:
                     known = True
-            if known or bint[j, B_KIND] != SH_DISK or pm[j, M_MODE] == PM_PIVOT:
+            if known or pm[j, M_MODE] == PM_PIVOT:
+                continue
+            if shapes is None and bint[j, B_KIND] != SH_DISK:
                 continue
             if tz[j] < INF:
                 _held_into(st[j], bint[j, B_KIND], planes[zp[j], 0], planes[zp[j], 1], tmp[0])
                 fly_into(tmp[0], t - tref[j], tmp[0])
             else:
                 fly_into(st[j], t - tref[j], tmp[0])
-            g = (math.hypot(tmp[0, X] - st[i, X], tmp[0, Y] - st[i, Y]) - bflt[i, B_RADIUS]
-                 - bflt[j, B_RADIUS])
+            g, _, _ = _cl_gap(shapes, i, st[i], j, tmp[0], bint, bflt, verts)
             if g <= gtol:
+                if bint[j, B_KIND] == SH_ELLIPSE:
+                    return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(j), 0.0)
                 if n >= nb:
                     break
                 cid[CL_HDR + n] = j
@@ -3225,23 +3341,75 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             continue
         i = pairs[q2, 0]
         j = pairs[q2, 1]
-        g = (math.hypot(st[i, X] - st[j, X], st[i, Y] - st[j, Y]) - bflt[i, B_RADIUS]
-             - bflt[j, B_RADIUS])
         mu = law_par[pairs[q2, 2], P_MU]
-        if g <= gtol:
-            if nk >= cl.KSEL_MAX:
+        disks = bint[i, B_KIND] == SH_DISK and bint[j, B_KIND] == SH_DISK
+        if disks:
+            g = (math.hypot(st[i, X] - st[j, X], st[i, Y] - st[j, Y]) - bflt[i, B_RADIUS]
+                 - bflt[j, B_RADIUS])
+            if g <= gtol:
+                if nk >= cl.KSEL_MAX:
+                    cid[CL_N] = 0
+                    return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                      float(cl.CS_TOO_MANY_CONTACTS), 0.0)
+                _cl_row(cbod, ccon, cid, nb, nk, cl.KIND_ROUND, ra, rb, bflt[i, B_RADIUS],
+                        bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
+                nk += 1
+            else:
+                if nc >= NCAND:
+                    cid[CL_N] = 0
+                    return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                      float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+                _cl_row(cbod, ccon, cid, nb, cl.KMAX + nc, cl.KIND_ROUND, ra, rb,
+                        bflt[i, B_RADIUS], bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
+                nc += 1
+        elif shapes is not None:
+            # rounded polygons: the rows of their features (cluster2d_rows.pair_rows); a
+            # pair not touching has no candidate row (its features are not known in
+            # advance): _cl_check_gaps checks it after every pass
+            g, nx, ny = _cl_gap(shapes, i, st[i], j, st[j], bint, bflt, verts)
+            if g > gtol:
+                continue
+            if nk + 2 > cl.KSEL_MAX or nc + 2 > NCAND:
                 cid[CL_N] = 0
-                return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 0.0)
-            _cl_row(cbod, ccon, cid, nb, nk, cl.KIND_ROUND, ra, rb, bflt[i, B_RADIUS],
-                    bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
-            nk += 1
-        else:
-            if nc >= NCAND:
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 0.0)
+            ka, kc = clr.pair_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
+                                   bflt[i, B_RADIUS], st[i], ra, bint[j, B_FIRST],
+                                   bint[j, B_COUNT], bflt[j, B_RADIUS], st[j], rb, nx, ny,
+                                   gtol, mu, ccon[nk:], ccon[cl.KMAX + nc:])
+            if ka < 0:
                 cid[CL_N] = 0
-                return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 1.0)
-            _cl_row(cbod, ccon, cid, nb, cl.KMAX + nc, cl.KIND_ROUND, ra, rb,
-                    bflt[i, B_RADIUS], bflt[j, B_RADIUS], 0.0, 0.0, 0.0, mu, -2 - q2)
-            nc += 1
+                return _cl_refuse(err, t, i, j, st, PP_CORNER, float(ka), 0.0)
+            for k in range(ka):
+                cid[CL_HDR + nb + nk + k] = -2 - q2
+            for k in range(kc):
+                cid[CL_HDR + nb + cl.KMAX + nc + k] = -2 - q2
+            nk += ka
+            nc += kc
+            # a contact of the pair separating faster than the zero speed (the far end of
+            # a face on a face turning away) is a candidate, not held
+            K1i, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], 0.0, 0.0, verts,
+                                bint[i, B_FIRST], bint[i, B_COUNT])
+            K1j, _ = body_reach(bint[j, B_KIND], bflt[j, B_RADIUS], 0.0, 0.0, verts,
+                                bint[j, B_FIRST], bint[j, B_COUNT])
+            sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
+                  + abs(st[i, OMEGA]) * (K1i + bflt[i, B_RADIUS])
+                  + abs(st[j, OMEGA]) * (K1j + bflt[j, B_RADIUS]))
+            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+            cid[CL_NK] = nk
+            cid[CL_NC] = nc
+            k = nk - ka
+            while k < cid[CL_NK]:
+                if clr.row_rate(ccon, k, cbod[int(ccon[k, cl.CC_A])],
+                                cbod[int(ccon[k, cl.CC_B])]) > vz:
+                    if _cl_lift(ccon, cid, nb, k, err) < 0:
+                        cid[CL_N] = 0
+                        return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                          float(cl.CS_TOO_MANY_CONTACTS), 1.0)
+                else:
+                    k += 1
+            nk = cid[CL_NK]
+            nc = cid[CL_NC]
     for r in range(n):
         i = ids[r]
         for p in range(planes.shape[0]):
@@ -3249,8 +3417,24 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 continue
             nx = planes[p, 0]
             ny = planes[p, 1]
-            g = nx * st[i, X] + ny * st[i, Y] - planes[p, 2] - bflt[i, B_RADIUS]
             mu = law_par[bp_law[i, p], P_MU]
+            if bint[i, B_KIND] != SH_DISK:
+                ka, kc = clr.plane_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
+                                        bflt[i, B_RADIUS], st[i], r, nx, ny, planes[p, 2],
+                                        gtol, mu, ccon[nk:], cl.KSEL_MAX - nk,
+                                        ccon[cl.KMAX + nc:], NCAND - nc)
+                if ka < 0:
+                    cid[CL_N] = 0
+                    return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                      float(cl.CS_TOO_MANY_CONTACTS), 0.0)
+                for k in range(ka):
+                    cid[CL_HDR + nb + nk + k] = p
+                for k in range(kc):
+                    cid[CL_HDR + nb + cl.KMAX + nc + k] = p
+                nk += ka
+                nc += kc
+                continue
+            g = nx * st[i, X] + ny * st[i, Y] - planes[p, 2] - bflt[i, B_RADIUS]
             if g <= gtol:
                 if nk >= cl.KSEL_MAX:
                     cid[CL_N] = 0
@@ -3268,7 +3452,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_NK] = nk
     cid[CL_NC] = nc
     e0 = _cl_energy(st, bflt, grav, cid)
-    L = _cl_scale(cid, bflt)
+    L = _cl_scale(cid, bint, bflt, verts)
     la = cw[:cl.N_LA]
     w = cw[cl.N_LA:]
     bod = cbod[:n]
@@ -3312,15 +3496,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_EV] = cl.CE_NONE
     cid[CL_FROZEN] = 0
     cid[CL_CHAT] = 0
-    dx = st[a, X] - st[b, X]
-    dy = st[a, Y] - st[b, Y]
-    dist = math.hypot(dx, dy)
-    nx = dx / dist
-    ny = dy / dist
-    rb_ = bflt[b, B_RADIUS]
-    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, a, b, PM_CLUSTER, n, st[b, X] + rb_ * nx,
-         st[b, Y] + rb_ * ny, nx, ny, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-         _cl_energy(st, bflt, grav, cid) - e0)
+    px, py, nx, ny = _cl_point(shapes, a, b, st, bint, bflt, verts)
+    _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, a, b, PM_CLUSTER, n, px, py, nx, ny, 0.0,
+         0.0, 0.0, 0.0, 0.0, 0.0, _cl_energy(st, bflt, grav, cid) - e0)
     if _cl_pairs_left(ccon, cid) == 0:
         # every body-body contact lifts at once: no cluster
         return _cluster_dissolve(shapes, True, t, st, tref, bint, bflt, verts, planes,
@@ -3373,6 +3551,17 @@ def _cluster_dissolve(shapes, settle, t, st, tref, bint, bflt, verts, planes, gr
                 if (ccon[k, cl.CC_KIND] == cl.KIND_PLANE and int(ccon[k, cl.CC_A]) == r
                         and pm[i, M_MODE] == PM_FLIGHT):
                     p = cid[CL_HDR + nb + k]
+                    if bint[i, B_KIND] != SH_DISK:
+                        # a polygon or rod settles on a face held at two points; on one
+                        # point it flies (the plane's search finds the held contact)
+                        m = 0
+                        for k2 in range(cid[CL_NK]):
+                            if (ccon[k2, cl.CC_KIND] == cl.KIND_PLANE
+                                    and int(ccon[k2, cl.CC_A]) == r
+                                    and cid[CL_HDR + nb + k2] == p):
+                                m += 1
+                        if m < 2:
+                            continue
                     rc = _settle(shapes, i, p, t, st, bint, bflt, verts, planes, grav,
                                  law_par, bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, err)
                     if rc < 0:
@@ -3414,7 +3603,7 @@ def _cluster_to_instant(t, extra, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod,
 
 @_inner
 def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, pm,
-                  tz, ttr, bp_t, pr_t, pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i, ev_f,
+                  tz, ttr, bp_t, pairs, pr_t, pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i, ev_f,
                   seg_t, seg_b, seg_s, cnt, err):
     """The cluster's event due at t (its leader's ttr), then its next integration pass
     (``cluster2d.cluster_advance``, recorded). Returns (rc, action): action 0 a pass ran,
@@ -3427,7 +3616,7 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
     ev = cid[CL_EV]
     idx = cid[CL_IDX]
     cid[CL_EV] = cl.CE_NONE
-    L = _cl_scale(cid, bflt)
+    L = _cl_scale(cid, bint, bflt, verts)
     la = cw[:cl.N_LA]
     w = cw[cl.N_LA:]
     bod = cbod[:n]
@@ -3440,8 +3629,68 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
         _cluster_to_instant(t, idx, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod, ccon, cid,
                             bmark)
         return 0, 2
+    modes = ev == cl.CE_LEAVE or ev == cl.CE_SLIP or ev == cl.CE_STOP
+    a = -2
+    b = -2
     if ev == cl.CE_FEATURE:
-        return _cl_refuse(err, t, lead, lead, st, PP_FEATURE, float(idx), 0.0), 0
+        # a contact point leaves its feature (a vertex's normal cone, a face's end): its row
+        # moves to the next feature (cluster2d_rows.switch_row) and the modes are chosen
+        # again; a face landing is an impact instant; else the cluster dissolves and is
+        # gathered again at t from the geometry there, as at an entry (a second switch at
+        # the same instant: refused)
+        k = idx // 4
+        ra_ = int(ccon[k, cl.CC_A])
+        rb_ = int(ccon[k, cl.CC_B])
+        ia = ids[ra_]
+        ib = ids[rb_] if rb_ >= 0 else ia
+        sw = clr.PR_GEOMETRY
+        if shapes is not None:
+            sw = clr.switch_row(verts, ccon, k, idx % 4, bint[ia, B_FIRST], bint[ia, B_COUNT],
+                                bflt[ia, B_RADIUS], cbod[ra_], bint[ib, B_FIRST],
+                                bint[ib, B_COUNT], bflt[ib, B_RADIUS],
+                                cbod[rb_ if rb_ >= 0 else ra_])
+        if sw == clr.SW_LANDING:
+            _cluster_to_instant(t, -1, st, tref, grav, pm, tz, ttr, bp_t, pr_t, cbod, ccon,
+                                cid, bmark)
+            return 0, 2
+        if sw == clr.SW_SWITCHED:
+            cs = cl.cluster_project(bod, con, cid[CL_NK], gx, gy, L, w, la)
+            if cs == cl.CS_OK:
+                cs = cl.cluster_select_modes(bod, con, cid[CL_NK], gx, gy, L, w, la)
+            if cs != cl.CS_OK:
+                return _cl_refuse(err, t, ia, ib, st,
+                                  PP_NO_MODE if cs == cl.CS_NO_MODE else PP_CLUSTER,
+                                  float(cs), 0.0), 0
+            modes = True
+        else:
+            q = -1
+            src = cid[CL_HDR + nb + k]
+            if src < 0:
+                q = -2 - src
+            else:
+                for kk in range(cid[CL_NK]):
+                    if cid[CL_HDR + nb + kk] < 0:
+                        q = -2 - cid[CL_HDR + nb + kk]
+                        break
+            # gatherings closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)) that find the
+            # same features again: the third is refused
+            gl = math.hypot(gx, gy)
+            T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
+            ts_ = cw.shape[0] - 2
+            if cid[CL_SWITCH] > 0 and t - cw[ts_] <= CL_CHAT_RTOL * T:
+                cid[CL_SWITCH] += 1
+            else:
+                cid[CL_SWITCH] = 1
+            cw[ts_] = t
+            if q < 0 or cid[CL_SWITCH] >= 3:
+                return _cl_refuse(err, t, lead, lead, st, PP_FEATURE, float(idx), 0.0), 0
+            rc = _cluster_dissolve(shapes, False, t, st, tref, bint, bflt, verts, planes, grav,
+                                   law_par, bp_law, pm, tz, ttr, tolf, cbod, ccon, cid, bmark,
+                                   ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
+            if rc < 0:
+                return rc, 0
+            cid[CL_PEND] = q
+            return 0, 1
     if ev == cl.CE_LEAVE or ev == cl.CE_SLIP or ev == cl.CE_STOP:
         k = idx
         a = ids[int(ccon[k, cl.CC_A])]
@@ -3477,6 +3726,7 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
             kind = EV_STICK
         _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, PM_CLUSTER, n, 0.0, 0.0, 0.0, 0.0, 0.0,
              0.0, 0.0, 0.0, ccon[k, cl.CC_LAMN], ccon[k, cl.CC_LAMT], 0.0)
+    if modes:
         # every contact the new modes lift leaves (the event's own, or a neighbour whose
         # normal force the new modes would make pulling)
         lifted = False
@@ -3544,10 +3794,50 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
             _set_err(err, ts, i, 0, st[i, X], st[i, Y], 0.0, 0.0, 0.0)
             return ERR_NONFINITE, 0
         tref[i] = ts
+    if shapes is not None:
+        rc = _cl_check_gaps(shapes, ts, st, bint, bflt, verts, pairs, pr_off, tolf, cid,
+                            err)
+        if rc < 0:
+            return rc, 0
     cid[CL_EV] = ev
     cid[CL_IDX] = idx
     ttr[lead] = INF if (ev == cl.CE_NONE and ts >= tolf[TF_T_END]) else ts
     return 0, 0
+
+
+@_inner
+def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, err):
+    """After a pass (states at t): every pair of members other than two disks that has
+    no contact or candidate row (not touching at the entry: its features are not known in
+    advance) must not overlap by more than gap_tol; else ``ERR_PERSISTENT_PAIR`` with
+    ``PP_UNWATCHED`` (its meeting inside the pass is not located). Returns 0 or it."""
+    n = cid[CL_N]
+    nb = st.shape[0]
+    for q in range(pairs.shape[0]):
+        if pr_off[q] == PR_OFF:
+            continue
+        a = pairs[q, 0]
+        b = pairs[q, 1]
+        if bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK:
+            continue
+        ina = False
+        inb = False
+        for r in range(n):
+            ina = ina or cid[CL_HDR + r] == a
+            inb = inb or cid[CL_HDR + r] == b
+        if not (ina and inb):
+            continue
+        watched = False
+        for k in range(cid[CL_NK]):
+            watched = watched or cid[CL_HDR + nb + k] == -2 - q
+        for k in range(cid[CL_NC]):
+            watched = watched or cid[CL_HDR + nb + cl.KMAX + k] == -2 - q
+        if watched:
+            continue
+        g, _, _ = _cl_gap(shapes, a, st[a], b, st[b], bint, bflt, verts)
+        if g < -tolf[TF_GAP_TOL]:
+            return _cl_refuse(err, t, a, b, st, PP_UNWATCHED, g, 0.0)
+    return 0
 
 
 @_inner
@@ -3727,7 +4017,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                     continue
                 if cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t:
                     rc, cact = _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes,
-                                             grav, law_par, bp_law, pm, tz, ttr, bp_t, pr_t,
+                                             grav, law_par, bp_law, pm, tz, ttr, bp_t, pairs, pr_t,
                                              pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i,
                                              ev_f, seg_t, seg_b, seg_s, cnt, err)
                     if rc < 0:

@@ -317,11 +317,20 @@ def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_lengt
                   f"contacts, 7 inconsistent modes)")
     elif why == codes.PP_SHAPES:
         detail = (f"{body} and {other} stay in contact {at} with {third} in the cluster: "
-                  f"persistent contact is built for disks (2D) and spheres of spherical inertia "
-                  f"(3D) only")
+                  f"persistent contact is built for disks, rods, capsules and polygons (2D; "
+                  f"not ellipses) and spheres of spherical inertia (3D) only")
     elif why == codes.PP_FEATURE:
-        detail = (f"a contact point of the cluster of {body} leaves its feature {at} "
-                  f"(contact switch not built)")
+        detail = (f"a contact point of the cluster of {body} leaves its feature {at}, and the "
+                  f"contacts gathered again there leave theirs at once, three times (no "
+                  f"feature switch found)")
+    elif why == codes.PP_UNWATCHED:
+        detail = (f"{body} and {other}, in one cluster without touching at its entry, "
+                  f"overlap by {-v:.3g} m {at} (a pair of the cluster not touching at its "
+                  f"entry has no contact row; its meeting is not located)")
+    elif why == codes.PP_CORNER:
+        detail = (f"{body} and {other} touch {at} by two sharp corners, or by features "
+                  f"the cluster's contact rows cannot describe (cluster2d_rows status "
+                  f"{int(v)})")
     elif why == codes.PP_TWO:
         detail = (f"{body} and {other} stay in contact {at} while {third} is in another "
                   f"cluster or held by an integrated contact (one cluster at a time)")
