@@ -168,13 +168,11 @@ Arrays (no allocation in the hot path; sizes from ``work_size``):
   float64[m, 9], ``cnt`` int64[>= 2] (``cnt[CNT_SEG]`` rows used), ``ids`` int64[nb] (the
   stepper's body index of each row of ``bodies``); empty ``seg_t``: no recording.
 
-Not here (the stepper's, issue 16 item 2's next pieces): entering the mode (bodies whose
-body-body impacts accumulate, or that land on each other at rest), building the tables
-from the scene's shapes (the two point-face contacts of a face-face contact at the ends of
-the overlap, the feature ranges), swapping a contact at ``CE_FEATURE``, moving a lifted
-contact to the candidates, the impact at ``CE_GAP``, ellipses (a curved feature: its
-support function as in ``pivot2d``), and a mode selection for more than ``KSEL_MAX``
-contacts (an LCP pivoting method instead of the enumeration).
+Not here: entering the mode, moving a lifted contact to the candidates and the impact at
+``CE_GAP`` (``stepper2d``); the tables built from the scene's shapes and the switch of a
+contact at ``CE_FEATURE`` (``cluster2d_rows``); ellipses (a curved feature: its support
+function as in ``pivot2d``), and a mode selection for more than ``KSEL_MAX`` contacts (an
+LCP pivoting method instead of the enumeration).
 """
 import math
 
@@ -298,8 +296,10 @@ EVENT_RTOL = 4e-16      # event time located to EVENT_RTOL |t| + EVENT_ATOL L / 
 EVENT_ATOL = 1e-15
 EVENT_ITER = 200        # secant/bisection iterations locating an event
 MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (CS_TOO_MANY_STEPS)
-PIECE_ETOL = 1e-11      # energy deviation of a recorded piece, relative to M V^2 (M the
-#                         cluster's free mass): pivot2d's PIECE_ETOL_CURVED, not its 1e-13,
+PIECE_ETOL = 1e-11      # energy deviation of a recorded piece, relative to the energy scale
+#                         E (H_E: kinetic energy at the call's start plus M |g| L; M V^2,
+#                         V a bound of every point's speed, over-states a spinning body's
+#                         energy 20-1000 times): pivot2d's PIECE_ETOL_CURVED, not its 1e-13,
 #                         for the same reason: a cluster may stay held for a long time
 #                         (rocking, rolling) and the pieces grow as PIECE_ETOL^-1/2 (a box
 #                         rocking at 0.5 rad/s: pieces of ~2e-6 s at 1e-13, ~2e-5 s at 1e-11)
@@ -323,6 +323,8 @@ H_GY = 9
 H_G = 10            # |g| (m/s^2)
 H_T0 = 11           # t0 (s)
 H_M = 12            # free mass M (kg)
+H_E = 13            # energy scale E (J): the free bodies' kinetic energy at the call's start
+#                     plus M |g| L (M V^2 when both are zero)
 N_H = 16
 B_SC = 0            # error scales
 B_Y = 1             # step start
@@ -826,6 +828,12 @@ def _setup(bodies, gx, gy, L, w):
     if not F > 0.0:
         F = msum * V * V / L
     w[H_F] = F
+    E = msum * gl * L
+    for i in range(nb):
+        if bodies[i, CB_FIXED] == 0.0:
+            E += 0.5 * (bodies[i, CB_M] * (bodies[i, CB_VX] ** 2 + bodies[i, CB_VY] ** 2)
+                        + bodies[i, CB_I] * bodies[i, CB_OMEGA] ** 2)
+    w[H_E] = E if E > 0.0 else msum * V * V
     w[H_TOL] = CLUSTER_TOL
     yo = N_H + B_Y * NY
     for i in range(nb):
@@ -1375,7 +1383,7 @@ def _piece_dev(bodies, w, NY, nc, sa, h):
                      / (PIECE_LTOL * L),
                      (math.hypot(vx - w[q + 3], vy - w[q + 4]) + L * abs(om - w[q + 5]))
                      / (PIECE_VTOL * V))
-        de = max(de, abs(ep - ei) / (PIECE_ETOL * w[H_M] * V * V))
+        de = max(de, abs(ep - ei) / (PIECE_ETOL * w[H_E]))
     return de, dp
 
 

@@ -66,6 +66,8 @@ PP_CORNER = 11.0     # 2D: two touching features the cluster's rows cannot descr
                      # sharp corners; err[6]: cluster2d_rows.PR_*)
 PP_UNWATCHED = 12.0  # 2D: two bodies of a cluster that did not touch at its entry overlap
                      # after a pass (pairs without a contact row are checked, not watched)
+PP_REENTRY = 13.0    # 2D: a pair's cluster ends and is entered again CL_CHAT_MAX times, each
+                     # within CL_CHAT_RTOL sqrt(L / |g|) of the one before (no lasting mode)
 
 # event kinds (ev_i[:, 0]); a persistent mode m (PM_SLIDE..PM_REST) is logged as kind m + 1
 EV_IMPACT = 0

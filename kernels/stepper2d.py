@@ -120,34 +120,50 @@ when none can); another vertex lands (an impact, with both held vertices in its 
 A polygon resting or sliding on a face whose corner lands on a second plane rests when the
 face and the corner admit a static equilibrium (``wedge2d.three_contact_rest``).
 
-Persistent contact between disks (``PM_CLUSTER``, ``kernels/cluster2d.py``; issue 16 item 2)
------------------------------------------------------------------------------------------
-When the impacts of two disks accumulate (``decisions.pair_persistence`` says ``PP_CHATTER``
-in ``_recompute_pair``, or ``_holding`` finds the pair's contact chattering), the pair is
-marked (``cid[CL_PEND]``) and, at the next pass, enters a *cluster* (``_cluster_enter``): the
-disks connected to it by disk-disk contacts within ``gap_tol`` and the planes they touch
-within ``gap_tol`` are its active contacts (round-round, feature-plane), their other pairs
-and planes its candidates; the state is projected onto g = dg/dt = 0 (an M-orthogonal
-projection: removes the round-off approach, never adds energy) and the modes are chosen
-(``cluster_select_modes``; none: ``ERR_PERSISTENT_PAIR``, reason ``PP_NO_MODE``); event
-"contact", mode ``PM_CLUSTER``, cluster size. Its members are ``PM_CLUSTER``; its leader's
-``ttr`` is the next pass (``_cluster_pass``: ``cluster_advance`` to its first event, pieces
-recorded as pivot2d's). Events: a contact's force reaching zero (event "release"; it becomes
-a candidate; when no disk-disk contact is left the cluster dissolves, each member settling
-on the plane it still touches, ``_settle``, or flying; the released pair is searched past
-its tangency, ``PR_REL``), stick/slip ("stick", "slide": ``cluster_after_event``, which
-keeps the other contacts' modes when they stay consistent and else changes as few as it
-can, lifting the contacts whose force would pull, each logged "release"; none consistent:
-``PP_NO_MODE``, worded as the Painleve inconsistency it is; stick-slip chatter re-selects
-every mode, and ``CL_CHAT_MAX`` chattering events are ``PP_STICK_SLIP``),
-a candidate's gap closing (the cluster dissolves into that impact instant, its contacts in
+Persistent contact between bodies (``PM_CLUSTER``, ``kernels/cluster2d.py``; issue 16 item 2)
+-----------------------------------------------------------------------------------------------
+When the impacts of two bodies accumulate (``decisions.pair_persistence`` says ``PP_CHATTER``
+in ``_recompute_pair``, or, for two rounded polygons, ``PP_TOGETHER``; or ``_holding``
+finds a disk pair's contact chattering), the pair is marked (``cid[CL_PEND]``) and, at the
+next pass, enters a *cluster* (``_cluster_enter``): the bodies connected to it by contacts
+within ``gap_tol`` (disks, rods, capsules, polygons; an ellipse touching one is refused,
+``PP_SHAPES``) and the planes they touch. Its contact rows (``kernels/cluster2d_rows.py``):
+two disks, round-round; any other pair, the features on the extreme supports along the
+pair's normal (a vertex on a face, face on face as the two ends of the overlap, two
+rounded vertices; two sharp corners take the face of greatest separation), a contact
+that separates faster than the pair's zero speed (``decisions.pair_zero_speed``) being a
+candidate; a vertex on a face has its neighbours on the same face as candidates (the
+face's landing); a body on a plane, one row per core vertex within ``gap_tol``, the others
+candidates. A pair of members not touching at the entry has no row: after every pass
+its gap is checked (an overlap beyond ``gap_tol``: ``PP_UNWATCHED``). The state is
+projected onto g = dg/dt = 0 (an M-orthogonal projection: removes the round-off approach,
+never adds energy) and the modes are chosen (``cluster_select_modes``; none:
+``ERR_PERSISTENT_PAIR``, reason ``PP_NO_MODE``); event "contact", mode ``PM_CLUSTER``,
+cluster size. Its members are ``PM_CLUSTER``; its leader's ``ttr`` is the next pass
+(``_cluster_pass``: ``cluster_advance`` to its first event, pieces recorded as pivot2d's).
+Events: a contact's force reaching zero (event "release"; it becomes a candidate; when no
+body-body contact is left the cluster dissolves, each member settling on the plane it
+still touches, ``_settle`` -- a polygon or rod only when held there at two points, else
+it flies and the plane's search finds the contact -- or flying; the released pair is
+searched past its tangency, ``PR_REL``), stick/slip ("stick", "slide":
+``cluster_after_event``, which keeps the other contacts' modes when they stay consistent
+and else changes as few as it can, lifting the contacts whose force would pull, each
+logged "release"; none consistent: ``PP_NO_MODE``, worded as the Painleve inconsistency it
+is; stick-slip chatter re-selects every mode, and ``CL_CHAT_MAX`` chattering events are
+``PP_STICK_SLIP``), a contact point leaving its feature (``cluster2d_rows.switch_row``: a
+face's end -> the point on the end vertex, or for two sharp corners the end corner on the
+point body's face; a vertex's normal cone in a round-round contact -> the adjacent face;
+the point's own cone on a face or a plane -> its adjacent face lands, an impact instant;
+the modes are chosen again; a switch not found: the cluster is gathered again at that
+instant, and three gatherings within ``CL_CHAT_RTOL sqrt(L / |g|)``: ``PP_FEATURE``), a
+candidate's gap closing (the cluster dissolves into that impact instant, its contacts in
 the instant's cluster at v_N = 0; the persistence rule then enters it again), rest
 (``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
-dissolves into that instant). One cluster at a time; disks only (``PP_SHAPES``); a pair
-with one body in a moving cluster is refused (``PP_HELD``: no closed-form motion to
-search); a member leaving while others stay in contact (``PP_SPLIT``) and feature switches
-(``PP_FEATURE``) are not built. State: ``cbod``, ``ccon``, ``cw``, ``cid``
-(``cluster_sizes``), arguments of the loop after ``err``.
+dissolves into that instant). One cluster at a time (``PP_TWO``); a pair with one body in
+a moving cluster, or held by an integrated (pivot) contact, is refused (``PP_HELD``: no
+closed-form motion to search); a member leaving while others stay in contact
+(``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
+arguments of the loop after ``err``.
 """
 import functools
 import math
@@ -189,7 +205,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
-                   PM_CLUSTER, PP_CLUSTER, PP_CORNER, PP_FEATURE, PP_NO_MODE, PP_UNWATCHED, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
+                   PM_CLUSTER, PP_CLUSTER, PP_CORNER, PP_FEATURE, PP_NO_MODE, PP_REENTRY, PP_UNWATCHED, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
                    PP_TWO,
                    PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
@@ -3109,9 +3125,11 @@ def _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark, seg, cnt, tmp, er
 
 def cluster_sizes(nb):
     """``(cbod shape, ccon shape, cw size, cid size)`` of a scene of nb bodies (cw: la, w,
-    then two spare slots, the last the time of the last mode event)."""
+    then four spare slots; from the end: the time of the last mode event, of the last
+    gathering at a feature switch, of the last entry, and the count of entries closer than
+    ``CL_CHAT_RTOL sqrt(L / |g|)`` to the one before)."""
     return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC),
-            cl.N_LA + int(cl.work_size(nb, NCAND)) + 2, CL_HDR + nb + cl.KMAX + NCAND)
+            cl.N_LA + int(cl.work_size(nb, NCAND)) + 4, CL_HDR + nb + cl.KMAX + NCAND)
 
 
 @_inner
@@ -3453,6 +3471,19 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_NC] = nc
     e0 = _cl_energy(st, bflt, grav, cid)
     L = _cl_scale(cid, bint, bflt, verts)
+    # entries closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)): the contact ends and
+    # starts again with no lasting mode; the CL_CHAT_MAX-th is refused (PP_REENTRY)
+    gl = math.hypot(grav[0], grav[1])
+    T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(cbod[:n]), 1e-300)
+    te = cw.shape[0] - 3
+    if cw[te - 1] > 0.0 and t - cw[te] <= CL_CHAT_RTOL * T:
+        cw[te - 1] += 1.0
+    else:
+        cw[te - 1] = 1.0
+    cw[te] = t
+    if cw[te - 1] >= CL_CHAT_MAX:
+        cid[CL_N] = 0
+        return _cl_refuse(err, t, a, b, st, PP_REENTRY, cw[te - 1], 0.0)
     la = cw[:cl.N_LA]
     w = cw[cl.N_LA:]
     bod = cbod[:n]

@@ -323,6 +323,10 @@ def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_lengt
         detail = (f"a contact point of the cluster of {body} leaves its feature {at}, and the "
                   f"contacts gathered again there leave theirs at once, three times (no "
                   f"feature switch found)")
+    elif why == codes.PP_REENTRY:
+        detail = (f"the persistent contact of {body} and {other} ends and starts again "
+                  f"{int(v)} times {at}, each within {k.CL_CHAT_RTOL:g} sqrt(L / |g|) of the "
+                  f"one before (no lasting contact mode found)")
     elif why == codes.PP_UNWATCHED:
         detail = (f"{body} and {other}, in one cluster without touching at its entry, "
                   f"overlap by {-v:.3g} m {at} (a pair of the cluster not touching at its "
