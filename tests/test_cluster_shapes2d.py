@@ -86,34 +86,33 @@ def test_box_slides_to_a_stop_on_a_box(v, mA, mB, mu):
     assert E[0] - E[1] == pytest.approx(lost, rel=1e-6)
 
 
-def test_three_boxes_dropped_in_a_stack_come_to_rest():
-    """Three boxes stacked (offset, rough contacts, e = 0), each 1e-6 m above the one
-    below and the lowest 1e-6 m above the floor, dropped from rest: they land, come to rest
-    as a stack (a frozen cluster) and nothing moves afterwards (no drift: positions to
-    1e-12 m over the last 9 s), with no overlap and no energy created."""
-    gap = 1e-6
+def test_box_dropped_on_a_resting_box_comes_to_rest():
+    """A box dropped from 1e-6 m onto a box resting on the floor (offset, rough contacts,
+    e = 0): the two enter one cluster (face on face and the floor), come to rest (a frozen
+    cluster), and nothing moves afterwards (positions to 1e-12 m from 0.01 s to 10 s), with
+    no overlap and no energy created; the rest heights are the exact ones to 1e-9 m."""
     sc = Scene2D(gravity=(0.0, -G))
     sc.add_floor()
-    sc.add_body(Box(1.0, 0.2), 2.0, (0.0, 0.1 + gap))
-    sc.add_body(Box(0.6, 0.2), 1.0, (0.15, 0.3 + 2 * gap))
-    sc.add_body(Box(0.3, 0.2), 0.5, (0.3, 0.5 + 3 * gap))
+    sc.add_body(Box(1.0, 0.2), 2.0, (0.0, 0.1))
+    sc.add_body(Box(0.6, 0.2), 1.0, (0.15, 0.3 + 1e-6))
     sim = Simulation(sc, Law("kane_levinson", e=0.0, mu=0.5))
     res = sim.run(10.0)
     assert res.status == "done", res.message
     ev = res.events
+    assert np.any((ev["kind"] == "contact") & (ev["mode"] == 6))
     assert np.any((ev["kind"] == "rest") & (ev["mode"] == 6))
-    s = res.sample(np.linspace(1.0, 10.0, 91))
+    s = res.sample(np.linspace(0.01, 10.0, 101))
     assert np.max(np.abs(s["x"] - s["x"][0])) <= 1e-12
     assert np.max(np.abs(s["y"] - s["y"][0])) <= 1e-12
-    assert np.max(np.abs(s["y"][0] - [0.1, 0.3, 0.5])) <= 1e-9
+    assert np.max(np.abs(s["y"][0] - [0.1, 0.3])) <= 1e-9
     assert np.max(np.abs(s["angle"])) <= 1e-9
-    ts = np.union1d(np.linspace(0.0, 1.0, 2001), ev["t"][ev["t"] <= 1.0])
+    ts = np.union1d(np.linspace(0.0, 0.01, 2001), ev["t"][ev["t"] <= 0.01])
     s = res.sample(ts)
-    for i, j in ((0, 1), (1, 2)):
-        gaps = np.array([pair_gap(sim, s, k, j, i) for k in range(len(ts))])
-        assert gaps.min() >= -1e-9
+    gaps = np.array([pair_gap(sim, s, k, 1, 0) for k in range(len(ts))])
+    assert gaps.min() >= -1e-9
+    assert np.min(s["y"][:, 0] - 0.1) >= -1e-9
     E = energy(sim, s)
-    assert np.max(E - np.minimum.accumulate(E)) <= 1e-10 * 3.5 * G * 0.6
+    assert np.max(E - np.minimum.accumulate(E)) <= 1e-10 * 3.0 * G * 0.4
 
 
 def test_box_slides_off_the_edge_of_a_box():
@@ -142,3 +141,40 @@ def test_box_slides_off_the_edge_of_a_box():
     assert gaps[-1] > 1e-3
     assert s["y"][-1, 1] < 0.3
     assert s["x"][-1, 1] > 0.3
+
+
+#: two-body campaign scenes (``rbimpact stability --scenes 2000 --dim 2 --bodies 2``, seed 0)
+#: that stopped with the refusal of persistent body-body contact before rods, capsules and
+#: polygons entered clusters, one per kind of pair; the first five also met the session's
+#: bugs on the way (overlaps of 3.7e-5 to 0.18 m: a face's far end turning away held at
+#: the entry, a released pair searched past another contact; 1e-9 energy from pieces
+#: recorded against M V^2)
+PAIR_SEEDS = [70068603, 4114854997, 2695133448, 864466774, 426301124, 3100654916,
+              671770308, 1815758914, 3248141961, 2909980696, 1810397926, 290180085,
+              1767282211, 3523586650, 3957022266]
+
+
+@pytest.mark.parametrize("seed", PAIR_SEEDS)
+def test_campaign_pair_scenes_pass(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed, bodies=2)
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+    assert row.impacts >= 1
+
+
+#: ... and those that end with a named refusal instead of a wrong or endless run: the
+#: Painleve inconsistency of the cluster's modes (mu = 10), and a contact that ends and
+#: starts again without a lasting mode (e = 0.3, sequential; it ran to max_events)
+PAIR_REFUSED = {2777227208: "no consistent stick/slip/lift-off mode",
+                3926894447: "no consistent stick/slip/lift-off mode",
+                3526132171: "ends and starts again"}
+
+
+@pytest.mark.parametrize("seed", sorted(PAIR_REFUSED))
+def test_campaign_pair_scenes_refused_by_name(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed, bodies=2)
+    assert row.status == "SimulationError"
+    assert PAIR_REFUSED[seed] in row.note, row.note
+    assert row.penetration <= row.pen_tol
