@@ -7,7 +7,7 @@ that cannot create it; the recorded impact equals the law applied by ``Law.resol
 contact rebuilt independently from the pair frame; invariance under a rigid motion of the
 scene and under swapping the body order; the impact time against a bisection of the exact
 signed gap; grazing and fast-spinning bodies; face-on-face clusters; the refusal of
-persistent body-body contact (issue 16 item 2); bad input.
+persistent body-body contact (issue 16 item 2: clusters); bad input.
 """
 import math
 
@@ -262,33 +262,50 @@ def test_face_on_face_is_a_cluster_of_two(policy):
         np.testing.assert_allclose(s["omega"][0], 0.0, atol=1e-12)
 
 
-def test_plastic_ride_together_is_refused_by_name():
-    """Two boxes meeting face on face with e = 0 in zero gravity then move together:
-    persistent body-body contact, not built (issue 16 item 2): a named refusal."""
+def test_plastic_face_on_face_in_zero_gravity_parts():
+    """Two boxes meeting face on face with e = 0 in zero gravity: the impacts accumulate
+    (the pair's persistence rule), so they enter persistent contact (a cluster: issue 16
+    item 2); momentum kept to 1e-12, no overlap, no energy created, the run ends 'done'."""
     scene = Scene2D(gravity=(0.0, 0.0))
     scene.add_body(Box(0.4, 0.2), 1.0, (0.0, 0.5), velocity=(0.3, -2.0))
     scene.add_body(Box(0.6, 0.2), 1.0, (0.0, 0.0))
     sim = Simulation(scene, Law("kane_levinson", e=0.0, mu=0.5))
-    with pytest.raises(SimulationError, match=r"persistent body-body contact .*\(issue 16\)"):
-        sim.run(1.0)
-    try:
-        sim.run(1.0)
-    except SimulationError as exc:
-        assert exc.result.status == "persistent_pair"
-        s = exc.result.sample([exc.result.t_end])
-        assert s["y"][0, 0] - s["y"][0, 1] >= 0.2 - 1e-9
+    res = sim.run(1.0)
+    assert res.status == "done", res.message
+    ev = res.events
+    assert np.any((ev["kind"] == "contact") & (ev["mode"] == 6))
+    ts = np.union1d(np.linspace(0.0, 1.0, 2001), ev["t"])
+    s = res.sample(ts)
+    p = s["vx"] @ [1.0, 1.0], s["vy"] @ [1.0, 1.0]
+    assert np.max(np.abs(p[0] - 0.3)) <= 1e-12 and np.max(np.abs(p[1] + 2.0)) <= 1e-12
+    for k in range(len(ts)):
+        g = frame_rel(1, 0.0, 0.0, 0.0, sim._verts, 0, 4, s["angle"][k, 0], 1, 0.0, 0.0, 0.0,
+                      sim._verts, 4, 4, s["x"][k, 1] - s["x"][k, 0],
+                      s["y"][k, 1] - s["y"][k, 0], s["angle"][k, 1])[0]
+        assert g > -1e-9
+    K = 0.5 * (s["vx"] ** 2 + s["vy"] ** 2) @ [1.0, 1.0] + 0.5 * (
+        s["omega"] ** 2 @ [sim._moments[0], sim._moments[1]])
+    assert np.max(np.diff(K)) <= 1e-12 * K[0]
+    # the impact sticks both ends: they turn together at one spin, which no pushing
+    # contact force can keep (it would have to pull): the cluster lifts at once and they
+    # part in flight (no second impact)
+    assert np.sum(ev["kind"] == "impact") == 2
+    assert s["omega"][-1, 0] == pytest.approx(s["omega"][-1, 1], abs=1e-12)
+    assert g > 1e-3
 
 
-def test_box_settling_on_a_box_is_refused_by_name():
-    """A box bouncing onto a box resting on the floor: its bounces shrink until they would
-    accumulate on the lower box (persistent contact between bodies): a named refusal, no
-    interpenetration before it."""
+def test_box_settling_on_a_box_held_on_the_floor_is_refused_by_name():
+    """A box bouncing onto a box resting on the floor (Routh, e = 0.5): the bounces rock
+    the lower box onto an integrated (pivot) contact with the floor while the upper one can
+    still meet it (a pair with a held body: no closed-form motion to search, not built): a
+    named refusal, no interpenetration before it."""
     scene = Scene2D(gravity=(0.0, -9.81))
     scene.add_floor()
     scene.add_body(Box(0.4, 0.2), 1.0, (0.0, 0.1))
     scene.add_body(Box(0.3, 0.1), 0.5, (0.02, 0.4))
     sim = Simulation(scene, Law("routh", e=0.5, mu=0.5))
-    with pytest.raises(SimulationError, match="persistent body-body contact") as info:
+    with pytest.raises(SimulationError, match=r"persistent body-body contact .*integrated "
+                                              r"\(pivot\) contact") as info:
         sim.run(3.0)
     res = info.value.result
     assert res.status == "persistent_pair"
@@ -326,8 +343,9 @@ def test_pair_law_is_used():
 
 def test_two_body_campaign_sample():
     """The campaign's two-body axis (issue 16 item 5), a fixed-seed sample: no scene breaks
-    an invariant (overlap, energy, momentum); the only failures are the named refusal of
-    persistent body-body contact (not built); most scenes end 'done' with an impact."""
+    an invariant (overlap, energy, momentum); the only failures are named refusals
+    (persistent body-body contact with an ellipse, not built; a Painleve inconsistency of a
+    cluster's modes); most scenes end 'done' with an impact."""
     from rbimpact.campaign import drop_campaign
     n = 120
     report = drop_campaign(n, dim=2, seed=2026, bodies=2)
@@ -335,9 +353,10 @@ def test_two_body_campaign_sample():
     for r in report.rows:
         if r.verdict != "OK":
             assert r.status == "SimulationError", (r.reproducer, r.note)
-            assert r.note.startswith("persistent body-body contact"), (r.reproducer, r.note)
+            assert r.note.startswith(("persistent body-body contact", "Painleve")), (
+                r.reproducer, r.note)
     ok = [r for r in report.rows if r.verdict == "OK"]
-    assert len(ok) >= 0.6 * n
+    assert len(ok) >= 0.85 * n
     assert sum(r.impacts > 0 for r in ok) >= 0.8 * len(ok)
 
 
