@@ -716,7 +716,7 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 @_inner
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid):
+                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid, grav, cw):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
@@ -740,9 +740,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         pr_t[q] = INF
         return 0
     if (ina or inb) and cid[CL_FROZEN] == 0:
-        i = a if ina else b
-        _set_err(err, t_now, a, b, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
-        return ERR_PERSISTENT_PAIR
+        return _held_cluster_pair(pgen, q, a if ina else b, b if ina else a, t_now, st, tref,
+                                  bint, bflt, verts, planes, pm, tz, zp, pr_t, tolf, tmp, err,
+                                  cid, grav, cw)
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
         for j in range(2):
@@ -886,6 +886,72 @@ def _released_pair_s0(tmp, R, S, gtol):
     return s
 
 
+#: a pair with one body in a moving cluster is searched again (the cluster's pass ends)
+#: after this fraction of the time its distance bound guarantees (``_held_cluster_pair``)
+HELD_CHECK = 0.5
+#: ... and refused (``PP_HELD``) when that bound leaves less than this fraction of the
+#: outside body's size between them
+HELD_NEAR = 1e-3
+
+
+@_inner
+def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
+                       pr_t, tolf, tmp, err, cid, grav, cw):
+    """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
+    to search): a distance bound (``stepper3d._held_pair``'s). The cluster's kinetic energy
+    K can only grow by the work of gravity: ``dK/dt <= |g| sum m |v| <= |g| sqrt(M 2K)``,
+    so ``kappa = sqrt(2K)`` grows by at most ``|g| sqrt(M) tau`` (M its mass; contact forces
+    with planes do no work, friction dissipates, internal forces cancel in K); every point
+    of member i then moves slower than ``kappa (1 / sqrt(m) + R / sqrt(I))`` (R its reach),
+    from its row at ``tref[i]``. Body o's points move slower than ``|v| + |omega| R``,
+    growing by ``|a| + |alpha| R``. While the sum of their displacements stays below the
+    gap g0 (member at ``tref[i]``, o at t_now) they cannot meet: the cluster's pass ends
+    (``cw``'s check slot) at ``HELD_CHECK`` of that time, where the pair is bounded again
+    (the cluster's rest makes it an ordinary search); within ``HELD_NEAR`` of o's size
+    the pair is refused by name (``PP_HELD``), as when o is held by an integrated contact
+    itself. Returns 0 or the error."""
+    if pm[o, M_MODE] == PM_PIVOT or pm[o, M_MODE] == PM_WEDGED:
+        _set_err(err, t_now, i, o, st[o, X], st[o, Y], PP_HELD, float(o), 0.0)
+        return ERR_PERSISTENT_PAIR
+    if tz[o] < INF:
+        _held_into(st[o], bint[o, B_KIND], planes[zp[o], 0], planes[zp[o], 1], tmp[1])
+        fly_into(tmp[1], t_now - tref[o], tmp[1])
+    else:
+        fly_into(st[o], t_now - tref[o], tmp[1])
+    g0, _, _ = _cl_gap(pgen, i, st[i], o, tmp[1], bint, bflt, verts)
+    K = 0.0
+    M = 0.0
+    for r in range(cid[CL_N]):
+        j = cid[CL_HDR + r]
+        M += bflt[j, B_MASS]
+        K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
+                    + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
+    Ri, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
+                       verts, bint[i, B_FIRST], bint[i, B_COUNT])
+    Ri += bflt[i, B_RADIUS]
+    Ro, _ = body_reach(bint[o, B_KIND], bflt[o, B_RADIUS], bflt[o, B_EA], bflt[o, B_EB],
+                       verts, bint[o, B_FIRST], bint[o, B_COUNT])
+    Ro += bflt[o, B_RADIUS]
+    beta = 1.0 / math.sqrt(bflt[i, B_MASS]) + Ri / math.sqrt(bflt[i, B_INERTIA])
+    ui = math.sqrt(2.0 * K) * beta
+    ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
+    uo = math.hypot(tmp[1, VX], tmp[1, VY]) + abs(tmp[1, OMEGA]) * Ro
+    co = math.hypot(tmp[1, AX], tmp[1, AY]) + abs(tmp[1, ALPHA]) * Ro
+    tau0 = t_now - tref[i]
+    d = g0 - (ui * tau0 + 0.5 * ci * tau0 * tau0)
+    if not d > HELD_NEAR * Ro:
+        _set_err(err, t_now, i, o, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
+        return ERR_PERSISTENT_PAIR
+    B = ui + ci * tau0 + uo
+    C = ci + co
+    den = B + math.sqrt(B * B + 2.0 * C * d)
+    s = 2.0 * d / den if den > 0.0 else INF
+    pr_t[q] = INF
+    tc = cw.shape[0] - 5
+    cw[tc] = min(cw[tc], t_now + HELD_CHECK * s)
+    return 0
+
+
 @_inner
 def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
     """Offset s0 (s) from which to search a pair of rounded polygons just released from
@@ -976,7 +1042,7 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
 
 @njit(cache=True, _nrt=False, inline="always")
 def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err, cid):
+                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err, cid, grav, cw):
     """Recompute the candidates of the pairs of every marked body (states at t_now), after
     those of its planes (run_loop: ``_recompute_planes`` of each marked body, then this;
     each inlined into it on its own, see ``_mark_pairs``). ``pair``, ``pgen``: those
@@ -986,7 +1052,7 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
             if pair is not None:
                 rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
                                      pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                     tmp, err, cid)
+                                     tmp, err, cid, grav, cw)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
@@ -3125,11 +3191,12 @@ def _log_instant(t, st, tref, bint, planes, pm, tz, zp, bmark, seg, cnt, tmp, er
 
 def cluster_sizes(nb):
     """``(cbod shape, ccon shape, cw size, cid size)`` of a scene of nb bodies (cw: la, w,
-    then four spare slots; from the end: the time of the last mode event, of the last
-    gathering at a feature switch, of the last entry, and the count of entries closer than
-    ``CL_CHAT_RTOL sqrt(L / |g|)`` to the one before)."""
+    then five spare slots; from the end: the time of the last mode event, of the last
+    gathering at a feature switch, of the last entry, the count of entries closer than
+    ``CL_CHAT_RTOL sqrt(L / |g|)`` to the one before, and the time by which the pass must
+    end for a pair with a body outside, ``_held_cluster_pair``)."""
     return ((nb, cl.N_CB), (cl.KMAX + NCAND, cl.N_CC),
-            cl.N_LA + int(cl.work_size(nb, NCAND)) + 4, CL_HDR + nb + cl.KMAX + NCAND)
+            cl.N_LA + int(cl.work_size(nb, NCAND)) + 5, CL_HDR + nb + cl.KMAX + NCAND)
 
 
 @_inner
@@ -3278,6 +3345,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     b = pairs[q, 1]
     if cid[CL_N] > 0:
         return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
+    cw[cw.shape[0] - 5] = INF       # no check time yet (_held_cluster_pair)
     gtol = tolf[TF_GAP_TOL]
     # members: the connected bodies through contacts within gap_tol at t (disks, rods,
     # capsules, polygons; an ellipse touching one is refused)
@@ -3793,9 +3861,11 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                         held = True
                 if not held:
                     return _cl_refuse(err, t, ids[r], ids[r], st, PP_SPLIT, 0.0, 0.0), 0
+    # the pass ends by the check time of the pairs with a body outside (_held_cluster_pair)
+    tc = cw.shape[0] - 5
     cs, ev, idx, ts = cl.cluster_advance(bod, con, cid[CL_NK], cand, cid[CL_NC], gx, gy, L,
-                                         t, tolf[TF_T_END], w, la, seg_t, seg_b, seg_s, cnt,
-                                         ids)
+                                         t, min(tolf[TF_T_END], cw[tc]), w, la, seg_t, seg_b,
+                                         seg_s, cnt, ids)
     if cs == cl.CS_REST:
         # frozen: nothing moves until a body outside hits it
         for r in range(n):
@@ -3830,6 +3900,11 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                             err)
         if rc < 0:
             return rc, 0
+    if ev == cl.CE_NONE and ts >= cw[tc]:
+        # the check time: the pairs with a body outside are bounded again from here
+        cw[tc] = INF
+        for r in range(n):
+            bmark[ids[r]] = 1
     cid[CL_EV] = ev
     cid[CL_IDX] = idx
     ttr[lead] = INF if (ev == cl.CE_NONE and ts >= tolf[TF_T_END]) else ts
@@ -3977,7 +4052,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                             return rc
                 rc = _recompute_pairs(pair, pgen, glob[0], st, tref, bint, bflt, verts, planes,
                                       pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                      bmark, tmp, err, cid)
+                                      bmark, tmp, err, cid, grav, cw)
                 if rc < 0:
                     return rc
             t_now = glob[0]
