@@ -162,22 +162,29 @@ def _row_point(out, r, kind, a, b, V, va, na, ka, rA, mu):
     out[r, cl.CC_MODE] = cl.MODE_SLIP_POS
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _edge_normal(V, v0, nv, e):
+    """A unit normal of core edge e (body frame; its side not chosen) and the edge vector
+    (V_e to V_e+1)."""
+    i = v0 + e
+    j = v0 + (e + 1) % nv
+    ex = V[j, 0] - V[i, 0]
+    ey = V[j, 1] - V[i, 1]
+    el = math.hypot(ex, ey)
+    return ey / el, -ex / el, ex, ey
+
+
 @njit(cache=True, _nrt=False)
 def _row_face(out, r, V, vb, nb, e, rB, stB, nx, ny):
     """B's face of row r: edge e of the core V[vb : vb + nb] offset by rB, on the side of
     the world normal n (a rod's edge has two); its point, outward normal (body frame) and
     extent."""
     i = vb + e
-    j = vb + (e + 1) % nb
-    ex = V[j, 0] - V[i, 0]
-    ey = V[j, 1] - V[i, 1]
-    el = math.hypot(ex, ey)
+    fx, fy, ex, ey = _edge_normal(V, vb, nb, e)
     c = math.cos(stB[ANGLE])
     s = math.sin(stB[ANGLE])
     bx = c * nx + s * ny            # n in B's body frame
     by = -s * nx + c * ny
-    fx = ey / el
-    fy = -ex / el
     if fx * bx + fy * by < 0.0:
         fx = -fx
         fy = -fy
@@ -219,13 +226,9 @@ def _edge_axis(V, v0, nv, e, st, sg):
     times sg."""
     i = v0 + e
     j = v0 + (e + 1) % nv
-    ex = V[j, 0] - V[i, 0]
-    ey = V[j, 1] - V[i, 1]
-    el = math.hypot(ex, ey)
+    fx, fy, _, _ = _edge_normal(V, v0, nv, e)
     c = math.cos(st[ANGLE])
     s = math.sin(st[ANGLE])
-    fx = ey / el
-    fy = -ex / el
     if nv >= 3:
         # outward: away from the core's centre of mass (the body origin)
         if fx * (V[i, 0] + V[j, 0]) + fy * (V[i, 1] + V[j, 1]) < 0.0:

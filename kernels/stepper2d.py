@@ -3208,6 +3208,23 @@ def _cl_speed(bod):
 
 
 @_inner
+def _cl_time(L, gx, gy, bod):
+    """The cluster's time scale T (s): ``sqrt(L / |g|)``, or ``L / V`` in zero gravity (V
+    the fastest member's speed)."""
+    gl = math.hypot(gx, gy)
+    return math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
+
+
+@_inner
+def _cl_close(t, last, count, T):
+    """The count of consecutive occurrences of a cluster event closer than
+    ``CL_CHAT_RTOL T`` to the one before (at ``last``), with one more at t."""
+    if count > 0 and t - last <= CL_CHAT_RTOL * T:
+        return count + 1
+    return 1
+
+
+@_inner
 def _cl_scale(cid, bint, bflt, verts):
     """The cluster's length scale L (m): the sum of its members' diameters (twice the core
     reach plus the radius, ``pair2d_shape.body_reach``; a disk's diameter)."""
@@ -3541,13 +3558,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     L = _cl_scale(cid, bint, bflt, verts)
     # entries closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)): the contact ends and
     # starts again with no lasting mode; the CL_CHAT_MAX-th is refused (PP_REENTRY)
-    gl = math.hypot(grav[0], grav[1])
-    T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(cbod[:n]), 1e-300)
     te = cw.shape[0] - 3
-    if cw[te - 1] > 0.0 and t - cw[te] <= CL_CHAT_RTOL * T:
-        cw[te - 1] += 1.0
-    else:
-        cw[te - 1] = 1.0
+    cw[te - 1] = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(L, grav[0], grav[1],
+                                                               cbod[:n]))
     cw[te] = t
     if cw[te - 1] >= CL_CHAT_MAX:
         cid[CL_N] = 0
@@ -3773,13 +3786,8 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                         break
             # gatherings closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)) that find the
             # same features again: the third is refused
-            gl = math.hypot(gx, gy)
-            T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
             ts_ = cw.shape[0] - 2
-            if cid[CL_SWITCH] > 0 and t - cw[ts_] <= CL_CHAT_RTOL * T:
-                cid[CL_SWITCH] += 1
-            else:
-                cid[CL_SWITCH] = 1
+            cid[CL_SWITCH] = _cl_close(t, cw[ts_], cid[CL_SWITCH], _cl_time(L, gx, gy, bod))
             cw[ts_] = t
             if q < 0 or cid[CL_SWITCH] >= 3:
                 return _cl_refuse(err, t, lead, lead, st, PP_FEATURE, float(idx), 0.0), 0
@@ -3799,13 +3807,8 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
         # (T = sqrt(L / |g|)); from the third, the modes of every contact are chosen again
         # (cluster_select_modes: the event's own trend rule can flip one contact back and
         # forth while another one's mode is what changed); CL_CHAT_MAX of them: refused
-        gl = math.hypot(gx, gy)
-        T = math.sqrt(L / gl) if gl > 0.0 else L / max(_cl_speed(bod), 1e-300)
         ti = cw.shape[0] - 1
-        if cid[CL_CHAT] > 0 and t - cw[ti] <= CL_CHAT_RTOL * T:
-            cid[CL_CHAT] += 1
-        else:
-            cid[CL_CHAT] = 1
+        cid[CL_CHAT] = _cl_close(t, cw[ti], cid[CL_CHAT], _cl_time(L, gx, gy, bod))
         cw[ti] = t
         if cid[CL_CHAT] >= CL_CHAT_MAX:
             return _cl_refuse(err, t, a, a, st, PP_STICK_SLIP, float(cid[CL_CHAT]), t), 0

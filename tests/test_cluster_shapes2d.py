@@ -9,25 +9,14 @@ slides on a frictionless floor (stick time, common speed, positions, energy lost
 stack at rest that does not drift, a box sliding off the edge of another one (no overlap,
 energy never created, it falls), and campaign scenes that used to stop with the refusal
 of persistent body-body contact."""
-import math
 
 import numpy as np
 import pytest
 
 from rbimpact import Box, Law, Scene2D, Simulation
-from rbimpact.kernels.pair2d import frame_rel
+from rbimpact.campaign import pair_gap
 
 G = 9.81
-
-
-def pair_gap(sim, s, k, i, j):
-    V = sim._verts
-    bint, bflt = sim._bint, sim._bflt
-    return frame_rel(int(bint[i, 0]), bflt[i, 2], bflt[i, 3], bflt[i, 4], V, int(bint[i, 1]),
-                     int(bint[i, 2]), s["angle"][k, i], int(bint[j, 0]), bflt[j, 2],
-                     bflt[j, 3], bflt[j, 4], V, int(bint[j, 1]), int(bint[j, 2]),
-                     s["x"][k, j] - s["x"][k, i], s["y"][k, j] - s["y"][k, i],
-                     s["angle"][k, j])[0]
 
 
 def energy(sim, s):
