@@ -327,12 +327,7 @@ def pair_rows(V, va, na, rA, stA, ra, vb, nb, rB, stB, rb, nx, ny, tol, mu, act,
         elif cA == 1 and cB == 1:
             if rA + rB > 0.0:
                 _row_point(act, 0, cl.KIND_ROUND, ra, rb, V, va, na, aklo, rA, mu)
-                act[0, cl.CC_PBX] = V[vb + bklo, 0]
-                act[0, cl.CC_PBY] = V[vb + bklo, 1]
-                act[0, cl.CC_RB] = rB
-                lo, hi = vertex_cone(V, vb, nb, bklo)
-                act[0, cl.CC_BLO] = lo
-                act[0, cl.CC_BHI] = hi
+                _round_b(act, 0, V, vb, nb, bklo, rB)
                 return 1, 0
             status = PR_CORNERS
         if attempt == 0:
