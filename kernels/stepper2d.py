@@ -160,9 +160,10 @@ candidate's gap closing (the cluster dissolves into that impact instant, its con
 the instant's cluster at v_N = 0; the persistence rule then enters it again), rest
 (``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
 dissolves into that instant). One cluster at a time (``PP_TWO``); a pair with one body in
-a moving cluster, or held by an integrated (pivot) contact, is refused (``PP_HELD``: no
-closed-form motion to search); a member leaving while others stay in contact
-(``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
+a moving cluster is bounded (``_held_cluster_pair``: the cluster's pass ends where the
+bound must be taken again; refused, ``PP_HELD``, within ``HELD_NEAR``), a pair with a body
+held by an integrated (pivot) contact is refused (``PP_HELD``: no closed-form motion to
+search); a member leaving while others stay in contact (``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
 arguments of the loop after ``err``.
 """
 import functools
