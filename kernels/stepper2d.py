@@ -576,6 +576,26 @@ def _reach(i, bint, bflt, c_f, c):
     return math.hypot(c_f[c, CF_RAX], c_f[c, CF_RAY]) + bflt[i, B_RADIUS]
 
 
+@_inner
+def _body_size(i, bint, bflt, verts):
+    """Body i's reach (m): the farthest core vertex from its centre plus the rounding radius
+    (``pair2d_shape.body_reach``; an ellipse: its larger semi-axis plus ``B_RADIUS``)."""
+    K1, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
+                       verts, bint[i, B_FIRST], bint[i, B_COUNT])
+    return K1 + bflt[i, B_RADIUS]
+
+
+@_inner
+def _frame(i, thi, j, dx, dy, thj, bint, bflt, verts):
+    """``pair2d.frame_rel`` of bodies i and j (angles thi, thj; j's centre at (dx, dy) from
+    i's): ``(g, nx, ny, pAx, pAy, pBx, pBy, fa, ia, fb, ib)``, witness points relative to
+    i's centre, the normal from j into i."""
+    return frame_rel(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB], verts,
+                     bint[i, B_FIRST], bint[i, B_COUNT], thi, bint[j, B_KIND],
+                     bflt[j, B_RADIUS], bflt[j, B_EA], bflt[j, B_EB], verts, bint[j, B_FIRST],
+                     bint[j, B_COUNT], dx, dy, thj)
+
+
 # ------------------------------------------------------------------ candidates
 
 
@@ -927,12 +947,8 @@ def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes
         M += bflt[j, B_MASS]
         K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
                     + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
-    Ri, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
-                       verts, bint[i, B_FIRST], bint[i, B_COUNT])
-    Ri += bflt[i, B_RADIUS]
-    Ro, _ = body_reach(bint[o, B_KIND], bflt[o, B_RADIUS], bflt[o, B_EA], bflt[o, B_EB],
-                       verts, bint[o, B_FIRST], bint[o, B_COUNT])
-    Ro += bflt[o, B_RADIUS]
+    Ri = _body_size(i, bint, bflt, verts)
+    Ro = _body_size(o, bint, bflt, verts)
     beta = 1.0 / math.sqrt(bflt[i, B_MASS]) + Ri / math.sqrt(bflt[i, B_INERTIA])
     ui = math.sqrt(2.0 * K) * beta
     ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
@@ -961,11 +977,7 @@ def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
     ``a`` the relative acceleration of the centres, or ``R / v`` with v the relative speed
     and spins) where the gap (``pair2d.frame_rel``) exceeds gap_tol and grows, at most S
     (``_released_pair_s0``'s rule for two disks)."""
-    K1a, _ = body_reach(bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB],
-                        verts, bint[a, B_FIRST], bint[a, B_COUNT])
-    K1b, _ = body_reach(bint[b, B_KIND], bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB],
-                        verts, bint[b, B_FIRST], bint[b, B_COUNT])
-    R = K1a + bflt[a, B_RADIUS] + K1b + bflt[b, B_RADIUS]
+    R = _body_size(a, bint, bflt, verts) + _body_size(b, bint, bflt, verts)
     da = (math.hypot(tmp[0, AX] - tmp[1, AX], tmp[0, AY] - tmp[1, AY])
           + (abs(tmp[0, ALPHA]) + abs(tmp[1, ALPHA])) * R)
     dv = (math.hypot(tmp[0, VX] - tmp[1, VX], tmp[0, VY] - tmp[1, VY])
@@ -982,11 +994,8 @@ def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
         dy = tmp[1, Y] - tmp[0, Y] + (tmp[1, VY] - tmp[0, VY]) * s + (tmp[1, AY] - tmp[0, AY]) * h
         tha = tmp[0, ANGLE] + tmp[0, OMEGA] * s + tmp[0, ALPHA] * h
         thb = tmp[1, ANGLE] + tmp[1, OMEGA] * s + tmp[1, ALPHA] * h
-        g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
-            bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
-            bint[a, B_FIRST], bint[a, B_COUNT], tha, bint[b, B_KIND], bflt[b, B_RADIUS],
-            bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST], bint[b, B_COUNT], dx, dy,
-            thb)
+        g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(a, tha, b, dx, dy, thb,
+                                                               bint, bflt, verts)
         v = point_rate(nx, ny, pax, pay, pbx - dx, pby - dy,
                        tmp[0, VX] + tmp[0, AX] * s, tmp[0, VY] + tmp[0, AY] * s,
                        tmp[0, OMEGA] + tmp[0, ALPHA] * s, tmp[1, VX] + tmp[1, AX] * s,
@@ -1012,13 +1021,10 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
     ``ERR_PERSISTENT_PAIR`` (0: they part), by ``decisions.pair_persistence`` with ``v``
     the gap rate after the impact (``pair2d.frame_rel``) and ``s`` the pair's next time of
     impact (search result ``code``)."""
-    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
-        bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
-        bint[a, B_FIRST], bint[a, B_COUNT], tmp[0, ANGLE], bint[b, B_KIND],
-        bflt[b, B_RADIUS], bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST],
-        bint[b, B_COUNT], tmp[1, X] - tmp[0, X], tmp[1, Y] - tmp[0, Y], tmp[1, ANGLE])
     dx = tmp[1, X] - tmp[0, X]
     dy = tmp[1, Y] - tmp[0, Y]
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(a, tmp[0, ANGLE], b, dx, dy,
+                                                           tmp[1, ANGLE], bint, bflt, verts)
     v = point_rate(nx, ny, pax, pay, pbx - dx, pby - dy, tmp[0, VX], tmp[0, VY],
                    tmp[0, OMEGA], tmp[1, VX], tmp[1, VY], tmp[1, OMEGA])
     px = tmp[0, X] + 0.5 * (pax + pbx)
@@ -3231,10 +3237,7 @@ def _cl_scale(cid, bint, bflt, verts):
     reach plus the radius, ``pair2d_shape.body_reach``; a disk's diameter)."""
     L = 0.0
     for r in range(cid[CL_N]):
-        i = cid[CL_HDR + r]
-        K1, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB],
-                           verts, bint[i, B_FIRST], bint[i, B_COUNT])
-        L += 2.0 * (K1 + bflt[i, B_RADIUS])
+        L += 2.0 * _body_size(cid[CL_HDR + r], bint, bflt, verts)
     return L
 
 
@@ -3318,11 +3321,9 @@ def _cl_gap(shapes, i, si, j, sj, bint, bflt, verts):
         return dist - bflt[i, B_RADIUS] - bflt[j, B_RADIUS], dx / dist, dy / dist
     if shapes is None:
         return INF, 0.0, 0.0
-    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
-        bint[i, B_KIND], bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB], verts,
-        bint[i, B_FIRST], bint[i, B_COUNT], si[ANGLE], bint[j, B_KIND], bflt[j, B_RADIUS],
-        bflt[j, B_EA], bflt[j, B_EB], verts, bint[j, B_FIRST], bint[j, B_COUNT],
-        sj[X] - si[X], sj[Y] - si[Y], sj[ANGLE])
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(i, si[ANGLE], j, sj[X] - si[X],
+                                                           sj[Y] - si[Y], sj[ANGLE], bint,
+                                                           bflt, verts)
     return g, nx, ny
 
 
@@ -3339,11 +3340,10 @@ def _cl_point(shapes, a, b, st, bint, bflt, verts):
         ny = dy / dist
         rb_ = bflt[b, B_RADIUS]
         return st[b, X] + rb_ * nx, st[b, Y] + rb_ * ny, nx, ny
-    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = frame_rel(
-        bint[a, B_KIND], bflt[a, B_RADIUS], bflt[a, B_EA], bflt[a, B_EB], verts,
-        bint[a, B_FIRST], bint[a, B_COUNT], st[a, ANGLE], bint[b, B_KIND], bflt[b, B_RADIUS],
-        bflt[b, B_EA], bflt[b, B_EB], verts, bint[b, B_FIRST], bint[b, B_COUNT],
-        st[b, X] - st[a, X], st[b, Y] - st[a, Y], st[b, ANGLE])
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(a, st[a, ANGLE], b,
+                                                           st[b, X] - st[a, X],
+                                                           st[b, Y] - st[a, Y], st[b, ANGLE],
+                                                           bint, bflt, verts)
     return st[a, X] + 0.5 * (pax + pbx), st[a, Y] + 0.5 * (pay + pby), nx, ny
 
 
@@ -3492,13 +3492,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             nc += kc
             # a contact of the pair separating faster than the zero speed (the far end of
             # a face on a face turning away) is a candidate, not held
-            K1i, _ = body_reach(bint[i, B_KIND], bflt[i, B_RADIUS], 0.0, 0.0, verts,
-                                bint[i, B_FIRST], bint[i, B_COUNT])
-            K1j, _ = body_reach(bint[j, B_KIND], bflt[j, B_RADIUS], 0.0, 0.0, verts,
-                                bint[j, B_FIRST], bint[j, B_COUNT])
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
-                  + abs(st[i, OMEGA]) * (K1i + bflt[i, B_RADIUS])
-                  + abs(st[j, OMEGA]) * (K1j + bflt[j, B_RADIUS]))
+                  + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
+                  + abs(st[j, OMEGA]) * _body_size(j, bint, bflt, verts))
             vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
             cid[CL_NK] = nk
             cid[CL_NC] = nc
