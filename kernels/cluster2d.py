@@ -42,6 +42,17 @@ and ``t = (n_y, -n_x)`` (DESIGN §3). Kinds (``CC_KIND``):
 * ``KIND_PLANE`` (feature-plane): ``n = (CC_NX, CC_NY)`` world, unit; ``g = n . cA - d - rA``
   with ``d = CC_D``; ``g'' = n . d2cA/dt2``.
 
+An ellipse's boundary (``CC_AEA, CC_AEB`` for A, ``CC_BEA, CC_BEB`` for B in a round-round
+row) is not a material circle: its contact point moves along the curve. At every state the
+kernel replaces it by its osculating circle at the contact (``feature_circles``: centre of
+curvature as ``pA`` or ``pB``, radius of curvature as ``rA`` or ``rB``), found from the
+known normal (plane, face) or by the common-normal iteration (round-round). The circle has
+the ellipse's support function, and its first two derivatives in the normal's angle, so
+the gap, ``JN`` and ``g''`` below are the ellipse's exactly (the gap of two convex bodies is
+a maximum over the axis of their support functions, so by the envelope theorem its first
+two derivatives in the poses need only those; ``dp/dt`` too, so ``bT`` is exact). An
+ellipse's normal cone is the whole circle: no feature event.
+
 The contact point is ``p = cA - rA n`` (on A's surface; at ``g = 0`` also on B's). Its arms
 are ``aA = p - x_A``, ``aB = p - x_B``. For every kind the gap rate is exactly
 ``dg/dt = n . (v_A(p) - v_B(p)) = JN . dq/dt`` with the row ``JN = (n, aA x n | -n, -aB x n)``
@@ -170,8 +181,7 @@ Arrays (no allocation in the hot path; sizes from ``work_size``):
 
 Not here: entering the mode, moving a lifted contact to the candidates and the impact at
 ``CE_GAP`` (``stepper2d``); the tables built from the scene's shapes and the switch of a
-contact at ``CE_FEATURE`` (``cluster2d_rows``); ellipses (a curved feature: its support
-function as in ``pivot2d``), and a mode selection for more than ``KSEL_MAX`` contacts (an
+contact at ``CE_FEATURE`` (``cluster2d_rows``), and a mode selection for more than ``KSEL_MAX`` contacts (an
 LCP pivoting method instead of the enumeration).
 """
 import math
@@ -223,7 +233,14 @@ CC_AHI = 17         # stay within the angles [ALO, AHI] of A's body frame (a pol
 CC_BLO = 18         # KIND_ROUND: B's feature's normal cone (n within the angles [BLO, BHI] of
 CC_BHI = 19         # B's frame); KIND_FACE: the face's extent, the contact point's coordinate
 #                     s = t . (p - fB) within [BLO, BHI] (m); -inf, inf: unbounded
-N_CC = 20
+CC_AEA = 20         # A's feature is an ellipse when > 0: its semi-axes on A's body x axis
+CC_AEB = 21         # (AEA) and y axis (AEB), centred on A's origin (m); CC_PAX, CC_PAY, CC_RA
+#                     are then ignored (its osculating circle at the contact: module docstring)
+CC_BEA = 22         # the same for B's feature (KIND_ROUND only)
+CC_BEB = 23
+CC_PSI = 24         # KIND_ROUND with an ellipse: the world angle of n at the last evaluation
+#                     (rad; the warm start of the common-normal iteration, written by _kin)
+N_CC = 25
 
 KIND_ROUND = 0
 KIND_FACE = 1
@@ -377,6 +394,86 @@ def work_size(nb, nc):
 
 # ------------------------------------------------------------------ kinematics
 
+PSI_TOL = 1e-15     # rad: the common-normal iteration of an ellipse stops below this step
+PSI_ITER = 8        # its iterations at most (quadratic from a warm start: 1-3 are used; the
+#                     last iterate is kept: its error is the round-off of D's direction)
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def osculating(ea, eb, th, ux, uy):
+    """The osculating circle of the ellipse ``x^2 / ea^2 + y^2 / eb^2 = 1`` (body frame,
+    body angle th, m) where its outward unit normal is the world vector u: its centre (body
+    frame, m) and radius (m). With ``u' = R(-th) u`` and the support function
+    ``h = sqrt(ea^2 u'_x^2 + eb^2 u'_y^2)``, the point is ``p = (ea^2 u'_x, eb^2 u'_y) / h``,
+    the radius of curvature ``rho = h + h'' = ea^2 eb^2 / h^3`` (``pivot2d.ellipse_support3``)
+    and the centre ``p - rho u'``."""
+    c = math.cos(th)
+    s = math.sin(th)
+    u0 = c * ux + s * uy
+    u1 = -s * ux + c * uy
+    a2 = ea * ea
+    b2 = eb * eb
+    h = math.sqrt(a2 * u0 * u0 + b2 * u1 * u1)
+    rho = a2 * b2 / (h * h * h)
+    return a2 * u0 / h - rho * u0, b2 * u1 / h - rho * u1, rho
+
+
+@njit(cache=True, _nrt=False)
+def feature_circles(c, k, xa, ya, tha, xb, yb, thb):
+    """The point features of row k of table c as circles: ``(pAx, pAy, rA, pBx, pBy,
+    rB)``, centres in their bodies' frames (m), at the poses (xa, ya, tha) of A and
+    (xb, yb, thb) of B (unused for a plane). A round feature is the table's; an ellipse
+    (``CC_AEA > 0``, ``CC_BEA > 0``) is its osculating circle at the contact (``osculating``),
+    where its outward normal is ``-n`` (A) or ``n`` (B). For a plane or a face n is known;
+    for a round-round row it is the common normal, the fixed point of ``psi <- angle(D)``
+    (``D = cA - cB``, the circles' centres at the normal angle psi): the centres of curvature
+    move along n as psi turns (the evolute is normal to the curve), so the map's derivative
+    is 0 at its fixed point and the iteration converges quadratically from ``CC_PSI``, which
+    is rewritten. The circle has the ellipse's support function to second order in the
+    normal's angle, so the gap, its gradient JN and its second derivative (``bN``) of the
+    row are the ellipse's exactly (module docstring)."""
+    pax = c[k, CC_PAX]
+    pay = c[k, CC_PAY]
+    rA = c[k, CC_RA]
+    pbx = c[k, CC_PBX]
+    pby = c[k, CC_PBY]
+    rB = c[k, CC_RB]
+    eaa = c[k, CC_AEA]
+    eab = c[k, CC_BEA]
+    if eaa == 0.0 and eab == 0.0:
+        return pax, pay, rA, pbx, pby, rB
+    kind = c[k, CC_KIND]
+    if kind == KIND_PLANE:
+        pax, pay, rA = osculating(eaa, c[k, CC_AEB], tha, -c[k, CC_NX], -c[k, CC_NY])
+        return pax, pay, rA, pbx, pby, rB
+    cb = math.cos(thb)
+    sb = math.sin(thb)
+    if kind == KIND_FACE:
+        nx = cb * c[k, CC_NX] - sb * c[k, CC_NY]
+        ny = sb * c[k, CC_NX] + cb * c[k, CC_NY]
+        pax, pay, rA = osculating(eaa, c[k, CC_AEB], tha, -nx, -ny)
+        return pax, pay, rA, pbx, pby, rB
+    ca = math.cos(tha)
+    sa = math.sin(tha)
+    psi = c[k, CC_PSI]
+    for _ in range(PSI_ITER):
+        nx = math.cos(psi)
+        ny = math.sin(psi)
+        if eaa > 0.0:
+            pax, pay, rA = osculating(eaa, c[k, CC_AEB], tha, -nx, -ny)
+        if eab > 0.0:
+            pbx, pby, rB = osculating(eab, c[k, CC_BEB], thb, nx, ny)
+        dx = xa + ca * pax - sa * pay - xb - cb * pbx + sb * pby
+        dy = ya + sa * pax + ca * pay - yb - sb * pbx - cb * pby
+        p2 = math.atan2(dy, dx)
+        d = p2 - psi
+        d -= 2.0 * math.pi * math.floor((d + math.pi) / (2.0 * math.pi))
+        if abs(d) <= PSI_TOL:
+            break
+        psi = p2
+    c[k, CC_PSI] = psi
+    return pax, pay, rA, pbx, pby, rB
+
 
 @njit(cache=True, _nrt=False)
 def _kin(c, k, w, yo):
@@ -392,20 +489,29 @@ def _kin(c, k, w, yo):
     vxa = w[oa + 3]
     vya = w[oa + 4]
     wa = w[oa + 5]
+    xb = 0.0
+    yb = 0.0
+    thb = 0.0
+    vxb = 0.0
+    vyb = 0.0
+    wb = 0.0
+    if kind != KIND_PLANE:
+        ob = yo + NS * b
+        xb = w[ob]
+        yb = w[ob + 1]
+        thb = w[ob + 2]
+        vxb = w[ob + 3]
+        vyb = w[ob + 4]
+        wb = w[ob + 5]
+    pax, pay, rA, pbx, pby, rB = feature_circles(c, k, xa, ya, tha, xb, yb, thb)
     ca = math.cos(tha)
     sa = math.sin(tha)
-    rax = ca * c[k, CC_PAX] - sa * c[k, CC_PAY]        # rhoA = cA - xA
-    ray = sa * c[k, CC_PAX] + ca * c[k, CC_PAY]
+    rax = ca * pax - sa * pay                          # rhoA = cA - xA
+    ray = sa * pax + ca * pay
     cax = xa + rax
     cay = ya + ray
     cdax = vxa - wa * ray                              # dcA/dt
     cday = vya + wa * rax
-    rA = c[k, CC_RA]
-    xb = 0.0
-    yb = 0.0
-    vxb = 0.0
-    vyb = 0.0
-    wb = 0.0
     if kind == KIND_PLANE:
         nx = c[k, CC_NX]
         ny = c[k, CC_NY]
@@ -415,22 +521,14 @@ def _kin(c, k, w, yo):
         ndy = 0.0
         bn = -wa * wa * (nx * rax + ny * ray)
     else:
-        ob = yo + NS * b
-        xb = w[ob]
-        yb = w[ob + 1]
-        thb = w[ob + 2]
-        vxb = w[ob + 3]
-        vyb = w[ob + 4]
-        wb = w[ob + 5]
         cb = math.cos(thb)
         sb = math.sin(thb)
-        rbx = cb * c[k, CC_PBX] - sb * c[k, CC_PBY]    # rhoB = cB - xB (or fB - xB)
-        rby = sb * c[k, CC_PBX] + cb * c[k, CC_PBY]
+        rbx = cb * pbx - sb * pby                      # rhoB = cB - xB (or fB - xB)
+        rby = sb * pbx + cb * pby
         dx = xa + rax - xb - rbx                       # D = cA - cB (or d = cA - fB)
         dy = ya + ray - yb - rby
         ddx = cdax - (vxb - wb * rby)                  # dD/dt
         ddy = cday - (vyb + wb * rbx)
-        rB = c[k, CC_RB]
         if kind == KIND_ROUND:
             dist = math.hypot(dx, dy)
             nx = dx / dist
@@ -1677,6 +1775,14 @@ def validate_cluster(bodies, contacts, nk, cands=None, nc=0, L=1.0):
                     continue
                 if lo != -math.inf and not hi - lo < math.pi:
                     raise ValueError(f"{name} {k}: {what} must be narrower than pi")
+            for ea, eb, what in ((r[CC_AEA], r[CC_AEB], "A"), (r[CC_BEA], r[CC_BEB], "B")):
+                if not (ea >= 0.0 and math.isfinite(ea)) or (ea > 0.0) != (eb > 0.0):
+                    raise ValueError(f"{name} {k}: {what}'s ellipse semi-axes must be both 0 "
+                                     f"(a round feature) or both positive and finite")
+            if r[CC_BEA] > 0.0 and kind != KIND_ROUND:
+                raise ValueError(f"{name} {k}: B's feature is an ellipse only in KIND_ROUND")
+            if (r[CC_AEA] > 0.0 or r[CC_BEA] > 0.0) and not math.isfinite(r[CC_PSI]):
+                raise ValueError(f"{name} {k}: CC_PSI (the normal's angle) must be finite")
             g = [r[CC_PAX], r[CC_PAY], r[CC_PBX], r[CC_PBY], r[CC_D]]
             if not np.all(np.isfinite(g)):
                 raise ValueError(f"{name} {k}: non-finite geometry")

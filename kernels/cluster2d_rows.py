@@ -3,9 +3,9 @@ features of two touching bodies, or of a body and a plane, carry the persistent 
 as rows of ``cluster2d``'s contact table (columns ``CC_*``; issue 16 item 2).
 
 Shapes are the rounded convex polygons of ``pair2d_shape`` (``SH_DISK``, ``SH_POLY``: a
-core ``V[v0 : v0 + nv]``, counter-clockwise, swept by a disk of radius ``rad``); ellipses
-are not covered (their contact point moves along a curve: ``pivot2d``'s support function,
-not built here). A body's state row is ``flight2d``'s (``X, Y, ANGLE, ...``).
+core ``V[v0 : v0 + nv]``, counter-clockwise, swept by a disk of radius ``rad``) and ellipses
+(semi-axes ``ea, eb`` on the body axes: ``cluster2d``'s curved feature, ``CC_AEA``). A
+body's state row is ``flight2d``'s (``X, Y, ANGLE, ...``).
 
 Features (DESIGN §3: ``n`` points from B into A):
 
@@ -37,6 +37,14 @@ vertex's neighbours on the same face line, the landing of the adjacent face (the
 two convex bodies touching at a vertex on a face can touch elsewhere without the vertex
 first leaving the face, a ``CE_FEATURE`` event). Planes (``plane_rows``): every core vertex
 within ``tol`` is an active ``KIND_PLANE`` row, every other one a candidate.
+
+An ellipse touches a convex body at one point, and keeps touching it there (it has no flat
+piece): ``ellipse_rows`` makes it the row's A, on B's vertex (``KIND_ROUND``, B's cone
+watched), on B's face (``KIND_FACE``, B's extent watched) or on B's boundary when B is an
+ellipse too (``KIND_ROUND``, nothing watched); no candidates. Against a plane
+(``ellipse_plane_rows``) it is one row, active within ``tol``, else a candidate. When its
+contact point leaves B's vertex cone or B's face, ``switch_row`` moves it onto B's adjacent
+face or end vertex; the ellipse's own cone is the whole circle.
 """
 import math
 
@@ -391,6 +399,76 @@ def plane_rows(V, v0, nv, rad, st, r, nx, ny, d, tol, mu, act, max_act, cand, ma
     return ma, mc
 
 
+@njit(cache=True, _nrt=False)
+def _row_ellipse(out, r, kind, a, b, ea, eb, mu, nx, ny):
+    """Row r of out: kind, bodies (cluster rows a, b), A's ellipse (semi-axes ea, eb), the
+    normal's angle from the world normal n (``CC_PSI``), open cones; the rest cleared."""
+    for j in range(cl.N_CC):
+        out[r, j] = 0.0
+    out[r, cl.CC_KIND] = kind
+    out[r, cl.CC_A] = a
+    out[r, cl.CC_B] = b
+    out[r, cl.CC_AEA] = ea
+    out[r, cl.CC_AEB] = eb
+    out[r, cl.CC_PSI] = math.atan2(ny, nx)
+    out[r, cl.CC_ALO] = -INF
+    out[r, cl.CC_AHI] = INF
+    out[r, cl.CC_BLO] = -INF
+    out[r, cl.CC_BHI] = INF
+    out[r, cl.CC_MU] = mu
+    out[r, cl.CC_MODE] = cl.MODE_SLIP_POS
+
+
+@njit(cache=True, _nrt=False)
+def ellipse_rows(ea, eb, ra, V, vb, nb, rB, eab, ebb, stB, rb, nx, ny, tol, mu, act):
+    """The contact row of an ellipse A (semi-axes ``ea, eb``, cluster row ``ra``) touching
+    B (cluster row ``rb``, state row ``stB``): an ellipse (``eab, ebb > 0``), or a rounded
+    polygon (core ``V[vb : vb + nb]``, radius ``rB``); ``n`` the unit normal from B into A
+    (world, the pair frame's), ``tol`` (m) the support tolerance, ``mu`` the friction.
+    Writes ``act[0]``; returns ``(1, 0)``, or ``(PR_GEOMETRY, 0)`` (module docstring)."""
+    if eab > 0.0:
+        _row_ellipse(act, 0, cl.KIND_ROUND, ra, rb, ea, eb, mu, nx, ny)
+        act[0, cl.CC_BEA] = eab
+        act[0, cl.CC_BEB] = ebb
+        return 1, 0
+    L = rB
+    for k in range(nb):
+        L = max(L, math.hypot(V[vb + k, 0], V[vb + k, 1]) + rB)
+    cB, bklo, btlo, bkhi, bthi = _support(V, vb, nb, stB, nx, ny, 1.0,
+                                          tol + FACE_RTOL * max(L, ea, eb))
+    if cB == 1:
+        _row_ellipse(act, 0, cl.KIND_ROUND, ra, rb, ea, eb, mu, nx, ny)
+        _round_b(act, 0, V, vb, nb, bklo, rB)
+        return 1, 0
+    e = _face_edge(nb, bklo, bkhi)
+    if cB < 1 or e < 0:
+        return PR_GEOMETRY, 0
+    _row_ellipse(act, 0, cl.KIND_FACE, ra, rb, ea, eb, mu, nx, ny)
+    _row_face(act, 0, V, vb, nb, e, rB, stB, nx, ny)
+    return 1, 0
+
+
+@njit(cache=True, _nrt=False)
+def ellipse_plane_rows(ea, eb, st, r, nx, ny, d, tol, mu, act, max_act, cand, max_cand):
+    """The row of an ellipse (semi-axes ``ea, eb``, state row st, cluster row r) against the
+    plane ``n . q >= d``: active when its gap is within ``tol`` (m), else a candidate.
+    Returns ``(n_active, n_candidates)``, or ``(-1, -1)`` when it does not fit."""
+    c = math.cos(st[ANGLE])
+    s = math.sin(st[ANGLE])
+    u0 = c * nx + s * ny
+    u1 = -s * nx + c * ny
+    h = math.sqrt(ea * ea * u0 * u0 + eb * eb * u1 * u1)     # the support along -n
+    on = nx * st[X] + ny * st[Y] - d - h <= tol
+    if (on and max_act < 1) or (not on and max_cand < 1):
+        return -1, -1
+    out = act if on else cand
+    _row_ellipse(out, 0, cl.KIND_PLANE, r, -1, ea, eb, mu, nx, ny)
+    out[0, cl.CC_NX] = nx
+    out[0, cl.CC_NY] = ny
+    out[0, cl.CC_D] = d
+    return (1, 0) if on else (0, 1)
+
+
 # ---- feature switches (cluster2d's CE_FEATURE) ----------------------------------------------
 
 SW_SWITCHED = 1     # the row now describes the contact on the next feature
@@ -439,12 +517,12 @@ def row_normal(table, k, stA, stB):
     if kind == cl.KIND_FACE:
         return (cb * table[k, cl.CC_NX] - sb * table[k, cl.CC_NY],
                 sb * table[k, cl.CC_NX] + cb * table[k, cl.CC_NY])
+    pax, pay, _, pbx, pby, _ = cl.feature_circles(table, k, stA[X], stA[Y], stA[ANGLE],
+                                                  stB[X], stB[Y], stB[ANGLE])
     ca = math.cos(stA[ANGLE])
     sa = math.sin(stA[ANGLE])
-    dx = (stA[X] + ca * table[k, cl.CC_PAX] - sa * table[k, cl.CC_PAY]
-          - stB[X] - cb * table[k, cl.CC_PBX] + sb * table[k, cl.CC_PBY])
-    dy = (stA[Y] + sa * table[k, cl.CC_PAX] + ca * table[k, cl.CC_PAY]
-          - stB[Y] - sb * table[k, cl.CC_PBX] - cb * table[k, cl.CC_PBY])
+    dx = stA[X] + ca * pax - sa * pay - stB[X] - cb * pbx + sb * pby
+    dy = stA[Y] + sa * pax + ca * pay - stB[Y] - sb * pbx - cb * pby
     d = math.hypot(dx, dy)
     return dx / d, dy / d
 
@@ -458,6 +536,50 @@ def _round_b(table, k, V, vb, nb, kb, rB):
     lo, hi = vertex_cone(V, vb, nb, kb)
     table[k, cl.CC_BLO] = lo
     table[k, cl.CC_BHI] = hi
+
+
+@njit(cache=True, _nrt=False)
+def _far_end(V, table, k, fr, vb, nb):
+    """The core vertex of B at the end of row k's face that its contact point leaves across
+    (range ``fr``), or -1."""
+    e = _vertex_index(V, vb, nb, table[k, cl.CC_PBX], table[k, cl.CC_PBY])
+    if e < 0:
+        return -1
+    if nb == 2:
+        e = 0
+    s1 = table[k, cl.CC_BLO] + table[k, cl.CC_BHI]     # the far end's coordinate (one is 0)
+    far = (fr == cl.FR_BHI) == (s1 > 0.0)
+    return (e + 1) % nb if far else e
+
+
+@njit(cache=True, _nrt=False)
+def _switch_ellipse(V, table, k, fr, nx, ny, vb, nb, rB, stB):
+    """``switch_row`` for an ellipse A (normal n at the switch): off B's face onto its end
+    vertex, out of B's vertex cone onto the adjacent face."""
+    kind = table[k, cl.CC_KIND]
+    if table[k, cl.CC_BEA] > 0.0 or kind == cl.KIND_PLANE or fr == cl.FR_ALO or fr == cl.FR_AHI:
+        return PR_GEOMETRY
+    a = table[k, cl.CC_A]
+    b = table[k, cl.CC_B]
+    ea = table[k, cl.CC_AEA]
+    eb = table[k, cl.CC_AEB]
+    mu = table[k, cl.CC_MU]
+    mode = table[k, cl.CC_MODE]
+    if kind == cl.KIND_FACE:
+        kend = _far_end(V, table, k, fr, vb, nb)
+        if kend < 0:
+            return PR_GEOMETRY
+        _row_ellipse(table, k, cl.KIND_ROUND, a, b, ea, eb, mu, nx, ny)
+        _round_b(table, k, V, vb, nb, kend, rB)
+    else:
+        kb = _vertex_index(V, vb, nb, table[k, cl.CC_PBX], table[k, cl.CC_PBY])
+        e = _adjacent_face(V, vb, nb, kb, stB, nx, ny) if kb >= 0 else -1
+        if e < 0:
+            return PR_GEOMETRY
+        _row_ellipse(table, k, cl.KIND_FACE, a, b, ea, eb, mu, nx, ny)
+        _row_face(table, k, V, vb, nb, e, rB, stB, nx, ny)
+    table[k, cl.CC_MODE] = mode
+    return SW_SWITCHED
 
 
 @njit(cache=True, _nrt=False)
@@ -476,12 +598,16 @@ def switch_row(V, table, k, fr, va, na, rA, stA, vb, nb, rB, stB):
       A's);
     * the point feature's own cone in a point-face or plane contact: A's adjacent face
       lies on the face or the plane, ``SW_LANDING`` (the neighbour vertex lands: an
-      impact, nothing rewritten).
+      impact, nothing rewritten);
+    * an ellipse A (``_switch_ellipse``): off B's face onto its end vertex, out of B's
+      vertex cone onto the adjacent face.
 
     The mode (stick, or slip along the row's t) is kept. Returns ``SW_SWITCHED``,
     ``SW_LANDING`` or ``PR_GEOMETRY`` (a feature not found in the cores)."""
     kind = table[k, cl.CC_KIND]
     nx, ny = row_normal(table, k, stA, stB)
+    if table[k, cl.CC_AEA] > 0.0:
+        return _switch_ellipse(V, table, k, fr, nx, ny, vb, nb, rB, stB)
     ka = _vertex_index(V, va, na, table[k, cl.CC_PAX], table[k, cl.CC_PAY])
     if ka < 0:
         return PR_GEOMETRY
@@ -511,14 +637,9 @@ def switch_row(V, table, k, fr, va, na, rA, stA, vb, nb, rB, stB):
         return SW_SWITCHED
     if kind != cl.KIND_FACE:
         return PR_GEOMETRY
-    e = _vertex_index(V, vb, nb, table[k, cl.CC_PBX], table[k, cl.CC_PBY])
-    if e < 0:
+    kend = _far_end(V, table, k, fr, vb, nb)
+    if kend < 0:
         return PR_GEOMETRY
-    if nb == 2:
-        e = 0
-    s1 = table[k, cl.CC_BLO] + table[k, cl.CC_BHI]     # the far end's coordinate (one is 0)
-    far = (fr == cl.FR_BHI) == (s1 > 0.0)
-    kend = (e + 1) % nb if far else e
     if rA + rB > 0.0:
         _row_point(table, k, cl.KIND_ROUND, a, b, V, va, na, ka, rA, mu)
         _round_b(table, k, V, vb, nb, kend, rB)
@@ -543,10 +664,12 @@ def row_rate(table, k, stA, stB):
     OMEGA``; stB unused for a plane): ``n . (v_A(p) - v_B(p))`` at the contact point
     ``p = cA - rA n`` (``cluster2d``: the exact derivative of the row's gap)."""
     nx, ny = row_normal(table, k, stA, stB)
+    pax, pay, rA, _, _, _ = cl.feature_circles(table, k, stA[X], stA[Y], stA[ANGLE], stB[X],
+                                               stB[Y], stB[ANGLE])
     ca = math.cos(stA[ANGLE])
     sa = math.sin(stA[ANGLE])
-    px = ca * table[k, cl.CC_PAX] - sa * table[k, cl.CC_PAY] - table[k, cl.CC_RA] * nx
-    py = sa * table[k, cl.CC_PAX] + ca * table[k, cl.CC_PAY] - table[k, cl.CC_RA] * ny
+    px = ca * pax - sa * pay - rA * nx
+    py = sa * pax + ca * pay - rA * ny
     ux = stA[VX] - stA[OMEGA] * py
     uy = stA[VY] + stA[OMEGA] * px
     if table[k, cl.CC_KIND] != cl.KIND_PLANE:

@@ -126,11 +126,13 @@ When the impacts of two bodies accumulate (``decisions.pair_persistence`` says `
 in ``_recompute_pair``, or, for two rounded polygons, ``PP_TOGETHER``; or ``_holding``
 finds a disk pair's contact chattering), the pair is marked (``cid[CL_PEND]``) and, at the
 next pass, enters a *cluster* (``_cluster_enter``): the bodies connected to it by contacts
-within ``gap_tol`` (disks, rods, capsules, polygons; an ellipse touching one is refused,
-``PP_SHAPES``) and the planes they touch. Its contact rows (``kernels/cluster2d_rows.py``):
-two disks, round-round; any other pair, the features on the extreme supports along the
-pair's normal (a vertex on a face, face on face as the two ends of the overlap, two
-rounded vertices; two sharp corners take the face of greatest separation), a contact
+within ``gap_tol`` (every shape) and the planes they touch. Its contact rows
+(``kernels/cluster2d_rows.py``): two disks, round-round; an ellipse, one row with the
+ellipse as A (on the other's vertex, face or ellipse; on a plane: one row, its osculating
+circle at the contact in ``cluster2d``); any other pair, the features on the extreme
+supports along the pair's normal (a vertex on a face, face on face as the two ends of the
+overlap, two rounded vertices; two sharp corners take the face of greatest separation), a
+contact
 that separates faster than the pair's zero speed (``decisions.pair_zero_speed``) being a
 candidate; a vertex on a face has its neighbours on the same face as candidates (the
 face's landing); a body on a plane, one row per core vertex within ``gap_tol``, the others
@@ -861,10 +863,8 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err)
             if rc < 0:
                 if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
-                        cid[CL_PEND] < 0 or cid[CL_PEND] == q) and (
-                        bint[a, B_KIND] != SH_ELLIPSE and bint[b, B_KIND] != SH_ELLIPSE):
-                    # rounded polygons (disks, rods, capsules, polygons) that stay in
-                    # contact: a cluster from the next pass (run_loop)
+                        cid[CL_PEND] < 0 or cid[CL_PEND] == q):
+                    # bodies that stay in contact: a cluster from the next pass (run_loop)
                     cid[CL_PEND] = q
                     pr_t[q] = INF
                     return 0
@@ -3365,8 +3365,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
         return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
     cw[cw.shape[0] - 5] = INF       # no check time yet (_held_cluster_pair)
     gtol = tolf[TF_GAP_TOL]
-    # members: the connected bodies through contacts within gap_tol at t (disks, rods,
-    # capsules, polygons; an ellipse touching one is refused)
+    # members: the connected bodies through contacts within gap_tol at t
     cid[CL_HDR] = a
     cid[CL_HDR + 1] = b
     n = 2
@@ -3374,7 +3373,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     while head < n:
         i = cid[CL_HDR + head]
         head += 1
-        if bint[i, B_KIND] == SH_ELLIPSE or (shapes is None and bint[i, B_KIND] != SH_DISK):
+        if shapes is None and bint[i, B_KIND] != SH_DISK:
             return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(i), 0.0)
         if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
             return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
@@ -3413,8 +3412,6 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 fly_into(st[j], t - tref[j], tmp[0])
             g, _, _ = _cl_gap(shapes, i, st[i], j, tmp[0], bint, bflt, verts)
             if g <= gtol:
-                if bint[j, B_KIND] == SH_ELLIPSE:
-                    return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(j), 0.0)
                 if n >= nb:
                     break
                 cid[CL_HDR + n] = j
@@ -3477,10 +3474,22 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 cid[CL_N] = 0
                 return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
                                   float(cl.CS_TOO_MANY_CONTACTS), 0.0)
-            ka, kc = clr.pair_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
-                                   bflt[i, B_RADIUS], st[i], ra, bint[j, B_FIRST],
-                                   bint[j, B_COUNT], bflt[j, B_RADIUS], st[j], rb, nx, ny,
-                                   gtol, mu, ccon[nk:], ccon[cl.KMAX + nc:])
+            if bint[i, B_KIND] == SH_ELLIPSE or bint[j, B_KIND] == SH_ELLIPSE:
+                # an ellipse is the row's A (cluster2d_rows.ellipse_rows)
+                e_, o_, re_, ro_, sg = i, j, ra, rb, 1.0
+                if bint[i, B_KIND] != SH_ELLIPSE:
+                    e_, o_, re_, ro_, sg = j, i, rb, ra, -1.0
+                ka, kc = clr.ellipse_rows(bflt[e_, B_EA], bflt[e_, B_EB], re_, verts,
+                                          bint[o_, B_FIRST], bint[o_, B_COUNT],
+                                          bflt[o_, B_RADIUS],
+                                          bflt[o_, B_EA] if bint[o_, B_KIND] == SH_ELLIPSE
+                                          else 0.0, bflt[o_, B_EB], st[o_], ro_, sg * nx,
+                                          sg * ny, gtol, mu, ccon[nk:])
+            else:
+                ka, kc = clr.pair_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
+                                       bflt[i, B_RADIUS], st[i], ra, bint[j, B_FIRST],
+                                       bint[j, B_COUNT], bflt[j, B_RADIUS], st[j], rb, nx, ny,
+                                       gtol, mu, ccon[nk:], ccon[cl.KMAX + nc:])
             if ka < 0:
                 cid[CL_N] = 0
                 return _cl_refuse(err, t, i, j, st, PP_CORNER, float(ka), 0.0)
@@ -3519,10 +3528,16 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             ny = planes[p, 1]
             mu = law_par[bp_law[i, p], P_MU]
             if bint[i, B_KIND] != SH_DISK:
-                ka, kc = clr.plane_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
-                                        bflt[i, B_RADIUS], st[i], r, nx, ny, planes[p, 2],
-                                        gtol, mu, ccon[nk:], cl.KSEL_MAX - nk,
-                                        ccon[cl.KMAX + nc:], NCAND - nc)
+                if bint[i, B_KIND] == SH_ELLIPSE:
+                    ka, kc = clr.ellipse_plane_rows(bflt[i, B_EA], bflt[i, B_EB], st[i], r, nx,
+                                                    ny, planes[p, 2], gtol, mu, ccon[nk:],
+                                                    cl.KSEL_MAX - nk, ccon[cl.KMAX + nc:],
+                                                    NCAND - nc)
+                else:
+                    ka, kc = clr.plane_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
+                                            bflt[i, B_RADIUS], st[i], r, nx, ny, planes[p, 2],
+                                            gtol, mu, ccon[nk:], cl.KSEL_MAX - nk,
+                                            ccon[cl.KMAX + nc:], NCAND - nc)
                 if ka < 0:
                     cid[CL_N] = 0
                     return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
