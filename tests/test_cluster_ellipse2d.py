@@ -315,3 +315,75 @@ def test_ellipse_rows_touch_with_the_pair_normal(other, pose):
     C.cluster_rates(bodies, act, 0, np.zeros((2, 3)), w, out)
     assert abs(out[0]) < 1e-11
     assert np.allclose(out[5:7], (nx, ny), atol=1e-7)
+
+
+# ------------------------------------------------------------------ in the stepper
+
+
+def _rocking_scene(mu, th0=0.5, a=0.3, b=0.2, H=0.1, M=10.0):
+    """A box (2 m x H, mass M) on the floor and an ellipse (a x b, 1 kg) touching its top
+    face at the angle th0, at rest (e = 0, friction mu everywhere)."""
+    from rbimpact import Box, Ellipse, Law, Scene2D
+
+    sc = Scene2D(gravity=(0.0, -G))
+    floor = sc.add_floor()
+    sc.add_body(Box(2.0, H), M, (0.0, H / 2))
+    sc.add_body(Ellipse(a, b), 1.0, (0.0, H + _h3(a, b, th0)[0]), angle=th0)
+    law = Law("kane_levinson", e=0.0, mu=mu)
+    return sc, law, {floor: law}
+
+
+def test_ellipse_rocks_on_a_box_in_the_stepper():
+    """The ellipse placed on a resting box enters a cluster with it (the ellipse on the
+    box's face, the box's corners on the floor, rough): the box stays at rest and the
+    ellipse rocks as on a fixed floor, the Lagrangian of the rolling test above."""
+    from rbimpact import Ellipse, Simulation
+
+    a, b, th0 = 0.3, 0.2, 0.5
+    sc, law, planes = _rocking_scene(5.0, th0, a, b)
+    res = Simulation(sc, law, planes).run(1.5)
+    assert res.status == "done"
+    assert "contact" in set(res.events["kind"])
+    ts = np.array([0.5, 1.0, 1.5])
+    s = res.sample(ts)
+    I = Ellipse(a, b).moment(1.0)
+
+    def rhs(_, y):
+        th, w = y
+        h, h1, h2 = _h3(a, b, th)
+        return [w, -(h1 * (h + h2) * w * w + G * h1) / (I + h * h + h1 * h1)]
+    sol = solve_ivp(rhs, (0.0, 1.5), [th0, 0.0], method="DOP853", rtol=1e-13, atol=1e-14,
+                    dense_output=True)
+    assert np.abs(s["angle"][:, 1] - sol.sol(ts)[0]).max() < 1e-9
+    assert np.abs(s["x"][:, 0]).max() < 1e-12 and np.abs(s["y"][:, 0] - 0.05).max() < 1e-12
+
+
+def test_frictionless_ellipse_on_a_box_on_a_frictionless_floor():
+    """Without friction anywhere the face pushes the ellipse only upwards: its centre stays
+    on the vertical, the box stays at rest, the energy stays (the ellipse starts touching at
+    rest: no impact dissipates), and the angle follows the frictionless Lagrangian."""
+    from rbimpact import Ellipse, Simulation
+
+    a, b, th0 = 0.3, 0.2, 0.5
+    sc, law, planes = _rocking_scene(0.0, th0, a, b)
+    sim = Simulation(sc, law, planes)
+    res = sim.run(2.0)
+    assert res.status == "done"
+    ts = np.linspace(0.0, 2.0, 41)
+    s = res.sample(ts)
+    m = np.array([10.0, 1.0])
+    E = ((0.5 * (s["vx"] ** 2 + s["vy"] ** 2) + G * s["y"]) @ m
+         + 0.5 * s["omega"] ** 2 @ np.array(sim._moments))
+    assert np.abs(E - E[0]).max() < 1e-9 * E[0]
+    assert np.abs(s["x"]).max() < 1e-12 and np.abs(s["y"][:, 0] - 0.05).max() < 1e-12
+    h = np.array([_h3(a, b, th)[0] for th in s["angle"][:, 1]])
+    assert np.abs(s["y"][:, 1] - 0.1 - h).max() < 1e-10
+    I = Ellipse(a, b).moment(1.0)
+
+    def rhs(_, y):
+        th, w = y
+        h, h1, h2 = _h3(a, b, th)
+        return [w, -(h1 * h2 * w * w + G * h1) / (I + h1 * h1)]
+    sol = solve_ivp(rhs, (0.0, 2.0), [th0, 0.0], method="DOP853", rtol=1e-13, atol=1e-14,
+                    dense_output=True)
+    assert np.abs(s["angle"][:, 1] - sol.sol(ts)[0]).max() < 1e-9
