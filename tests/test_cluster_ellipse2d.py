@@ -387,3 +387,30 @@ def test_frictionless_ellipse_on_a_box_on_a_frictionless_floor():
     sol = solve_ivp(rhs, (0.0, 2.0), [th0, 0.0], method="DOP853", rtol=1e-13, atol=1e-14,
                     dense_output=True)
     assert np.abs(s["angle"][:, 1] - sol.sol(ts)[0]).max() < 1e-9
+
+
+#: two-body campaign scenes (``rbimpact stability --scenes 2000 --dim 2 --bodies 2``, seed
+#: 0) with an ellipse that stopped with the refusal of persistent body-body contact before
+#: session 25, one per kind of pair; and two that now end with the named Painleve refusal
+#: (mu = 10, Chatterjee & Ruina)
+ELLIPSE_PAIR_SEEDS = [3412079874, 2334183247, 2510467182, 3161546553, 1993083410, 522625139]
+ELLIPSE_PAIR_REFUSED = [3456656600, 2966532034]
+
+
+@pytest.mark.parametrize("seed", ELLIPSE_PAIR_SEEDS)
+def test_campaign_ellipse_pair_scenes_pass(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed, bodies=2)
+    assert "ellipse" in row.shape
+    assert row.verdict == "OK", row.note
+    assert row.penetration <= row.pen_tol
+    assert row.impacts >= 1
+
+
+@pytest.mark.parametrize("seed", ELLIPSE_PAIR_REFUSED)
+def test_campaign_ellipse_pair_scenes_refused_by_name(seed):
+    from rbimpact.campaign import run_drop
+    row = run_drop(2, seed, bodies=2)
+    assert row.status == "SimulationError"
+    assert "no consistent stick/slip/lift-off mode" in row.note, row.note
+    assert row.penetration <= row.pen_tol
