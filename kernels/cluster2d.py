@@ -134,7 +134,9 @@ are not seen (a stated limitation, as in ``pivot2d`` and ``pivot3d``).
 
 Mode selection (``cluster_select_modes``, at the start of a phase, with every contact at
 ``g = dg/dt = 0``): an enumeration of the Coulomb LCP's modes, for at most ``KSEL_MAX``
-contacts, in a fixed order: each contact's options are, when it slips (``|vT| > STICK_VTOL
+contacts (beyond, up to ``KMAX``, a local search: the combinations that change at most
+``DSEL_MAX`` contacts from the first option of each, ``_search_near``; a stack of five boxes
+at rest is its base combination, every contact sticking), in a fixed order: each contact's options are, when it slips (``|vT| > STICK_VTOL
 V``), slip along its slip then lift-off; when it does not, stick, slip +t, slip -t,
 lift-off (``mu = 0``: frictionless contact, lift-off); the combinations run
 lexicographically with the first contact's option varying slowest (after an event:
@@ -181,8 +183,8 @@ Arrays (no allocation in the hot path; sizes from ``work_size``):
 
 Not here: entering the mode, moving a lifted contact to the candidates and the impact at
 ``CE_GAP`` (``stepper2d``); the tables built from the scene's shapes and the switch of a
-contact at ``CE_FEATURE`` (``cluster2d_rows``), and a mode selection for more than ``KSEL_MAX`` contacts (an
-LCP pivoting method instead of the enumeration).
+contact at ``CE_FEATURE`` (``cluster2d_rows``), and a complete mode selection for more
+than ``KSEL_MAX`` contacts (an LCP pivoting method instead of the local search).
 """
 import math
 
@@ -252,9 +254,11 @@ MODE_SLIP_NEG = -1  # sliding along -t
 MODE_LIFT = 2       # not active (mode selection's lift-off)
 
 # ---- sizes --------------------------------------------------------------------------------
-KMAX = 8            # active contacts at most
+KMAX = 12           # active contacts at most (a stack of five boxes: 10)
 NMAX = 2 * KMAX     # force unknowns at most
-KSEL_MAX = 6        # contacts the mode enumeration handles (4^6 combinations)
+KSEL_MAX = 6        # contacts the full mode enumeration handles (4^6 combinations)
+DSEL_MAX = 2        # beyond KSEL_MAX: combinations that change at most DSEL_MAX contacts
+#                     from the first option of each (module docstring, "Mode selection")
 
 # ---- status codes -------------------------------------------------------------------------
 CS_OK = 0
@@ -263,7 +267,7 @@ CS_SINGULAR = 2         # the force system has no solution (contradictory constr
 CS_PAINLEVE = 3         # a sliding contact's effective normal mass <= 0
 CS_TOO_MANY_STEPS = 4   # MAX_ATTEMPTS step attempts, or a step that cannot be taken
 CS_NO_MODE = 5          # mode selection: no consistent stick/slip/lift-off combination
-CS_TOO_MANY_CONTACTS = 6  # more than KMAX active (KSEL_MAX for the selection)
+CS_TOO_MANY_CONTACTS = 6  # more than KMAX active
 CS_INCONSISTENT = 7     # cluster_advance called with modes whose forces are not consistent
 #                         at the start (a pulling normal force, a sticking force outside its
 #                         cone, friction along the slip): integrating them could create
@@ -1104,6 +1108,68 @@ def _option_mode(w, sv, nopt, k, opt):
 
 
 @njit(cache=True, _nrt=False)
+def _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+    """Solve the forces in the modes of the table; consistent: forces written, True."""
+    if _forces(bodies, contacts, nk, w, yo, la, ko) != CS_OK:
+        return False
+    if not _consistent(contacts, nk, w, la, nopt):
+        return False
+    for k in range(nk):
+        contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+        contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    return True
+
+
+@njit(cache=True, _nrt=False)
+def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefer):
+    """``_enumerate`` beyond ``KSEL_MAX`` contacts: from the base combination (each
+    contact's current mode when ``prefer`` and it is one of its options, else its first
+    option: stick, or slip along its slip), the combinations that change one contact, then
+    two (``DSEL_MAX``), in the fixed order; the first consistent one. A local search, not
+    the full LCP: a cluster of many contacts whose consistent modes differ from the base in
+    more than two contacts is refused (CS_NO_MODE)."""
+    base = N_H + B_YT * bodies.shape[0] * NS    # per contact: the index of its base option
+    for k in range(nk):
+        no = int(w[nopt + k])
+        w[base + k] = 0.0
+        if prefer:
+            for o in range(no):
+                if _option_mode(w, sv, nopt, k, o) == w[cur + k]:
+                    w[base + k] = o
+                    break
+        contacts[k, CC_MODE] = _option_mode(w, sv, nopt, k, int(w[base + k]))
+    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+        return CS_OK
+    for k1 in range(nk):
+        b1 = int(w[base + k1])
+        for o1 in range(int(w[nopt + k1])):
+            if o1 == b1:
+                continue
+            contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, o1)
+            if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+                return CS_OK
+        contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, b1)
+    if DSEL_MAX >= 2:
+        for k1 in range(nk):
+            b1 = int(w[base + k1])
+            for o1 in range(int(w[nopt + k1])):
+                if o1 == b1:
+                    continue
+                contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, o1)
+                for k2 in range(k1 + 1, nk):
+                    b2 = int(w[base + k2])
+                    for o2 in range(int(w[nopt + k2])):
+                        if o2 == b2:
+                            continue
+                        contacts[k2, CC_MODE] = _option_mode(w, sv, nopt, k2, o2)
+                        if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+                            return CS_OK
+                    contacts[k2, CC_MODE] = _option_mode(w, sv, nopt, k2, b2)
+            contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, b1)
+    return CS_NO_MODE
+
+
+@njit(cache=True, _nrt=False)
 def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
     """The enumeration of ``cluster_select_modes`` with contact ``kfix`` held in mode
     ``mfix`` (its only option, no trend check: the caller's event rule chose it; ``kfix``
@@ -1111,10 +1177,10 @@ def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
     of contacts whose mode differs from the table's current one (then in the fixed order):
     after an event the modes that stay consistent are kept. Returns CS_OK (modes and
     forces written), CS_NO_MODE or CS_TOO_MANY_CONTACTS."""
-    if nk > KSEL_MAX:
-        return CS_TOO_MANY_CONTACTS
     nb = bodies.shape[0]
     NY = NS * nb
+    if nk > KMAX or nk > NY:
+        return CS_TOO_MANY_CONTACTS
     _setup(bodies, gx, gy, L, w)
     yo = N_H + B_Y * NY
     ko = N_H + B_YC * NY
@@ -1150,6 +1216,8 @@ def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
             w[sv + k] = 0.0
             w[nopt + k] = 4.0
         total *= int(w[nopt + k])
+    if nk > KSEL_MAX:
+        return _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefer)
     for d in range(nk + 1 if prefer else 1):
         for combo in range(total):
             r = combo
@@ -1190,7 +1258,9 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     forces as returned). Contact k takes the mode the trend calls for: ``CE_LEAVE`` ->
     ``MODE_LIFT`` (the stepper moves it to the candidates); ``CE_SLIP`` -> slip opposite to
     the sticking force, ``sig = -sign(lam_T)``; ``CE_STOP`` -> stick if its force is inside
-    the cone, else slip reverses (``sig = -sign(lam_T)`` of the sticking trial). At an event
+    the cone, else slip reverses (``sig = -sign(lam_T)`` of the sticking trial, in which the
+    other sliding contacts whose slip is zero to ``STICK_VTOL V`` stick too: they stop at the
+    same instant). At an event
     the new mode is the one the trend calls for: the enumeration of
     ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
     The other contacts keep their modes if that is consistent; else they are chosen again
@@ -1207,6 +1277,18 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     elif ev == CE_SLIP:
         mode = MODE_SLIP_NEG if contacts[k, CC_LAMT] > 0.0 else MODE_SLIP_POS
     else:
+        # the sliding contacts whose slip is zero too (to STICK_VTOL V: the other end of a
+        # face sliding on a face stops at the same instant) stick in the trial with k: held
+        # sliding there, their friction would push k's force out of its cone
+        NY = NS * bodies.shape[0]
+        _setup(bodies, gx, gy, L, w)
+        for j in range(nk):
+            mj = contacts[j, CC_MODE]
+            if j != k and contacts[j, CC_MU] != 0.0 and (mj == MODE_SLIP_POS
+                                                       or mj == MODE_SLIP_NEG):
+                _fill(contacts, j, w, N_H + B_Y * NY, la, j)
+                if abs(la[LA_K + j * LK_S + LK_VT]) <= STICK_VTOL * w[H_V]:
+                    contacts[j, CC_MODE] = MODE_STICK
         contacts[k, CC_MODE] = MODE_STICK
         st = _forces_table(bodies, contacts, nk, gx, gy, L, w, la)
         if st != CS_OK and st != CS_SINGULAR and st != CS_PAINLEVE:

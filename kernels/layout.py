@@ -47,4 +47,4 @@ CL_CHAT_RTOL = 1e-6
 """Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
 CL_CHAT_MAX = 50
 """Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
-NCAND = 16       # candidate contact rows of a cluster
+NCAND = 40       # candidate contact rows of a cluster (a stack of five boxes on a floor: 18)

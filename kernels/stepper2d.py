@@ -3448,7 +3448,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             g = (math.hypot(st[i, X] - st[j, X], st[i, Y] - st[j, Y]) - bflt[i, B_RADIUS]
                  - bflt[j, B_RADIUS])
             if g <= gtol:
-                if nk >= cl.KSEL_MAX:
+                if nk >= cl.KMAX:
                     cid[CL_N] = 0
                     return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
                                       float(cl.CS_TOO_MANY_CONTACTS), 0.0)
@@ -3470,7 +3470,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             g, nx, ny = _cl_gap(shapes, i, st[i], j, st[j], bint, bflt, verts)
             if g > gtol:
                 continue
-            if nk + 2 > cl.KSEL_MAX or nc + 2 > NCAND:
+            if nk + 2 > cl.KMAX or nc + 2 > NCAND:
                 cid[CL_N] = 0
                 return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
                                   float(cl.CS_TOO_MANY_CONTACTS), 0.0)
@@ -3531,12 +3531,12 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 if bint[i, B_KIND] == SH_ELLIPSE:
                     ka, kc = clr.ellipse_plane_rows(bflt[i, B_EA], bflt[i, B_EB], st[i], r, nx,
                                                     ny, planes[p, 2], gtol, mu, ccon[nk:],
-                                                    cl.KSEL_MAX - nk, ccon[cl.KMAX + nc:],
+                                                    cl.KMAX - nk, ccon[cl.KMAX + nc:],
                                                     NCAND - nc)
                 else:
                     ka, kc = clr.plane_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
                                             bflt[i, B_RADIUS], st[i], r, nx, ny, planes[p, 2],
-                                            gtol, mu, ccon[nk:], cl.KSEL_MAX - nk,
+                                            gtol, mu, ccon[nk:], cl.KMAX - nk,
                                             ccon[cl.KMAX + nc:], NCAND - nc)
                 if ka < 0:
                     cid[CL_N] = 0
@@ -3551,7 +3551,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 continue
             g = nx * st[i, X] + ny * st[i, Y] - planes[p, 2] - bflt[i, B_RADIUS]
             if g <= gtol:
-                if nk >= cl.KSEL_MAX:
+                if nk >= cl.KMAX:
                     cid[CL_N] = 0
                     return _cl_refuse(err, t, a, b, st, PP_CLUSTER, float(cl.CS_TOO_MANY_CONTACTS), 0.0)
                 _cl_row(cbod, ccon, cid, nb, nk, cl.KIND_PLANE, r, -1, bflt[i, B_RADIUS], 0.0,

@@ -315,6 +315,64 @@ def test_three_box_stack_mode_selection_finds_rest():
     assert cl.c[0, C.CC_LAMN] + cl.c[1, C.CC_LAMN] == pytest.approx(4.5 * G, rel=1e-13)
 
 
+def _box_column(n, w=0.4, h=0.2, m=1.0, mu_floor=0.6, mu=0.6, mu_top=None, v_top=0.0):
+    """n equal boxes stacked on a floor, each resting on the one below by its two bottom
+    corners (2 n contacts); the top one sliding at v_top along +x on friction mu_top."""
+    bodies, contacts = [], []
+    for i in range(n):
+        bodies.append(body(0.0, h / 2 + i * h, vx=v_top if i == n - 1 else 0.0, m=m,
+                           I=box_inertia(m, w, h)))
+    for sx in (-1, 1):
+        contacts.append(contact(C.KIND_PLANE, 0, -1, pa=(sx * w / 2, -h / 2), mu=mu_floor))
+    for i in range(1, n):
+        top = i == n - 1 and mu_top is not None
+        for sx in (-1, 1):
+            contacts.append(contact(C.KIND_FACE, i, i - 1, pa=(sx * w / 2, -h / 2),
+                                    pb=(0.0, h / 2), n=(0.0, 1.0), mu=mu_top if top else mu,
+                                    mode=C.MODE_SLIP_POS if top and v_top else C.MODE_STICK))
+    return bodies, contacts
+
+
+def test_five_box_stack_mode_selection_beyond_the_enumeration():
+    """Five boxes (10 contacts, beyond KSEL_MAX): the local search's base combination, every
+    contact sticking, is consistent; the stack rests with each face carrying the weight
+    above, half on each corner."""
+    bodies, contacts = _box_column(5)
+    cl = Cluster(bodies, contacts, L=1.0)
+    assert cl.nk > C.KSEL_MAX
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    assert np.all(cl.c[:, C.CC_MODE] == C.MODE_STICK)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert st == C.CS_REST
+    for i in range(5):
+        W = G * (5 - i)
+        assert cl.c[2 * i:2 * i + 2, C.CC_LAMN] == pytest.approx([W / 2, W / 2], rel=1e-12)
+
+
+def test_top_box_of_a_five_box_stack_slides_to_a_stop():
+    """The top box of five slides at v on friction mu_top = 0.2 (the others 0.6: they hold):
+    it decelerates at mu_top g and sticks at v / (mu_top g) after v^2 / (2 mu_top g); at the
+    stop (CE_STOP) both corners stick (they stop at the same instant: held sliding, the
+    other's friction would push the stopping one's force onto its cone and reverse its
+    slip) and the stack rests."""
+    v, mut = 0.3, 0.2
+    bodies, contacts = _box_column(5, mu_top=mut, v_top=v)
+    cl = Cluster(bodies, contacts, L=1.0)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert (st, ev) == (C.CS_OK, C.CE_STOP) and k in (8, 9)
+    ts = v / (mut * G)
+    assert t == pytest.approx(ts, rel=1e-9)
+    xs = v * v / (2 * mut * G)
+    assert cl.b[4, C.CB_X] == pytest.approx(xs, rel=1e-9)
+    assert np.abs(cl.b[:4, C.CB_X]).max() < 1e-12         # the boxes below held
+    assert cl.after_event(ev, k) == C.CS_OK
+    assert np.all(cl.c[:, C.CC_MODE] == C.MODE_STICK)
+    st, ev, k, t = cl.advance(t, 10.0)
+    assert st == C.CS_REST
+    assert cl.b[4, C.CB_X] == pytest.approx(xs, rel=1e-9)
+
+
 # ------------------------------------------------------------------ 4. blocks on an incline
 
 

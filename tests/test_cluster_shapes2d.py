@@ -110,6 +110,29 @@ def test_boxes_dropped_into_a_stack_come_to_rest():
     assert np.max(E - np.minimum.accumulate(E)) <= 1e-10 * 3.5 * G * 0.6
 
 
+def test_five_box_stack_stays_at_rest_for_ten_seconds():
+    """Issue 16's stack: five boxes (0.4 x 0.2 m, 1 kg) placed on the floor and on each
+    other, each offset 2 cm from the one below (e = 0, mu = 0.5). Their first contacts
+    accumulate at once and the stack enters one cluster of ten contacts (beyond the full
+    enumeration, ``cluster2d.KSEL_MAX``: the local search's base combination, all sticking)
+    and rests (frozen): over 10 s no box moves by more than 1e-15 m (the free fall of the
+    2.4e-9 s before the entry, g t^2 / 2 = 3e-17 m) or turns."""
+    sc = Scene2D(gravity=(0.0, -G))
+    floor = sc.add_floor()
+    for k in range(5):
+        sc.add_body(Box(0.4, 0.2), 1.0, (0.02 * k, 0.1 + 0.2 * k))
+    law = Law("kane_levinson", e=0.0, mu=0.5)
+    res = Simulation(sc, law, {floor: law}).run(10.0)
+    assert res.status == "done"
+    ev = res.events
+    assert list(ev["kind"]).count("rest") >= 1
+    assert int(ev["cluster"][ev["kind"] == "contact"][-1]) == 5      # one cluster of five
+    s = res.sample(np.linspace(0.0, 10.0, 101))
+    assert np.abs(s["x"] - 0.02 * np.arange(5)).max() <= 1e-15
+    assert np.abs(s["y"] - (0.1 + 0.2 * np.arange(5))).max() <= 1e-15
+    assert np.abs(s["angle"]).max() <= 1e-15
+
+
 def test_box_slides_off_the_edge_of_a_box():
     """A box sliding fast on a heavy box (mu = 0.1) reaches its edge, tips over it (the
     contact switches from its corner on the face to the other box's corner on its face)
