@@ -178,6 +178,19 @@ def pair_persistence(v, s, converged, vzero, accel, rest_length):
     return 0.0
 
 
+@njit(cache=True, _nrt=False)
+def pair_crawl_chatters(v, accel, rest_length):
+    """Whether a touching pair (its gap within ``gap_tol``) whose time-of-impact search did
+    not converge (the conservative advancement crawls: the gap moves at a rate far below
+    the points' speeds) is an accumulation: its gap rate ``v`` (m/s) at most
+    ``sqrt(2 accel rest_length)`` (``accel`` m/s^2 the bound of ``|g''|``, ``rest_length`` m),
+    the speed below which a parabola of that curvature rises less than ``rest_length``
+    before it closes (``pair_persistence``'s rule without the re-contact time, and the
+    single point's on a plane). 2D: the pair then enters a cluster, whose mode selection
+    lets the contact lift at once if it parts."""
+    return v * v <= 2.0 * accel * rest_length
+
+
 #: a pair released from persistent contact (``codes.PR_REL``: its contact lifted at a
 #: tangency of order three) is searched from the first offset ``REL_S0 T 2^k`` (T =
 #: sqrt(R / |a_rel|), or R / |v_rel|; R the sum of the radii) where its gap exceeds gap_tol

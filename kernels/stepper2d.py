@@ -215,8 +215,8 @@ from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
 from . import cluster2d_rows as clr
 from .decisions import (PAIR_VN_RTOL, REL_S0, accumulation_time, impacts_before_rest,  # noqa: F401
-                        pair_accel_bound, pair_persistence, pair_zero_speed, perforates,
-                        touching_accel, touching_rate)
+                        pair_accel_bound, pair_crawl_chatters, pair_persistence,
+                        pair_zero_speed, perforates, touching_accel, touching_rate)
 from .dispatch import resolve_2d_as
 from .joint_polish import ENUM_MAX_K, enumerate2d, polish_ws
 from .routh import routh_2d_scalar
@@ -859,8 +859,16 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                            S - s0, tolf[TF_TOI_RTOL], tolf[TF_TOI_ATOL], tolf[TF_GAP_TOL],
                            toli[TI_TOI_MAXIT])
         s += s0
-        if hit:
-            rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err)
+        touching = False
+        if code == TOI_NOT_CONVERGED:
+            # a search that crawls from a touching state (a pair that a near-plastic impact
+            # left parting at ~1e-11 m/s while both spin, scheduled again at that rate):
+            # an accumulation when decisions.pair_crawl_chatters says so (_pair_persists)
+            touching = _frame(a, tmp[0, ANGLE], b, tmp[1, X] - tmp[0, X], tmp[1, Y] - tmp[0, Y],
+                              tmp[1, ANGLE], bint, bflt, verts)[0] <= tolf[TF_GAP_TOL]
+        if hit or touching:
+            rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err,
+                                touching)
             if rc < 0:
                 if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
                         cid[CL_PEND] < 0 or cid[CL_PEND] == q):
@@ -1015,7 +1023,7 @@ def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
 
 
 @_inner
-def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
+def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, crawled=False):
     """Whether bodies a and b, which had an impact at t_now (states ``tmp[0]``, ``tmp[1]``
     there) stay in contact: persistent body-body contact, not built (issue 16 item 2), so
     ``ERR_PERSISTENT_PAIR`` (0: they part), by ``decisions.pair_persistence`` with ``v``
@@ -1041,6 +1049,9 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err):
     why = 0.0
     if code != TOI_MISSED:
         why = pair_persistence(v, s, code == TOI_OK, vz, G, tolf[TF_REST_LENGTH])
+    if why == 0.0 and crawled and pair_crawl_chatters(v, G, tolf[TF_REST_LENGTH]):
+        # touching, the search crawled (decisions.pair_crawl_chatters)
+        why = PP_CHATTER
     if why != 0.0:
         _set_err(err, t_now, a, b, px, py, why, v, g if why == PP_TOGETHER else s)
         return ERR_PERSISTENT_PAIR
