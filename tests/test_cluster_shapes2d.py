@@ -169,7 +169,11 @@ def test_box_slides_off_the_edge_of_a_box():
 #: recorded against M V^2)
 PAIR_SEEDS = [70068603, 4114854997, 2695133448, 864466774, 426301124, 3100654916,
               671770308, 1815758914, 3248141961, 2909980696, 1810397926, 290180085,
-              1767282211, 3523586650, 3957022266]
+              1767282211, 3523586650, 3957022266,
+              # a near-plastic impact (Brach, e = 1e-9) left a rod and a box parting at
+              # 6e-12 m/s while both spin: the time-of-impact search crawled and did not
+              # converge; now an accumulation (decisions.pair_crawl_chatters, session 25)
+              3689846587]
 
 
 @pytest.mark.parametrize("seed", PAIR_SEEDS)
