@@ -197,7 +197,8 @@ from . import evbuf
 from .instant import (CI_A, CI_B, CI_FEAT, CI_LAW, CI_OFF, CI_TYPE, N_CI,  # noqa: F401
                       cluster_contacts, cluster_members)
 from .layout import (CL_CHAT, CL_CHAT_MAX, CL_CHAT_RTOL, CL_EV, CL_FROZEN, CL_HDR,  # noqa: F401
-                     CL_IDX, CL_LEAD, CL_N, CL_NC, CL_NK, CL_PEND, CL_SWITCH, NCAND)
+                     CL_IDX, CL_LEAD, CL_N, CL_NC, CL_NK, CL_PEND, CL_REENTRY_HOLD,
+                     CL_SWITCH, NCAND)
 from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M_MODE,  # noqa: F401
                      M_PLANE, M_PLANE2, N_PM)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
@@ -3436,6 +3437,12 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
         cbod[r, cl.CB_M] = bflt[i, B_MASS]
         cbod[r, cl.CB_I] = bflt[i, B_INERTIA]
         cbod[r, cl.CB_FIXED] = 0.0
+    # entries closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)): from the
+    # CL_REENTRY_HOLD-th, every touching contact of the entering pair is held (the limit of
+    # landings that accumulate: a rod rocking to rest on a face)
+    te = cw.shape[0] - 3
+    hold = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(
+        _cl_scale(cid, bint, bflt, verts), grav[0], grav[1], cbod[:n])) >= CL_REENTRY_HOLD
     # contacts (active within gap_tol) and candidates
     nk = 0
     nc = 0
@@ -3511,7 +3518,12 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             nk += ka
             nc += kc
             # a contact of the pair separating faster than the zero speed (the far end of
-            # a face on a face turning away) is a candidate, not held
+            # a face on a face turning away) is a candidate, not held; but the one contact
+            # of the pair whose impacts accumulate is held (it separates at the speed of
+            # its last impact, which the accumulation's jump takes to 0: a candidate, it
+            # would bounce again and enter again, PP_REENTRY)
+            if q2 == q and (ka == 1 or hold):
+                continue
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
                   + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
                   + abs(st[j, OMEGA]) * _body_size(j, bint, bflt, verts))
@@ -3579,9 +3591,8 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_NC] = nc
     e0 = _cl_energy(st, bflt, grav, cid)
     L = _cl_scale(cid, bint, bflt, verts)
-    # entries closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)): the contact ends and
-    # starts again with no lasting mode; the CL_CHAT_MAX-th is refused (PP_REENTRY)
-    te = cw.shape[0] - 3
+    # entries closer than CL_CHAT_RTOL T apart: the contact ends and starts again with no
+    # lasting mode; the CL_CHAT_MAX-th is refused (PP_REENTRY)
     cw[te - 1] = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(L, grav[0], grav[1],
                                                                cbod[:n]))
     cw[te] = t
