@@ -951,6 +951,14 @@ def _setup(bodies, gx, gy, L, w):
         w[so + NS * i + 5] = V / L
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _store_forces(contacts, nk, la):
+    """The solved forces (la) into the contact table's CC_LAMN, CC_LAMT."""
+    for k in range(nk):
+        contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
+        contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+
+
 @njit(cache=True, _nrt=False)
 def _store(bodies, c, nk, w, yo, la):
     """State w[yo:...] into the bodies table; the forces of la into the contact table."""
@@ -958,9 +966,7 @@ def _store(bodies, c, nk, w, yo, la):
     for i in range(nb):
         for j in range(NS):
             bodies[i, j] = w[yo + NS * i + j]
-    for k in range(nk):
-        c[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
-        c[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    _store_forces(c, nk, la)
 
 
 # ------------------------------------------------------------------ public: forces, rates
@@ -978,9 +984,7 @@ def _forces_table(bodies, contacts, nk, gx, gy, L, w, la):
     st = _forces(bodies, contacts, nk, w, N_H + B_Y * NY, la, N_H + B_YC * NY)
     if st != CS_OK:
         return st
-    for k in range(nk):
-        contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
-        contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    _store_forces(contacts, nk, la)
     return CS_OK
 
 
@@ -1114,9 +1118,7 @@ def _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
         return False
     if not _consistent(contacts, nk, w, la, nopt):
         return False
-    for k in range(nk):
-        contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
-        contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+    _store_forces(contacts, nk, la)
     return True
 
 
@@ -1232,13 +1234,7 @@ def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
                 contacts[k, CC_MODE] = mode
             if prefer and diff != d:
                 continue
-            st = _forces(bodies, contacts, nk, w, yo, la, ko)
-            if st != CS_OK:
-                continue
-            if _consistent(contacts, nk, w, la, nopt):
-                for k in range(nk):
-                    contacts[k, CC_LAMN] = la[LA_K + k * LK_S + LK_LN]
-                    contacts[k, CC_LAMT] = la[LA_K + k * LK_S + LK_LT]
+            if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
                 return CS_OK
     return CS_NO_MODE
 

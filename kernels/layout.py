@@ -47,9 +47,9 @@ CL_CHAT_RTOL = 1e-6
 """Mode events of a cluster closer than this times sqrt(L / |g|) are chatter (CL_CHAT)."""
 CL_CHAT_MAX = 50
 """Consecutive chattering mode events after which the cluster is refused (PP_STICK_SLIP)."""
-CL_REENTRY_HOLD = 3
+CL_REENTRY_HOLD = 2
 """2D: from this many consecutive entries of a cluster closer than CL_CHAT_RTOL T apart (a
-contact that ends and starts again: a rod's landings on a face accumulating), every
-touching contact of the entering pair is held, none made a candidate (the limit of the
-accumulation)."""
+contact that ends and starts again: an e = 0.3 contact, or a rod's landings on a face,
+accumulating), every touching contact of the entering pair is held, none made a candidate
+(the limit of the accumulation)."""
 NCAND = 40       # candidate contact rows of a cluster (a stack of five boxes on a floor: 18)

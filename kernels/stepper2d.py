@@ -3439,7 +3439,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
         cbod[r, cl.CB_FIXED] = 0.0
     # entries closer than CL_CHAT_RTOL T apart (T = sqrt(L / |g|)): from the
     # CL_REENTRY_HOLD-th, every touching contact of the entering pair is held (the limit of
-    # landings that accumulate: a rod rocking to rest on a face)
+    # impacts or landings that accumulate: a rod rocking to rest on a face)
     te = cw.shape[0] - 3
     hold = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(
         _cl_scale(cid, bint, bflt, verts), grav[0], grav[1], cbod[:n])) >= CL_REENTRY_HOLD
@@ -3518,11 +3518,11 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             nk += ka
             nc += kc
             # a contact of the pair separating faster than the zero speed (the far end of
-            # a face on a face turning away) is a candidate, not held; but the one contact
-            # of the pair whose impacts accumulate is held (it separates at the speed of
-            # its last impact, which the accumulation's jump takes to 0: a candidate, it
-            # would bounce again and enter again, PP_REENTRY)
-            if q2 == q and (ka == 1 or hold):
+            # a face on a face turning away) is a candidate, not held; but when the pair
+            # enters again right after its last entry (hold), its touching contacts are
+            # held: the accumulation's limit (as candidates, they would bounce and enter
+            # again, PP_REENTRY)
+            if q2 == q and hold:
                 continue
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
                   + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
