@@ -1248,6 +1248,20 @@ def cluster_select_modes(bodies, contacts, nk, gx, gy, L, w, la):
     return _enumerate(bodies, contacts, nk, gx, gy, L, w, la, -1, 0.0, False)
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _same_pair(c, j, k):
+    """Contacts j and k join the same two bodies (either way round), or the same body and
+    the same plane."""
+    aj = c[j, CC_A]
+    bj = c[j, CC_B]
+    ak = c[k, CC_A]
+    bk = c[k, CC_B]
+    if bj < 0.0 or bk < 0.0:
+        return (aj == ak and bj == bk and c[j, CC_NX] == c[k, CC_NX]
+                and c[j, CC_NY] == c[k, CC_NY] and c[j, CC_D] == c[k, CC_D])
+    return (aj == ak and bj == bk) or (aj == bk and bj == ak)
+
+
 @njit(cache=True, _nrt=False)
 def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     """The modes after ``cluster_advance`` returned event ``ev`` at contact k (the state and
@@ -1255,8 +1269,8 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     ``MODE_LIFT`` (the stepper moves it to the candidates); ``CE_SLIP`` -> slip opposite to
     the sticking force, ``sig = -sign(lam_T)``; ``CE_STOP`` -> stick if its force is inside
     the cone, else slip reverses (``sig = -sign(lam_T)`` of the sticking trial, in which the
-    other sliding contacts whose slip is zero to ``STICK_VTOL V`` stick too: they stop at the
-    same instant). At an event
+    other sliding contacts between the same bodies whose slip is zero to ``STICK_VTOL V``
+    stick too: they stop at the same instant). At an event
     the new mode is the one the trend calls for: the enumeration of
     ``cluster_select_modes``, blind to the trend, would keep a force on its cone sticking.
     The other contacts keep their modes if that is consistent; else they are chosen again
@@ -1273,15 +1287,16 @@ def cluster_after_event(bodies, contacts, nk, ev, k, gx, gy, L, w, la):
     elif ev == CE_SLIP:
         mode = MODE_SLIP_NEG if contacts[k, CC_LAMT] > 0.0 else MODE_SLIP_POS
     else:
-        # the sliding contacts whose slip is zero too (to STICK_VTOL V: the other end of a
-        # face sliding on a face stops at the same instant) stick in the trial with k: held
-        # sliding there, their friction would push k's force out of its cone
+        # the sliding contacts between the same two bodies (or the same body and plane)
+        # whose slip is zero too (to STICK_VTOL V: the other end of a face sliding on a
+        # face stops at the same instant) stick in the trial with k: held sliding there,
+        # their friction would push k's force out of its cone
         NY = NS * bodies.shape[0]
         _setup(bodies, gx, gy, L, w)
         for j in range(nk):
             mj = contacts[j, CC_MODE]
-            if j != k and contacts[j, CC_MU] != 0.0 and (mj == MODE_SLIP_POS
-                                                       or mj == MODE_SLIP_NEG):
+            if j != k and _same_pair(contacts, j, k) and contacts[j, CC_MU] != 0.0 and (
+                    mj == MODE_SLIP_POS or mj == MODE_SLIP_NEG):
                 _fill(contacts, j, w, N_H + B_Y * NY, la, j)
                 if abs(la[LA_K + j * LK_S + LK_VT]) <= STICK_VTOL * w[H_V]:
                     contacts[j, CC_MODE] = MODE_STICK
