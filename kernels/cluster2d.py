@@ -257,7 +257,7 @@ MODE_LIFT = 2       # not active (mode selection's lift-off)
 KMAX = 12           # active contacts at most (a stack of five boxes: 10)
 NMAX = 2 * KMAX     # force unknowns at most
 KSEL_MAX = 6        # contacts the full mode enumeration handles (4^6 combinations)
-DSEL_MAX = 2        # beyond KSEL_MAX: combinations that change at most DSEL_MAX contacts
+DSEL_MAX = 2        # beyond KSEL_MAX: combinations that change at most DSEL_MAX (1 or 2) contacts
 #                     from the first option of each (module docstring, "Mode selection")
 
 # ---- status codes -------------------------------------------------------------------------
@@ -1142,22 +1142,18 @@ def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefe
         contacts[k, CC_MODE] = _option_mode(w, sv, nopt, k, int(w[base + k]))
     if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
         return CS_OK
-    for k1 in range(nk):
-        b1 = int(w[base + k1])
-        for o1 in range(int(w[nopt + k1])):
-            if o1 == b1:
-                continue
-            contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, o1)
-            if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
-                return CS_OK
-        contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, b1)
-    if DSEL_MAX >= 2:
+    for d in range(1, min(DSEL_MAX, 2) + 1):
+        # d contacts changed: k1 alone, then k1 with every later k2
         for k1 in range(nk):
             b1 = int(w[base + k1])
             for o1 in range(int(w[nopt + k1])):
                 if o1 == b1:
                     continue
                 contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, o1)
+                if d == 1:
+                    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+                        return CS_OK
+                    continue
                 for k2 in range(k1 + 1, nk):
                     b2 = int(w[base + k2])
                     for o2 in range(int(w[nopt + k2])):

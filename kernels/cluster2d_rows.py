@@ -56,6 +56,7 @@ guard(__name__, __file__)
 
 from . import cluster2d as cl  # noqa: E402
 from .flight2d import ANGLE, OMEGA, VX, VY, X, Y  # noqa: E402
+from .pivot2d import ellipse_support3  # noqa: E402
 
 INF = math.inf
 
@@ -150,24 +151,33 @@ def _face_edge(nv, k1, k2):
 
 
 @njit(cache=True, _nrt=False)
-def _row_point(out, r, kind, a, b, V, va, na, ka, rA, mu):
-    """Row r of out: kind, bodies (cluster rows a, b), A's point feature (vertex ka of the
-    core V[va : va + na], radius rA) and its cone; the rest cleared."""
+def row_clear(out, r, kind, a, b, mu):
+    """Row r of out cleared: kind, bodies (cluster rows a, b; b -1 for a plane), friction
+    mu, open cones and ranges, mode slip along +t (the caller's features go on top)."""
     for j in range(cl.N_CC):
         out[r, j] = 0.0
     out[r, cl.CC_KIND] = kind
     out[r, cl.CC_A] = a
     out[r, cl.CC_B] = b
+    out[r, cl.CC_ALO] = -INF
+    out[r, cl.CC_AHI] = INF
+    out[r, cl.CC_BLO] = -INF
+    out[r, cl.CC_BHI] = INF
+    out[r, cl.CC_MU] = mu
+    out[r, cl.CC_MODE] = cl.MODE_SLIP_POS
+
+
+@njit(cache=True, _nrt=False)
+def _row_point(out, r, kind, a, b, V, va, na, ka, rA, mu):
+    """Row r of out: kind, bodies (cluster rows a, b), A's point feature (vertex ka of the
+    core V[va : va + na], radius rA) and its cone; the rest cleared."""
+    row_clear(out, r, kind, a, b, mu)
     out[r, cl.CC_PAX] = V[va + ka, 0]
     out[r, cl.CC_PAY] = V[va + ka, 1]
     out[r, cl.CC_RA] = rA
     lo, hi = vertex_cone(V, va, na, ka)
     out[r, cl.CC_ALO] = lo
     out[r, cl.CC_AHI] = hi
-    out[r, cl.CC_BLO] = -INF
-    out[r, cl.CC_BHI] = INF
-    out[r, cl.CC_MU] = mu
-    out[r, cl.CC_MODE] = cl.MODE_SLIP_POS
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -279,6 +289,15 @@ def _best_face_axis(V, va, na, rA, stA, ka, vb, nb, rB, stB, kb, nx, ny):
     return bx, by
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _core_reach(V, v0, nv):
+    """The farthest core vertex's distance from the body's centre (m)."""
+    R = 0.0
+    for k in range(nv):
+        R = max(R, math.hypot(V[v0 + k, 0], V[v0 + k, 1]))
+    return R
+
+
 @njit(cache=True, _nrt=False)
 def pair_rows(V, va, na, rA, stA, ra, vb, nb, rB, stB, rb, nx, ny, tol, mu, act, cand):
     """The contact rows of two touching rounded polygons A (core ``V[va : va + na]``,
@@ -290,13 +309,7 @@ def pair_rows(V, va, na, rA, stA, ra, vb, nb, rB, stB, rb, nx, ny, tol, mu, act,
     (module docstring). Two touching sharp corners, or a vertex beyond the face its
     support names, take the edge normal at either vertex of greatest separation
     (``_best_face_axis``) and are classified again once."""
-    LA = 0.0
-    for k in range(na):
-        LA = max(LA, math.hypot(V[va + k, 0], V[va + k, 1]))
-    LB = 0.0
-    for k in range(nb):
-        LB = max(LB, math.hypot(V[vb + k, 0], V[vb + k, 1]))
-    L = max(LA + rA, LB + rB)
+    L = max(_core_reach(V, va, na) + rA, _core_reach(V, vb, nb) + rB)
     tl = tol + FACE_RTOL * L
     status = PR_GEOMETRY
     for attempt in range(2):
@@ -403,20 +416,10 @@ def plane_rows(V, v0, nv, rad, st, r, nx, ny, d, tol, mu, act, max_act, cand, ma
 def _row_ellipse(out, r, kind, a, b, ea, eb, mu, nx, ny):
     """Row r of out: kind, bodies (cluster rows a, b), A's ellipse (semi-axes ea, eb), the
     normal's angle from the world normal n (``CC_PSI``), open cones; the rest cleared."""
-    for j in range(cl.N_CC):
-        out[r, j] = 0.0
-    out[r, cl.CC_KIND] = kind
-    out[r, cl.CC_A] = a
-    out[r, cl.CC_B] = b
+    row_clear(out, r, kind, a, b, mu)
     out[r, cl.CC_AEA] = ea
     out[r, cl.CC_AEB] = eb
     out[r, cl.CC_PSI] = math.atan2(ny, nx)
-    out[r, cl.CC_ALO] = -INF
-    out[r, cl.CC_AHI] = INF
-    out[r, cl.CC_BLO] = -INF
-    out[r, cl.CC_BHI] = INF
-    out[r, cl.CC_MU] = mu
-    out[r, cl.CC_MODE] = cl.MODE_SLIP_POS
 
 
 @njit(cache=True, _nrt=False)
@@ -431,9 +434,7 @@ def ellipse_rows(ea, eb, ra, V, vb, nb, rB, eab, ebb, stB, rb, nx, ny, tol, mu, 
         act[0, cl.CC_BEA] = eab
         act[0, cl.CC_BEB] = ebb
         return 1, 0
-    L = rB
-    for k in range(nb):
-        L = max(L, math.hypot(V[vb + k, 0], V[vb + k, 1]) + rB)
+    L = _core_reach(V, vb, nb) + rB
     cB, bklo, btlo, bkhi, bthi = _support(V, vb, nb, stB, nx, ny, 1.0,
                                           tol + FACE_RTOL * max(L, ea, eb))
     if cB == 1:
@@ -453,11 +454,7 @@ def ellipse_plane_rows(ea, eb, st, r, nx, ny, d, tol, mu, act, max_act, cand, ma
     """The row of an ellipse (semi-axes ``ea, eb``, state row st, cluster row r) against the
     plane ``n . q >= d``: active when its gap is within ``tol`` (m), else a candidate.
     Returns ``(n_active, n_candidates)``, or ``(-1, -1)`` when it does not fit."""
-    c = math.cos(st[ANGLE])
-    s = math.sin(st[ANGLE])
-    u0 = c * nx + s * ny
-    u1 = -s * nx + c * ny
-    h = math.sqrt(ea * ea * u0 * u0 + eb * eb * u1 * u1)     # the support along -n
+    h, _, _ = ellipse_support3(ea, eb, st[ANGLE], nx, ny)     # the support along -n
     on = nx * st[X] + ny * st[Y] - d - h <= tol
     if (on and max_act < 1) or (not on and max_cand < 1):
         return -1, -1

@@ -3256,22 +3256,12 @@ def _cl_scale(cid, bint, bflt, verts):
 @_inner
 def _cl_row(cbod, ccon, cid, nb, k, kind, a, b, ra, rb, nx, ny, d, mu, src):
     """Fill contact row k of ccon (round features at the centres, unbounded cones)."""
-    for j in range(cl.N_CC):
-        ccon[k, j] = 0.0
-    ccon[k, cl.CC_KIND] = kind
-    ccon[k, cl.CC_A] = a
-    ccon[k, cl.CC_B] = b
+    clr.row_clear(ccon, k, kind, a, b, mu)
     ccon[k, cl.CC_RA] = ra
     ccon[k, cl.CC_RB] = rb
     ccon[k, cl.CC_NX] = nx
     ccon[k, cl.CC_NY] = ny
     ccon[k, cl.CC_D] = d
-    ccon[k, cl.CC_MU] = mu
-    ccon[k, cl.CC_MODE] = cl.MODE_SLIP_POS
-    ccon[k, cl.CC_ALO] = -INF
-    ccon[k, cl.CC_AHI] = INF
-    ccon[k, cl.CC_BLO] = -INF
-    ccon[k, cl.CC_BHI] = INF
     cid[CL_HDR + nb + k] = src
 
 
@@ -3441,8 +3431,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     # CL_REENTRY_HOLD-th, every touching contact of the entering pair is held (the limit of
     # impacts or landings that accumulate: a rod rocking to rest on a face)
     te = cw.shape[0] - 3
-    hold = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(
-        _cl_scale(cid, bint, bflt, verts), grav[0], grav[1], cbod[:n])) >= CL_REENTRY_HOLD
+    L = _cl_scale(cid, bint, bflt, verts)
+    entries = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(L, grav[0], grav[1], cbod[:n]))
+    hold = entries >= CL_REENTRY_HOLD
     # contacts (active within gap_tol) and candidates
     nk = 0
     nc = 0
@@ -3499,10 +3490,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                     e_, o_, re_, ro_, sg = j, i, rb, ra, -1.0
                 ka, kc = clr.ellipse_rows(bflt[e_, B_EA], bflt[e_, B_EB], re_, verts,
                                           bint[o_, B_FIRST], bint[o_, B_COUNT],
-                                          bflt[o_, B_RADIUS],
-                                          bflt[o_, B_EA] if bint[o_, B_KIND] == SH_ELLIPSE
-                                          else 0.0, bflt[o_, B_EB], st[o_], ro_, sg * nx,
-                                          sg * ny, gtol, mu, ccon[nk:])
+                                          bflt[o_, B_RADIUS], bflt[o_, B_EA], bflt[o_, B_EB],
+                                          st[o_], ro_, sg * nx, sg * ny, gtol, mu,
+                                          ccon[nk:])
             else:
                 ka, kc = clr.pair_rows(verts, bint[i, B_FIRST], bint[i, B_COUNT],
                                        bflt[i, B_RADIUS], st[i], ra, bint[j, B_FIRST],
@@ -3590,11 +3580,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_NK] = nk
     cid[CL_NC] = nc
     e0 = _cl_energy(st, bflt, grav, cid)
-    L = _cl_scale(cid, bint, bflt, verts)
     # entries closer than CL_CHAT_RTOL T apart: the contact ends and starts again with no
     # lasting mode; the CL_CHAT_MAX-th is refused (PP_REENTRY)
-    cw[te - 1] = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(L, grav[0], grav[1],
-                                                               cbod[:n]))
+    cw[te - 1] = entries
     cw[te] = t
     if cw[te - 1] >= CL_CHAT_MAX:
         cid[CL_N] = 0
