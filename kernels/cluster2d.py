@@ -302,6 +302,8 @@ PAINLEVE_RTOL = 1e-12   # slip's JN M^-1 (JN - mu sig JT) <= PAINLEVE_RTOL JN M^
 FORCE_TOL = 1e-10       # force consistency of a mode / rest, relative to F = sum m |g|
 ACC_TOL = 1e-10         # acceleration consistency of a mode, relative to |g|
 STICK_VTOL = 1e-9       # a slip |vT| <= STICK_VTOL V is zero (mode selection)
+SPLIT_RTOL = 1e-12      # tangential rows equal to SPLIT_RTOL (1 + L) in every entry share
+#                         their friction (_split_friction; the entries are round-off apart)
 STOP_RTOL = 1e-6        # a slip that its current mode's deceleration stops within
 #                         STOP_RTOL T (T = sqrt(L / |g|), or L / V without gravity) stops
 #                         now for the mode selection (its residual slip, <= |dvT/dt|
@@ -378,6 +380,7 @@ LK_GDD = 21         # g'' at the solved accelerations (m/s^2)
 LK_AT = 22          # dvT/dt at the solved accelerations (m/s^2)
 LK_PX = 23          # contact point p (m)
 LK_PY = 24
+LK_GRP = 25         # first contact of its group of interchangeable sticking rows (-1: none)
 LK_S = 26           # stride
 LA_K = 0
 LA_A = LA_K + (KMAX + 1) * LK_S    # one extra slot: a candidate's rows
@@ -812,7 +815,81 @@ def _forces(bodies, c, nk, w, yo, la, ko):
                 at += la[o + LK_TA + 3 * si + q] * w[d + 3 + q]
         la[o + LK_GDD] = gdd
         la[o + LK_AT] = at
+    _split_friction(c, nk, la, w[H_L])
     return CS_OK
+
+
+@njit(cache=True, _nrt=False)
+def _same_tangent(c, la, j, k, tol):
+    """+1 or -1 when sticking contacts j and k join the same two bodies (either way round,
+    or the same body and a plane each) with tangential rows ``JT_k = s JT_j`` to ``tol``
+    in every entry; 0 otherwise. Their tangential forces are then interchangeable: any
+    split with the same sum ``lam_T,j + s lam_T,k`` gives the same accelerations."""
+    aj = c[j, CC_A]
+    bj = c[j, CC_B]
+    ak = c[k, CC_A]
+    bk = c[k, CC_B]
+    oj = LA_K + j * LK_S
+    ok = LA_K + k * LK_S
+    if aj == ak and bj == bk:
+        for sg in (1.0, -1.0):
+            same = True
+            for q in range(6 if bj >= 0.0 else 3):
+                if abs(la[ok + LK_TA + q] - sg * la[oj + LK_TA + q]) > tol:
+                    same = False
+            if same:
+                return sg
+    elif bj >= 0.0 and aj == bk and bj == ak:
+        for sg in (1.0, -1.0):
+            same = True
+            for q in range(3):
+                if (abs(la[ok + LK_TB + q] - sg * la[oj + LK_TA + q]) > tol
+                        or abs(la[ok + LK_TA + q] - sg * la[oj + LK_TB + q]) > tol):
+                    same = False
+            if same:
+                return sg
+    return 0.0
+
+
+@njit(cache=True, _nrt=False)
+def _split_friction(c, nk, la, L):
+    """Sticking contacts with interchangeable tangential rows (``_same_tangent``: the two
+    ends of a face held on a face or a plane) carry a sum of tangential forces that the
+    dynamics fixes and a split that it does not; the minimum-norm solve splits it equally,
+    which can put the lightly loaded end outside its cone while the face as a whole holds.
+    The split is set proportional to each contact's cone ``mu_k lam_N,k`` (every end then
+    at the same fraction of its cone: the face slips as one, when the sum reaches
+    ``sum mu_k lam_N,k``). Accelerations unchanged. Rows equal to ``SPLIT_RTOL (1 + L)``."""
+    tol = SPLIT_RTOL * (1.0 + L)
+    for k in range(nk):
+        la[LA_K + k * LK_S + LK_GRP] = -1.0
+    for j in range(nk):
+        oj = LA_K + j * LK_S
+        if la[oj + LK_IT] < 0.0 or la[oj + LK_GRP] >= 0.0 or c[j, CC_MU] == math.inf:
+            continue
+        la[oj + LK_GRP] = j
+        tot = la[oj + LK_LT]
+        cone = c[j, CC_MU] * la[oj + LK_LN]
+        m = 1
+        for k in range(j + 1, nk):
+            ok = LA_K + k * LK_S
+            if la[ok + LK_IT] < 0.0 or la[ok + LK_GRP] >= 0.0 or c[k, CC_MU] == math.inf:
+                continue
+            sg = _same_tangent(c, la, j, k, tol)
+            if sg == 0.0:
+                continue
+            la[ok + LK_GRP] = j
+            tot += sg * la[ok + LK_LT]
+            cone += c[k, CC_MU] * la[ok + LK_LN]
+            m += 1
+        if m < 2 or not cone > 0.0:
+            continue
+        for k in range(j, nk):
+            ok = LA_K + k * LK_S
+            if la[ok + LK_GRP] != j:
+                continue
+            sg = 1.0 if k == j else _same_tangent(c, la, j, k, tol)
+            la[ok + LK_LT] = sg * tot * (c[k, CC_MU] * la[ok + LK_LN]) / cone
 
 
 # ------------------------------------------------------------------ projection

@@ -373,6 +373,66 @@ def test_top_box_of_a_five_box_stack_slides_to_a_stop():
     assert cl.b[4, C.CB_X] == pytest.approx(xs, rel=1e-9)
 
 
+def _sliding_pair(layout, v, mu, mu_top):
+    """Box 1 (0.2 m high) resting on box 0 (0.4 x 0.2 m) on a floor, both moving at v along
+    +x. Contacts: box 0's bottom corners on the floor; then the two ends of the overlap:
+    "narrow" (box 1 0.3 m wide) box 1's corners on box 0's face; "wide" (0.5 m, shifted
+    -0.05 m) box 0's corners on box 1's face (normal down); "offset" (0.4 m, shifted 0.1 m)
+    box 1's left corner on box 0 and box 0's right corner on box 1 (rows in both orders)."""
+    h = 0.2
+    w0 = 0.4
+    w1, off = {"narrow": (0.3, 0.02), "wide": (0.5, -0.05), "offset": (0.4, 0.1)}[layout]
+    bodies = [body(0.0, h / 2, vx=v, I=box_inertia(1.0, w0, h)),
+              body(off, 1.5 * h, vx=v, I=box_inertia(1.0, w1, h))]
+    contacts = [contact(C.KIND_PLANE, 0, -1, pa=(sx * w0 / 2, -h / 2), mu=mu) for sx in (-1, 1)]
+    if layout == "narrow":
+        contacts += [contact(C.KIND_FACE, 1, 0, pa=(sx * w1 / 2, -h / 2), pb=(0.0, h / 2),
+                             n=(0.0, 1.0), mu=mu_top) for sx in (-1, 1)]
+    elif layout == "wide":
+        contacts += [contact(C.KIND_FACE, 0, 1, pa=(sx * w0 / 2, h / 2), pb=(0.0, -h / 2),
+                             n=(0.0, -1.0), mu=mu_top) for sx in (-1, 1)]
+    else:
+        contacts += [contact(C.KIND_FACE, 1, 0, pa=(-w1 / 2, -h / 2), pb=(0.0, h / 2),
+                             n=(0.0, 1.0), mu=mu_top),
+                     contact(C.KIND_FACE, 0, 1, pa=(w0 / 2, h / 2), pb=(0.0, -h / 2),
+                             n=(0.0, -1.0), mu=mu_top)]
+    return Cluster(bodies, contacts, L=0.5)
+
+
+@pytest.mark.parametrize("layout", ["narrow", "wide", "offset"])
+def test_two_box_stack_slides_on_the_floor_to_a_stop(layout):
+    """Two boxes, one on the other, sliding together on a rough floor (mu = 0.3; 0.4 between
+    the boxes): the upper box sticks on the lower one, whose floor friction decelerates both
+    at mu g, stopping after v / (mu g) and v^2 / (2 mu g) (closed form). The two ends of the boxes'
+    face contact have the same tangential row: the minimum-norm split (equal halves) put the
+    lightly loaded end outside its cone and no mode was found (the stepper refused the scene
+    as Painleve); the split is now proportional to the cones (``_split_friction``): each end
+    inside its cone, ``lam_T / lam_N`` equal."""
+    v, mu, mu_top = 1.0, 0.3, 0.4
+    cl = _sliding_pair(layout, v, mu, mu_top)
+    cl.c[:, C.CC_MODE] = C.MODE_LIFT
+    assert cl.select() == C.CS_OK
+    assert list(cl.c[:, C.CC_MODE]) == [1, 1, 0, 0]
+    ln = cl.c[2:, C.CC_LAMN]
+    lt = cl.c[2:, C.CC_LAMT]
+    assert np.all(ln > 0.1) and abs(ln[0] - ln[1]) > 0.1      # unequal loads
+    assert np.all(np.abs(lt) < mu_top * ln)
+    assert lt[0] / ln[0] == pytest.approx(lt[1] / ln[1], rel=1e-12)
+    # box 1 decelerates at mu g: the x-force on it is lam_T in both row orders (t = (1, 0)
+    # on box 1 as A; t = (-1, 0) on box 0 as A, the opposite force on box 1)
+    assert np.sum(lt) == pytest.approx(-mu * G, rel=1e-12)
+    st, ev, k, t = cl.advance(0.0, 10.0)
+    assert (st, ev, k) == (C.CS_OK, C.CE_STOP, 0) or (st, ev, k) == (C.CS_OK, C.CE_STOP, 1)
+    assert t == pytest.approx(v / (mu * G), rel=1e-9)
+    x0 = {"narrow": 0.02, "wide": -0.05, "offset": 0.1}[layout]
+    assert cl.b[0, C.CB_X] == pytest.approx(v * v / (2 * mu * G), rel=1e-9)
+    assert cl.b[1, C.CB_X] - cl.b[0, C.CB_X] == pytest.approx(x0, abs=1e-12)
+    assert cl.after_event(ev, k) == C.CS_OK
+    assert np.all(cl.c[:, C.CC_MODE] == C.MODE_STICK)
+    st, ev, k, t = cl.advance(t, 10.0)
+    assert st == C.CS_REST
+
+
 # ------------------------------------------------------------------ 4. blocks on an incline
 
 
