@@ -163,7 +163,8 @@ the instant's cluster at v_N = 0; the persistence rule then enters it again), re
 (``CS_REST``, event "rest": frozen, velocities zero, until a body outside hits it: then it
 dissolves into that instant). One cluster at a time (``PP_TWO``); a pair with one body in
 a moving cluster is bounded (``_held_cluster_pair``: the cluster's pass ends where the
-bound must be taken again; refused, ``PP_HELD``, within ``HELD_NEAR``), a pair with a body
+bound must be taken again, so approaching the touch; touching and closing at a pass end:
+the impact instant, the cluster dissolving into it), a pair with a body
 held by an integrated (pivot) contact is refused (``PP_HELD``: no closed-form motion to
 search); a member leaving while others stay in contact (``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
 arguments of the loop after ``err``.
@@ -765,8 +766,8 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         return 0
     if (ina or inb) and cid[CL_FROZEN] == 0:
         return _held_cluster_pair(pgen, q, a if ina else b, b if ina else a, t_now, st, tref,
-                                  bint, bflt, verts, planes, pm, tz, zp, pr_t, tolf, tmp, err,
-                                  cid, grav, cw)
+                                  bint, bflt, verts, planes, pairs, pm, tz, zp, ttr, bp_t,
+                                  pr_t, tolf, tmp, err, cid, grav, cw)
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
         for j in range(2):
@@ -836,9 +837,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                   + abs(tmp[1, OMEGA]) * bflt[b, B_RADIUS])
             vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
             if pair_persistence(v, s, True, vz, INF, tolf[TF_REST_LENGTH]) == PP_CHATTER:
-                if cid[CL_PEND] < 0 or cid[CL_PEND] == q:
+                if cid[CL_PEND] < 0 or _pend_joins(q, cid[CL_PEND], pairs):
                     # the pair stays in contact: a cluster from the next pass (run_loop)
-                    cid[CL_PEND] = q
+                    cid[CL_PEND] = q if cid[CL_PEND] < 0 else cid[CL_PEND]
                     pr_t[q] = INF
                     return 0
                 rb = bflt[b, B_RADIUS]
@@ -872,9 +873,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                                 touching)
             if rc < 0:
                 if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
-                        cid[CL_PEND] < 0 or cid[CL_PEND] == q):
+                        cid[CL_PEND] < 0 or _pend_joins(q, cid[CL_PEND], pairs)):
                     # bodies that stay in contact: a cluster from the next pass (run_loop)
-                    cid[CL_PEND] = q
+                    cid[CL_PEND] = q if cid[CL_PEND] < 0 else cid[CL_PEND]
                     pr_t[q] = INF
                     return 0
                 return rc
@@ -886,6 +887,15 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
+
+
+@_inner
+def _pend_joins(q, qp, pairs):
+    """Pair q, whose impacts accumulate while pair qp's entry is pending, shares a body with
+    it: the entry's gather (bodies touching within gap_tol, ``_cluster_enter``) takes q in
+    too. (Apart, two clusters would be needed: not built, the caller refuses.)"""
+    return (q == qp or pairs[q, 0] == pairs[qp, 0] or pairs[q, 0] == pairs[qp, 1]
+            or pairs[q, 1] == pairs[qp, 0] or pairs[q, 1] == pairs[qp, 1])
 
 
 @_inner
@@ -919,36 +929,58 @@ def _released_pair_s0(tmp, R, S, gtol):
 #: a pair with one body in a moving cluster is searched again (the cluster's pass ends)
 #: after this fraction of the time its distance bound guarantees (``_held_cluster_pair``)
 HELD_CHECK = 0.5
-#: ... and refused (``PP_HELD``) when that bound leaves less than this fraction of the
-#: outside body's size between them
+#: ... and meets (an impact instant, the cluster dissolving into it) when, at a pass end,
+#: its gap is below this fraction of the smaller body's size and closes: the advancement
+#: stops short of the touch by that gap, so the impact time is early by at most
+#: ``gap / closing speed`` (dimensionless)
+HELD_TOUCH = 1e-11
+#: ... and refused (``PP_HELD``) when the member's state is not at the pass end (another
+#: body's event inside a pass that has run ahead) and the bound leaves less than this
+#: fraction of the outside body's size between them
 HELD_NEAR = 1e-3
 
 
 @_inner
-def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes, pm, tz, zp,
-                       pr_t, tolf, tmp, err, cid, grav, cw):
+def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes, pairs, pm,
+                       tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
     """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
-    to search): a distance bound (``stepper3d._held_pair``'s). The cluster's kinetic energy
-    K can only grow by the work of gravity: ``dK/dt <= |g| sum m |v| <= |g| sqrt(M 2K)``,
-    so ``kappa = sqrt(2K)`` grows by at most ``|g| sqrt(M) tau`` (M its mass; contact forces
-    with planes do no work, friction dissipates, internal forces cancel in K); every point
-    of member i then moves slower than ``kappa (1 / sqrt(m) + R / sqrt(I))`` (R its reach),
-    from its row at ``tref[i]``. Body o's points move slower than ``|v| + |omega| R``,
-    growing by ``|a| + |alpha| R``. While the sum of their displacements stays below the
-    gap g0 (member at ``tref[i]``, o at t_now) they cannot meet: the cluster's pass ends
-    (``cw``'s check slot) at ``HELD_CHECK`` of that time, where the pair is bounded again
-    (the cluster's rest makes it an ordinary search); within ``HELD_NEAR`` of o's size
-    the pair is refused by name (``PP_HELD``), as when o is held by an integrated contact
-    itself. Returns 0 or the error."""
+    to search), at the member's time ``ti = tref[i]`` (the end of the cluster's last pass,
+    at or after t_now; o brought there by its own closed-form motion): a distance bound
+    (``stepper3d._held_pair``'s). The cluster's kinetic energy K can only grow by the work
+    of gravity: ``dK/dt <= |g| sum m |v| <= |g| sqrt(M 2K)``, so ``kappa = sqrt(2K)`` grows
+    by at most ``|g| sqrt(M) tau`` (M its mass; contact forces with planes do no work,
+    friction dissipates, internal forces cancel in K); every point of member i then moves
+    slower than ``kappa (1 / sqrt(m) + R / sqrt(I))`` (R its reach). Body o's points move
+    slower than ``|v| + |omega| R``, growing by ``|a| + |alpha| R``. While the sum of their
+    displacements stays below the gap g0 they cannot meet: the cluster's next pass ends
+    (``cw``'s check slot) at ``HELD_CHECK`` of that time, and no later than o's next event
+    (its motion changes there: the pass must not run past it), where the pair is bounded
+    again. The pass ends so approach the touch (conservative advancement: never past
+    it); at a pass end where the gap is below ``HELD_TOUCH`` of the smaller size and
+    closes, the pair's impact is due there (``pr_t[q] = ti``; ``_cluster_hit`` dissolves
+    the cluster into that instant). Refused by name (``PP_HELD``) when o is held by an
+    integrated contact itself, or when o's motion changed inside a pass that had run
+    ahead (not expected with the cap; the bound then leaves less than ``HELD_NEAR`` of o's
+    size). Returns 0 or the error."""
     if pm[o, M_MODE] == PM_PIVOT or pm[o, M_MODE] == PM_WEDGED:
         _set_err(err, t_now, i, o, st[o, X], st[o, Y], PP_HELD, float(o), 0.0)
         return ERR_PERSISTENT_PAIR
+    ti = tref[i]
     if tz[o] < INF:
         _held_into(st[o], bint[o, B_KIND], planes[zp[o], 0], planes[zp[o], 1], tmp[1])
-        fly_into(tmp[1], t_now - tref[o], tmp[1])
+        fly_into(tmp[1], ti - tref[o], tmp[1])
     else:
-        fly_into(st[o], t_now - tref[o], tmp[1])
-    g0, _, _ = _cl_gap(pgen, i, st[i], o, tmp[1], bint, bflt, verts)
+        fly_into(st[o], ti - tref[o], tmp[1])
+    g0, nx, ny = _cl_gap(pgen, i, st[i], o, tmp[1], bint, bflt, verts)
+    Ri = _body_size(i, bint, bflt, verts)
+    Ro = _body_size(o, bint, bflt, verts)
+    touch = HELD_TOUCH * min(Ri, Ro)
+    if g0 <= touch and _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx,
+                                    ny) < 0.0:
+        # they touch and close at this pass end: an impact instant, which dissolves the
+        # cluster into it (_cluster_hit)
+        pr_t[q] = ti
+        return 0
     K = 0.0
     M = 0.0
     for r in range(cid[CL_N]):
@@ -956,25 +988,39 @@ def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes
         M += bflt[j, B_MASS]
         K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
                     + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
-    Ri = _body_size(i, bint, bflt, verts)
-    Ro = _body_size(o, bint, bflt, verts)
     beta = 1.0 / math.sqrt(bflt[i, B_MASS]) + Ri / math.sqrt(bflt[i, B_INERTIA])
     ui = math.sqrt(2.0 * K) * beta
     ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
     uo = math.hypot(tmp[1, VX], tmp[1, VY]) + abs(tmp[1, OMEGA]) * Ro
     co = math.hypot(tmp[1, AX], tmp[1, AY]) + abs(tmp[1, ALPHA]) * Ro
-    tau0 = t_now - tref[i]
-    d = g0 - (ui * tau0 + 0.5 * ci * tau0 * tau0)
-    if not d > HELD_NEAR * Ro:
+    # o's motion changed at t_now inside the member's last pass (it ran ahead to ti):
+    # that stretch is not covered; refused unless o's motion over it alone keeps them apart
+    tau = ti - t_now
+    if tref[o] == t_now and tau > 0.0 and not g0 - (ui + uo) * tau - 0.5 * co * tau * tau \
+            > HELD_NEAR * Ro:
         _set_err(err, t_now, i, o, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
         return ERR_PERSISTENT_PAIR
-    B = ui + ci * tau0 + uo
+    # touching and not closing (parting after their impact): the next pass is at least
+    # as long as the time to cross the touch distance
+    d = max(g0, touch)
+    B = ui + uo
     C = ci + co
-    den = B + math.sqrt(B * B + 2.0 * C * d)
-    s = 2.0 * d / den if den > 0.0 else INF
+    s = 2.0 * d / (B + math.sqrt(B * B + 2.0 * C * d)) if B + C > 0.0 else INF
     pr_t[q] = INF
     tc = cw.shape[0] - 5
-    cw[tc] = min(cw[tc], t_now + HELD_CHECK * s)
+    tn = ti + HELD_CHECK * s
+    # ... and no later than o's next event
+    if ti < tz[o] < tn:
+        tn = tz[o]
+    if ti < ttr[o] < tn:
+        tn = ttr[o]
+    for p in range(planes.shape[0]):
+        if ti < bp_t[o, p] < tn:
+            tn = bp_t[o, p]
+    for q2 in range(pairs.shape[0]):
+        if (pairs[q2, 0] == o or pairs[q2, 1] == o) and ti < pr_t[q2] < tn:
+            tn = pr_t[q2]
+    cw[tc] = min(cw[tc], tn)
     return 0
 
 
@@ -3330,6 +3376,21 @@ def _cl_gap(shapes, i, si, j, sj, bint, bflt, verts):
 
 
 @_inner
+def _cl_gap_rate(shapes, i, si, j, sj, bint, bflt, verts, nx, ny):
+    """Rate (m/s) of the gap of ``_cl_gap`` (normal ``(nx, ny)`` from j into i, as it
+    returned): ``n . (v_i(p_i) - v_j(p_j))`` at the witness points of ``pair2d.frame_rel``
+    (the centres' line for two disks). Negative: they close."""
+    if (bint[i, B_KIND] == SH_DISK and bint[j, B_KIND] == SH_DISK) or shapes is None:
+        return nx * (si[VX] - sj[VX]) + ny * (si[VY] - sj[VY])
+    dx = sj[X] - si[X]
+    dy = sj[Y] - si[Y]
+    g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(i, si[ANGLE], j, dx, dy,
+                                                           sj[ANGLE], bint, bflt, verts)
+    return point_rate(nx, ny, pax, pay, pbx - dx, pby - dy, si[VX], si[VY], si[OMEGA],
+                      sj[VX], sj[VY], sj[OMEGA])
+
+
+@_inner
 def _cl_point(shapes, a, b, st, bint, bflt, verts):
     """The logged contact point (world, m) and normal (from b into a) of bodies a, b
     entering a cluster: on b's boundary along the centres' line for two disks, the middle
@@ -3937,6 +3998,24 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
 
 
 @_inner
+def _outside_due(t, pm, tz, ttr, bp_t, pr_t):
+    """An event of a body outside the cluster (a switch, a plane impact, a pair impact) is
+    due at t."""
+    for i in range(pm.shape[0]):
+        if pm[i, M_MODE] == PM_CLUSTER:
+            continue
+        if tz[i] <= t or ttr[i] <= t:
+            return True
+        for p in range(bp_t.shape[1]):
+            if bp_t[i, p] <= t:
+                return True
+    for q in range(pr_t.shape[0]):
+        if pr_t[q] <= t:
+            return True
+    return False
+
+
+@_inner
 def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, err):
     """After a pass (states at t): every pair of members other than two disks that has
     no contact or candidate row (not touching at the entry: its features are not known in
@@ -3974,8 +4053,10 @@ def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, e
 @_inner
 def _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bp_t, pr_t, tolf, cbod, ccon, cid,
                  bmark):
-    """A body outside a frozen cluster meets a member within this instant: the cluster
-    dissolves into the instant (``_cluster_to_instant``). Returns 1 if it did."""
+    """A body outside the cluster meets a member within this instant (frozen: its search;
+    moving: at the pass end where ``_held_cluster_pair`` found them touching and closing;
+    cbod holds the members' states at t): the cluster dissolves into the instant
+    (``_cluster_to_instant``). Returns 1 if it did."""
     tw = t + tolf[TF_SIMUL_TIME]
     for q in range(pairs.shape[0]):
         if pr_t[q] <= tw and (pm[pairs[q, 0], M_MODE] == PM_CLUSTER
@@ -4146,7 +4227,16 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                         return rc
                     pend = True
                     continue
-                if cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t:
+                if (cid[CL_N] > 0 and cid[CL_FROZEN] == 0
+                        and _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bp_t, pr_t,
+                                         tolf, cbod, ccon, cid, bmark) == 1):
+                    # a body outside meets a member at this pass end (_held_cluster_pair):
+                    # the moving cluster dissolves into the impact instant
+                    cact = 2
+                elif (cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t
+                      and not _outside_due(t, pm, tz, ttr, bp_t, pr_t)):
+                    # (an event of a body outside due at the same t comes first: its pairs
+                    # with members are bounded from the new motion before the pass runs)
                     rc, cact = _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes,
                                              grav, law_par, bp_law, pm, tz, ttr, bp_t, pairs, pr_t,
                                              pr_off, tolf, cbod, ccon, cw, cid, bmark, ev_t, ev_i,
@@ -4166,6 +4256,8 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
             for i in range(nb):
                 if cact == 2:
                     break
+                if pm[i, M_MODE] == PM_CLUSTER:
+                    continue        # the cluster's pass (its leader's ttr) is above
                 if ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
                     if pivot is not None:
                         rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
