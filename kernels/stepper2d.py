@@ -741,7 +741,7 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 @_inner
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid, grav, cw):
+                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid, grav, cw, bmark):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
@@ -765,9 +765,11 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         pr_t[q] = INF
         return 0
     if (ina or inb) and cid[CL_FROZEN] == 0:
-        return _held_cluster_pair(pgen, q, a if ina else b, b if ina else a, t_now, st, tref,
-                                  bint, bflt, verts, planes, pairs, pm, tz, zp, ttr, bp_t,
-                                  pr_t, tolf, tmp, err, cid, grav, cw)
+        i = a if ina else b
+        o = b if ina else a
+        return _held_cluster_pair(pgen, q, i, o, bmark[o] != 0 and bmark[i] == 0, t_now, st,
+                                  tref, bint, bflt, verts, planes, pairs, pm, tz, zp, ttr,
+                                  bp_t, pr_t, tolf, tmp, err, cid, grav, cw)
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
         for j in range(2):
@@ -868,9 +870,20 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             # an accumulation when decisions.pair_crawl_chatters says so (_pair_persists)
             touching = _frame(a, tmp[0, ANGLE], b, tmp[1, X] - tmp[0, X], tmp[1, Y] - tmp[0, Y],
                               tmp[1, ANGLE], bint, bflt, verts)[0] <= tolf[TF_GAP_TOL]
+        # a joint accumulation: the pair's search ends, without an impact (or crawls from
+        # touching), before one of its bodies' next events (a plane impact) within the
+        # flight of a bounce that rises less than rest_length (the single point's rule,
+        # 2 vz / |g|): the pair and that plane contact accumulate together (a box under a
+        # box bouncing on the floor at round-off speeds: the pair's own motion, both in
+        # free fall, shows no re-contact), judged on the pair's gap rate by the same speed
+        gz = math.hypot(grav[0], grav[1])
+        vz2 = _vz2(tolf, gz)
+        joint = ((hit or touching) and gz > 0.0 and tl < tolf[TF_T_END]
+                 and S * S * gz * gz <= 4.0 * vz2
+                 and ((code == TOI_OK and s == INF) or code == TOI_NOT_CONVERGED))
         if hit or touching:
             rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err,
-                                touching)
+                                touching, joint, vz2)
             if rc < 0:
                 if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
                         cid[CL_PEND] < 0 or _pend_joins(q, cid[CL_PEND], pairs)):
@@ -941,8 +954,8 @@ HELD_NEAR = 1e-3
 
 
 @_inner
-def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes, pairs, pm,
-                       tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
+def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts, planes,
+                       pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
     """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
     to search), at the member's time ``ti = tref[i]`` (the end of the cluster's last pass,
     at or after t_now; o brought there by its own closed-form motion): a distance bound
@@ -993,10 +1006,11 @@ def _held_cluster_pair(pgen, q, i, o, t_now, st, tref, bint, bflt, verts, planes
     ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
     uo = math.hypot(tmp[1, VX], tmp[1, VY]) + abs(tmp[1, OMEGA]) * Ro
     co = math.hypot(tmp[1, AX], tmp[1, AY]) + abs(tmp[1, ALPHA]) * Ro
-    # o's motion changed at t_now inside the member's last pass (it ran ahead to ti):
-    # that stretch is not covered; refused unless o's motion over it alone keeps them apart
+    # o's motion changed at t_now (``moved``: o marked by its event, the member not) inside
+    # the member's last pass (it ran ahead to ti): that stretch is not covered; refused
+    # unless their speed bounds over it keep them apart
     tau = ti - t_now
-    if tref[o] == t_now and tau > 0.0 and not g0 - (ui + uo) * tau - 0.5 * co * tau * tau \
+    if moved and tau > 0.0 and not g0 - (ui + uo) * tau - 0.5 * co * tau * tau \
             > HELD_NEAR * Ro:
         _set_err(err, t_now, i, o, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
         return ERR_PERSISTENT_PAIR
@@ -1070,12 +1084,15 @@ def _released_general_s0(a, b, tmp, bint, bflt, verts, S, gtol):
 
 
 @_inner
-def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, crawled=False):
+def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, crawled=False,
+                   joint=False, vz2=0.0):
     """Whether bodies a and b, which had an impact at t_now (states ``tmp[0]``, ``tmp[1]``
-    there) stay in contact: persistent body-body contact, not built (issue 16 item 2), so
-    ``ERR_PERSISTENT_PAIR`` (0: they part), by ``decisions.pair_persistence`` with ``v``
-    the gap rate after the impact (``pair2d.frame_rel``) and ``s`` the pair's next time of
-    impact (search result ``code``)."""
+    there) stay in contact: ``ERR_PERSISTENT_PAIR`` with the reason (the caller enters a
+    cluster on PP_CHATTER / PP_TOGETHER; 0: they part), by ``decisions.pair_persistence``
+    with ``v`` the gap rate after the impact (``pair2d.frame_rel``) and ``s`` the pair's
+    next time of impact (search result ``code``); ``joint``: the search ended at a body's
+    imminent plane impact (``_recompute_pair``): touching (within gap_tol) with
+    ``v^2 <= vz2`` (m^2/s^2), they stay together (``PP_TOGETHER``)."""
     dx = tmp[1, X] - tmp[0, X]
     dy = tmp[1, Y] - tmp[0, Y]
     g, nx, ny, pax, pay, pbx, pby, fa, ia, fb, ib = _frame(a, tmp[0, ANGLE], b, dx, dy,
@@ -1099,6 +1116,8 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, craw
     if why == 0.0 and crawled and pair_crawl_chatters(v, G, tolf[TF_REST_LENGTH]):
         # touching, the search crawled (decisions.pair_crawl_chatters)
         why = PP_CHATTER
+    if why == 0.0 and joint and g <= tolf[TF_GAP_TOL] and v * v <= vz2:
+        why = PP_TOGETHER
     if why != 0.0:
         _set_err(err, t_now, a, b, px, py, why, v, g if why == PP_TOGETHER else s)
         return ERR_PERSISTENT_PAIR
@@ -1117,7 +1136,7 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
             if pair is not None:
                 rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
                                      pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                     tmp, err, cid, grav, cw)
+                                     tmp, err, cid, grav, cw, bmark)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
