@@ -772,11 +772,44 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                                   bp_t, pr_t, tolf, tmp, err, cid, grav, cw)
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
-        for j in range(2):
-            i = a if j == 0 else b
-            if pm[i, M_MODE] == PM_PIVOT:
+        pa = pm[a, M_MODE] == PM_PIVOT
+        pb = pm[b, M_MODE] == PM_PIVOT
+        if pa or pb:
+            # a body held by one pivot contact and a body in closed-form motion: bounded
+            # at each of its passes (_pivot_partners), not searched; two held bodies, or a
+            # body held on two planes, are refused (no safe bound on both motions)
+            i = a if pa else b
+            o = b if pa else a
+            if (pa and pb) or pm[i, M_PLANE2] >= 0 or pm[o, M_MODE] == PM_WEDGED:
                 _set_err(err, t_now, a, b, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
                 return ERR_PERSISTENT_PAIR
+            if hit and tref[i] == t_now and (cid[CL_PEND] < 0
+                                             or _pend_joins(q, cid[CL_PEND], pairs)):
+                # the pair's impact just now, the body held again at t: touching with a
+                # normal rate that is zero (pair_zero_speed: the impacts have accumulated
+                # to round-off; a real bounce flies and meets again at a later pass), a
+                # persistent contact: a cluster from the next pass (run_loop; the pivot
+                # contact becomes its plane row)
+                fly_into(st[o], t_now - tref[o], tmp[1])
+                g, nx, ny = _cl_gap(pgen, i, st[i], o, tmp[1], bint, bflt, verts)
+                v = _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx, ny)
+                sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(tmp[1, VX], tmp[1, VY])
+                      + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
+                      + abs(tmp[1, OMEGA]) * _body_size(o, bint, bflt, verts))
+                if (g <= tolf[TF_GAP_TOL]
+                        and abs(v) <= pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)):
+                    if cid[CL_PEND] < 0:
+                        cid[CL_PEND] = q
+                    pr_t[q] = INF
+                    return 0
+            m = bflt[i, B_MASS]
+            K = 0.5 * (m * (st[i, VX] ** 2 + st[i, VY] ** 2)
+                       + bflt[i, B_INERTIA] * st[i, OMEGA] ** 2)
+            rc, meet, tn = _held_pair(pgen, q, i, o, bmark[o] != 0 and bmark[i] == 0, t_now,
+                                      K, m, st, tref, bint, bflt, verts, planes, pairs, pm,
+                                      tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, grav)
+            pr_t[q] = INF
+            return rc
     # a body in a pending accumulation jump moves with its held motion
     for j in range(2):
         i = a if j == 0 else b
@@ -951,33 +984,29 @@ HELD_TOUCH = 1e-11
 #: body's event inside a pass that has run ahead) and the bound leaves less than this
 #: fraction of the outside body's size between them
 HELD_NEAR = 1e-3
+HB_APART = 0    # _held_bound: apart, bounded
+HB_IMPACT = 1   # ... touching and closing: an impact now
+HB_REST = 2     # ... touching at a rate below the accumulation speed: persistent contact
 
 
 @_inner
-def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts, planes,
-                       pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
-    """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
-    to search), at the member's time ``ti = tref[i]`` (the end of the cluster's last pass,
-    at or after t_now; o brought there by its own closed-form motion): a distance bound
-    (``stepper3d._held_pair``'s). The cluster's kinetic energy K can only grow by the work
-    of gravity: ``dK/dt <= |g| sum m |v| <= |g| sqrt(M 2K)``, so ``kappa = sqrt(2K)`` grows
-    by at most ``|g| sqrt(M) tau`` (M its mass; contact forces with planes do no work,
-    friction dissipates, internal forces cancel in K); every point of member i then moves
-    slower than ``kappa (1 / sqrt(m) + R / sqrt(I))`` (R its reach). Body o's points move
-    slower than ``|v| + |omega| R``, growing by ``|a| + |alpha| R``. While the sum of their
-    displacements stays below the gap g0 they cannot meet: the cluster's next pass ends
-    (``cw``'s check slot) at ``HELD_CHECK`` of that time, and no later than o's next event
-    (its motion changes there: the pass must not run past it), where the pair is bounded
-    again. The pass ends so approach the touch (conservative advancement: never past
-    it); at a pass end where the gap is below ``HELD_TOUCH`` of the smaller size and
-    closes, the pair's impact is due there (``pr_t[q] = ti``; ``_cluster_hit`` dissolves
-    the cluster into that instant). Refused by name (``PP_HELD``) when o is held by an
-    integrated contact itself, or when o's motion changed inside a pass that had run
-    ahead (not expected with the cap; the bound then leaves less than ``HELD_NEAR`` of o's
-    size). Returns 0 or the error."""
-    if pm[o, M_MODE] == PM_PIVOT or pm[o, M_MODE] == PM_WEDGED:
-        _set_err(err, t_now, i, o, st[o, X], st[o, Y], PP_HELD, float(o), 0.0)
-        return ERR_PERSISTENT_PAIR
+def _held_bound(pgen, i, o, K, M, st, tref, bint, bflt, verts, planes, pairs, tz, zp, ttr,
+                bp_t, pr_t, tolf, tmp, grav):
+    """Body i in integrated motion (a cluster member, or held by a pivot contact; its state
+    at ``ti = tref[i]``, the end of its last pass) and body o in closed-form motion, brought
+    to ti (``tmp[1]``): a distance bound (``stepper3d._held_pair``'s). K (J) is the kinetic
+    energy of i's integrated system, M (kg) its mass: K can only grow by the work of
+    gravity, ``dK/dt <= |g| sqrt(M 2K)`` (contact forces with planes do no work, friction
+    dissipates, internal forces cancel), so ``sqrt(2K)`` grows by at most ``|g| sqrt(M)
+    tau`` and every point of i moves slower than ``sqrt(2K) (1 / sqrt(m) + R / sqrt(I))``
+    (R its reach). Body o's points move slower than ``|v| + |omega| R``, growing by
+    ``|a| + |alpha| R``. While the sum of their displacements stays below the gap g0
+    they cannot meet. Returns ``(kind, tn, g0, u, co, Ro)``: kind ``HB_IMPACT`` when they
+    touch (g0 below ``HELD_TOUCH`` of the smaller size) and close, ``HB_REST`` when they
+    touch at a rate below the accumulation speed, else ``HB_APART`` and tn, the time by
+    which i's next pass must end: ``HELD_CHECK`` of the guaranteed time, and no later than
+    o's next event (its motion changes there); u the sum of the speed bounds at ti (m/s),
+    co o's growth (m/s^2), Ro its size (m)."""
     ti = tref[i]
     if tz[o] < INF:
         _held_into(st[o], bint[o, B_KIND], planes[zp[o], 0], planes[zp[o], 1], tmp[1])
@@ -988,42 +1017,29 @@ def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts,
     Ri = _body_size(i, bint, bflt, verts)
     Ro = _body_size(o, bint, bflt, verts)
     touch = HELD_TOUCH * min(Ri, Ro)
-    if g0 <= touch and _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx,
-                                    ny) < 0.0:
-        # they touch and close at this pass end: an impact instant, which dissolves the
-        # cluster into it (_cluster_hit)
-        pr_t[q] = ti
-        return 0
-    K = 0.0
-    M = 0.0
-    for r in range(cid[CL_N]):
-        j = cid[CL_HDR + r]
-        M += bflt[j, B_MASS]
-        K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
-                    + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
+    if g0 <= touch:
+        # touching: an impact if they close faster than the rate's round-off
+        # (pair_zero_speed of the speeds it is computed from), a persistent contact if
+        # no faster than the accumulation speed (the single point's rule, _vz2)
+        v = _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx, ny)
+        sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(tmp[1, VX], tmp[1, VY])
+              + abs(st[i, OMEGA]) * Ri + abs(tmp[1, OMEGA]) * Ro)
+        if v * v <= _vz2(tolf, math.hypot(grav[0], grav[1])):
+            return HB_REST, ti, g0, 0.0, 0.0, Ro
+        if v < -pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp):
+            return HB_IMPACT, ti, g0, 0.0, 0.0, Ro
     beta = 1.0 / math.sqrt(bflt[i, B_MASS]) + Ri / math.sqrt(bflt[i, B_INERTIA])
     ui = math.sqrt(2.0 * K) * beta
     ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
     uo = math.hypot(tmp[1, VX], tmp[1, VY]) + abs(tmp[1, OMEGA]) * Ro
     co = math.hypot(tmp[1, AX], tmp[1, AY]) + abs(tmp[1, ALPHA]) * Ro
-    # o's motion changed at t_now (``moved``: o marked by its event, the member not) inside
-    # the member's last pass (it ran ahead to ti): that stretch is not covered; refused
-    # unless their speed bounds over it keep them apart
-    tau = ti - t_now
-    if moved and tau > 0.0 and not g0 - (ui + uo) * tau - 0.5 * co * tau * tau \
-            > HELD_NEAR * Ro:
-        _set_err(err, t_now, i, o, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
-        return ERR_PERSISTENT_PAIR
     # touching and not closing (parting after their impact): the next pass is at least
     # as long as the time to cross the touch distance
     d = max(g0, touch)
     B = ui + uo
     C = ci + co
-    s = 2.0 * d / (B + math.sqrt(B * B + 2.0 * C * d)) if B + C > 0.0 else INF
-    pr_t[q] = INF
-    tc = cw.shape[0] - 5
-    tn = ti + HELD_CHECK * s
-    # ... and no later than o's next event
+    sg = 2.0 * d / (B + math.sqrt(B * B + 2.0 * C * d)) if B + C > 0.0 else INF
+    tn = ti + HELD_CHECK * sg
     if ti < tz[o] < tn:
         tn = tz[o]
     if ti < ttr[o] < tn:
@@ -1034,8 +1050,129 @@ def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts,
     for q2 in range(pairs.shape[0]):
         if (pairs[q2, 0] == o or pairs[q2, 1] == o) and ti < pr_t[q2] < tn:
             tn = pr_t[q2]
+    return HB_APART, tn, g0, ui + uo, co, Ro
+
+
+@_inner
+def _held_pair(pgen, q, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts, planes, pairs,
+               pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, grav):
+    """Pair q of body i in integrated motion (a moving cluster's member, or held by a pivot
+    contact) and body o outside it (``_held_bound``, with K and M those of i's system), at
+    t_now (``moved``: o was marked by its own event, i was not). Returns ``(rc, hit, tn)``:
+    rc 0 or ``ERR_PERSISTENT_PAIR`` (``PP_HELD``) when o is held by an integrated contact
+    itself, or when o's motion changed inside a pass of i that had run ahead to tref[i]
+    (not expected: passes end at o's known events) and the speed bounds over that stretch
+    leave less than ``HELD_NEAR`` of o's size between them; kind: ``_held_bound``'s at
+    tref[i]; tn: the end of i's next pass."""
+    if pm[o, M_MODE] == PM_PIVOT or pm[o, M_MODE] == PM_WEDGED:
+        _set_err(err, t_now, i, o, st[o, X], st[o, Y], PP_HELD, float(o), 0.0)
+        return ERR_PERSISTENT_PAIR, HB_APART, INF
+    kind, tn, g0, u, co, Ro = _held_bound(pgen, i, o, K, M, st, tref, bint, bflt, verts,
+                                          planes, pairs, tz, zp, ttr, bp_t, pr_t, tolf, tmp,
+                                          grav)
+    tau = tref[i] - t_now
+    if (kind == HB_APART and moved and tau > 0.0
+            and not g0 - u * tau - 0.5 * co * tau * tau > HELD_NEAR * Ro):
+        _set_err(err, t_now, i, o, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
+        return ERR_PERSISTENT_PAIR, HB_APART, INF
+    return 0, kind, tn
+
+
+@_inner
+def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts, planes,
+                       pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
+    """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
+    to search), by ``_held_pair`` with the cluster's kinetic energy and mass: the cluster's
+    next pass ends (``cw``'s check slot) where the pair must be bounded again, so the
+    passes approach the touch without passing it (conservative advancement); at a pass
+    end where they touch and close, the pair's impact is due there (``pr_t[q] = tref[i]``;
+    ``_cluster_hit`` dissolves the cluster into that instant). Returns 0 or the error."""
+    K = 0.0
+    M = 0.0
+    for r in range(cid[CL_N]):
+        j = cid[CL_HDR + r]
+        M += bflt[j, B_MASS]
+        K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
+                    + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
+    rc, kind, tn = _held_pair(pgen, q, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts,
+                              planes, pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err,
+                              grav)
+    if rc < 0:
+        return rc
+    if kind != HB_APART:
+        # an impact, or a persistent contact: the instant, whose gather takes o into the
+        # cluster entered again after it when they stay touching
+        pr_t[q] = tref[i]
+        return 0
+    pr_t[q] = INF
+    tc = cw.shape[0] - 5
     cw[tc] = min(cw[tc], tn)
     return 0
+
+
+@_inner
+def _pivot_partners(pgen, i, t, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp, ttr,
+                    bp_t, pr_t, pr_off, tolf, tmp, err, grav, cid):
+    """Body i held by one pivot contact (its state at t, the end of its last pass) and the
+    bodies it may meet, each by ``_held_pair`` with i's own kinetic energy and mass.
+    Returns ``(rc, q, tn, kind)``: q the pair that touches now (-1: none) and kind
+    (``HB_IMPACT``: they close, ``HB_REST``: a persistent contact), else tn the time by
+    which i's next pass must end (conservative advancement towards each partner). Partners in integrated motion themselves (a pivot, a moving
+    cluster) are refused by their own pair rule (``_recompute_pair``)."""
+    m = bflt[i, B_MASS]
+    K = 0.5 * (m * (st[i, VX] ** 2 + st[i, VY] ** 2) + bflt[i, B_INERTIA] * st[i, OMEGA] ** 2)
+    tn = INF
+    for q in range(pairs.shape[0]):
+        if pr_off[q] == PR_OFF or not (pairs[q, 0] == i or pairs[q, 1] == i):
+            continue
+        o = pairs[q, 1] if pairs[q, 0] == i else pairs[q, 0]
+        if pm[o, M_MODE] == PM_CLUSTER and cid[CL_FROZEN] == 0:
+            continue
+        rc, kind, tq = _held_pair(pgen, q, i, o, False, t, K, m, st, tref, bint, bflt,
+                                  verts, planes, pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf,
+                                  tmp, err, grav)
+        if rc < 0:
+            return rc, -1, INF, HB_APART
+        if kind != HB_APART:
+            return 0, q, t, kind
+        tn = min(tn, tq)
+    return 0, -1, tn, HB_APART
+
+
+@_inner
+def _pivot_to_instant(i, q, t, st, grav, pm, ttr, bp_t, pr_t, bmark):
+    """Body i held by a pivot contact meets the other body of pair q at t (the end of its
+    pass): it flies from t, its held contact and the pair scheduled at t, so that the
+    impact step resolves them in one cluster of the instant (the held one at v_N = 0; the
+    persistence rules then hold it again). Segments: logged by the impact step."""
+    pm[i, M_MODE] = PM_FLIGHT
+    pm[i, M_AUX] = -1
+    st[i, AX] = grav[0]
+    st[i, AY] = grav[1]
+    st[i, ALPHA] = 0.0
+    ttr[i] = INF
+    bp_t[i, pm[i, M_PLANE]] = t
+    pr_t[q] = t
+    bmark[i] = 1
+
+
+@_inner
+def _others_due(t, i, pm, tz, ttr, bp_t, pr_t):
+    """An event of another body than i (-1: any body outside the cluster) is due at t: a
+    switch, a plane impact, a pair impact, not a pivot pass. It comes before i's pivot pass
+    or the cluster's pass: a partner's new motion bounds that pass."""
+    for j in range(pm.shape[0]):
+        if j == i or pm[j, M_MODE] == PM_CLUSTER:
+            continue
+        if tz[j] <= t or (ttr[j] <= t and pm[j, M_MODE] != PM_PIVOT):
+            return True
+        for p in range(bp_t.shape[1]):
+            if bp_t[j, p] <= t:
+                return True
+    for q in range(pr_t.shape[0]):
+        if pr_t[q] <= t:
+            return True
+    return False
 
 
 @_inner
@@ -1113,9 +1250,12 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, craw
     why = 0.0
     if code != TOI_MISSED:
         why = pair_persistence(v, s, code == TOI_OK, vz, G, tolf[TF_REST_LENGTH])
-    if why == 0.0 and crawled and pair_crawl_chatters(v, G, tolf[TF_REST_LENGTH]):
-        # touching, the search crawled (decisions.pair_crawl_chatters)
-        why = PP_CHATTER
+    if why == 0.0 and crawled:
+        # touching, the search crawled: an accumulation (decisions.pair_crawl_chatters),
+        # or bodies that ride together at one point while the frame's witness parts (a box
+        # rocking on a box, the landing corner bouncing: the search crawls on the held
+        # corner); in the cluster the mode selection lets the contacts that part lift
+        why = PP_CHATTER if pair_crawl_chatters(v, G, tolf[TF_REST_LENGTH]) else PP_TOGETHER
     if why == 0.0 and joint and g <= tolf[TF_GAP_TOL] and v * v <= vz2:
         why = PP_TOGETHER
     if why != 0.0:
@@ -1807,11 +1947,12 @@ def _tip(i, t, st, bint, bflt, verts, planes, grav, law_par, bp_law, pm, tz, zp,
 
 @_inner
 def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
-                pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err):
-    """One integration pass of body i held from t (``pivot2d.pivot_advance``): records its
+                pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err, t_cap):
+    """One integration pass of body i held from t (``pivot2d.pivot_advance``) to its next
+    event, ``t_cap`` at the latest (s: a partner's bound, ``_pivot_partners``): records its
     pieces, leaves st[i] at the pass end and schedules the next pass or event there."""
     _pv_params(i, w, bint, bflt, verts, planes, grav, law_par, bp_law, pm)
-    S = tolf[TF_T_END] - t
+    S = min(tolf[TF_T_END], t_cap) - t
     p = pm[i, M_PLANE]
     s, kind, idx, code = pivot_advance(w, st[i], verts, bint[i, B_FIRST], bint[i, B_COUNT],
                                        planes, bp_off[i], p, pm[i, M_FEAT], t, S,
@@ -1823,16 +1964,16 @@ def _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law
         return ERR_CONTACT_STEPS if code == PI_TOO_MANY_STEPS else ERR_PAINLEVE
     tref[i] = t + s
     zp[i] = kind + 8 * idx
-    ttr[i] = INF if (kind == PE_NONE and s >= S) else t + s
+    ttr[i] = INF if (kind == PE_NONE and t + s >= tolf[TF_T_END]) else t + s
     return 0
 
 
 @_inner
 def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law, bp_off,
                  bp_t, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
-                 err):
+                 err, t_cap):
     """The event due at t of body i in integrated pivot contact (st[i] is its state at t),
-    then the next pass. Returns (rc, action): action 0 a pass ran (its pieces are
+    then the next pass (ending by ``t_cap``, s). Returns (rc, action): action 0 a pass ran (its pieces are
     recorded), 1 the body was released to flight (log its segment, recompute), 2 an impact
     at t is pending (bp_t, left to the impact step)."""
     code = zp[i]
@@ -1890,7 +2031,7 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
              2 if pm[i, M_AUX] == 0 else 1, 0, px, py, nx, ny, viN, viT, vfN, vfT, PN, PT,
              _energy(st, bflt, grav, i) - e0)
     rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
-                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
+                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err, t_cap)
     return rc, 0
 
 
@@ -2128,7 +2269,7 @@ def _two_event(i, kind, idx, t, st, tref, bint, bflt, verts, planes, grav, law_p
             _set_err(err, t, i, -1 - p1, px, py, float(p2), mu1, mu2)
             return (ERR_PAINLEVE if rc == ERR_PAINLEVE else ERR_TWO_PLANES), 0
     rc = _pivot_pass(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_law,
-                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err)
+                     bp_off, pm, zp, ttr, tolf, w, seg_t, seg_b, seg_s, cnt, err, INF)
     return rc, 0
 
 
@@ -3457,7 +3598,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
         head += 1
         if shapes is None and bint[i, B_KIND] != SH_DISK:
             return _cl_refuse(err, t, a, b, st, PP_SHAPES, float(i), 0.0)
-        if pm[i, M_MODE] == PM_PIVOT or pm[i, M_MODE] == PM_WEDGED:
+        if not _can_join(i, t, pm, tref):
             return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
         # bring it to t (a pending accumulation jump is cancelled: its held motion)
         if tz[i] < INF:
@@ -3483,7 +3624,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             for r in range(n):
                 if cid[CL_HDR + r] == j:
                     known = True
-            if known or pm[j, M_MODE] == PM_PIVOT:
+            if known or not _can_join(j, t, pm, tref):
                 continue
             if shapes is None and bint[j, B_KIND] != SH_DISK:
                 continue
@@ -3722,6 +3863,16 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     for r in range(n):
         bmark[ids[r]] = 1
     return 0
+
+
+@_inner
+def _can_join(i, t, pm, tref):
+    """Body i can join a cluster entered at t: not wedged, and if held by a pivot contact,
+    on one plane and with its state at t (its pass not yet run: the contact becomes the
+    cluster's plane row)."""
+    if pm[i, M_MODE] == PM_WEDGED:
+        return False
+    return not (pm[i, M_MODE] == PM_PIVOT and (pm[i, M_PLANE2] >= 0 or tref[i] != t))
 
 
 @_inner
@@ -4017,24 +4168,6 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
 
 
 @_inner
-def _outside_due(t, pm, tz, ttr, bp_t, pr_t):
-    """An event of a body outside the cluster (a switch, a plane impact, a pair impact) is
-    due at t."""
-    for i in range(pm.shape[0]):
-        if pm[i, M_MODE] == PM_CLUSTER:
-            continue
-        if tz[i] <= t or ttr[i] <= t:
-            return True
-        for p in range(bp_t.shape[1]):
-            if bp_t[i, p] <= t:
-                return True
-    for q in range(pr_t.shape[0]):
-        if pr_t[q] <= t:
-            return True
-    return False
-
-
-@_inner
 def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, err):
     """After a pass (states at t): every pair of members other than two disks that has
     no contact or candidate row (not touching at the entry: its features are not known in
@@ -4253,7 +4386,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                     # the moving cluster dissolves into the impact instant
                     cact = 2
                 elif (cid[CL_N] > 0 and ttr[cid[CL_LEAD]] <= t
-                      and not _outside_due(t, pm, tz, ttr, bp_t, pr_t)):
+                      and not _others_due(t, -1, pm, tz, ttr, bp_t, pr_t)):
                     # (an event of a body outside due at the same t comes first: its pairs
                     # with members are bounded from the new motion before the pass runs)
                     rc, cact = _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes,
@@ -4279,10 +4412,42 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                     continue        # the cluster's pass (its leader's ttr) is above
                 if ttr[i] <= t and pm[i, M_MODE] == PM_PIVOT:
                     if pivot is not None:
-                        rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
-                                               grav, law_par, bp_law, bp_off, bp_t, pm, tz, zp,
-                                               ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b,
-                                               seg_s, cnt, err)
+                        tcap = INF
+                        qh = -1
+                        if pgen is not None and pm[i, M_PLANE2] < 0:
+                            # partners in closed-form motion bound the next pass; their
+                            # own events at t come first (they change that motion)
+                            if _others_due(t, i, pm, tz, ttr, bp_t, pr_t):
+                                continue
+                            rc, qh, tcap, hk = _pivot_partners(pgen, i, t, st, tref, bint,
+                                                               bflt, verts, planes, pairs, pm,
+                                                               tz, zp, ttr, bp_t, pr_t, pr_off,
+                                                               tolf, tmp, err, grav, cid)
+                            if rc < 0:
+                                return rc
+                            if qh >= 0 and hk == HB_REST and (
+                                    cid[CL_PEND] < 0 or _pend_joins(qh, cid[CL_PEND], pairs)):
+                                # touching a partner at a rate below the accumulation
+                                # speed: persistent contact, a cluster entered at t (the
+                                # pivot contact its plane row; _cluster_enter)
+                                if cid[CL_PEND] < 0:
+                                    cid[CL_PEND] = qh
+                                did = True
+                                break
+                        if qh >= 0:
+                            # it meets a partner at this pass end: an impact instant (a
+                            # frozen cluster hit dissolves into it)
+                            _pivot_to_instant(i, qh, t, st, grav, pm, ttr, bp_t, pr_t,
+                                              bmark)
+                            if cid[CL_N] > 0 and cid[CL_FROZEN] != 0:
+                                _cluster_hit(t, st, tref, grav, pairs, pm, tz, ttr, bp_t,
+                                             pr_t, tolf, cbod, ccon, cid, bmark)
+                            rc, act = 0, 2
+                        else:
+                            rc, act = _pivot_event(i, t, st, tref, bint, bflt, verts, planes,
+                                                   grav, law_par, bp_law, bp_off, bp_t, pm, tz,
+                                                   zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t,
+                                                   seg_b, seg_s, cnt, err, tcap)
                     else:
                         rc, act = _not_compiled(err, t, i, FEATURE_PIVOT), 0
                     if rc < 0:

@@ -181,6 +181,51 @@ def test_disk_dropped_on_a_sliding_stack_hits_it_while_it_moves():
     assert np.max(E - np.minimum.accumulate(E)) <= 1e-10 * 2.5 * G * 0.9
 
 
+def test_disk_dropped_on_a_rocking_box_hits_it_while_it_pivots():
+    """A box released tilted by 0.3 rad on one corner (a pivot contact with the floor)
+    lands on its face, bounces (Routh, e = 0.3) onto a pivot again, and a disk dropped
+    above it lands on its top face while it pivots (a pair with a body held by an
+    integrated contact: bounded at each pivot pass, ``_pivot_partners``, and met at a pass
+    end). The disk's first impact comes while the box pivots, at a gap below HELD_TOUCH of
+    the disk's size; no overlap beyond gap_tol, no energy created (Routh's law cannot), and
+    at the end the disk rolls on the resting box (a cluster)."""
+    th, w, h = 0.3, 0.4, 0.2
+    c, sn = np.cos(th), np.sin(th)
+    cx = w / 2 * c - h / 2 * sn
+    cy = w / 2 * sn + h / 2 * c
+    top = max(cy + sx * w / 2 * sn + h / 2 * c for sx in (-1, 1))
+    sc = Scene2D(gravity=(0.0, -G))
+    sc.add_floor()
+    sc.add_body(Box(w, h), 1.0, (cx, cy), angle=th)
+    sc.add_body(Disk(0.05), 0.3, (cx + 0.1, top + 0.06))
+    sim = Simulation(sc, Law("routh", e=0.3, mu=0.5))
+    res = sim.run(2.0)
+    assert res.status == "done", res.message
+    ev = res.events
+    k = np.flatnonzero((ev["kind"] == "impact") & (ev["a"] == 0) & (ev["b"] == 1))[0]
+    th_ = float(ev["t"][k])
+    before = ev[(ev["t"] < th_) & (ev["a"] == 0) & (ev["b"] == -1)]
+    assert before["kind"][-1] == "pivot"
+    # the held contact takes part in the instant, at v_N = 0
+    held = ev[(ev["t"] == th_) & (ev["a"] == 0) & (ev["b"] == -1) & (ev["kind"] == "impact")]
+    assert len(held) >= 1 and abs(held["v_i"][0][0]) <= 1e-12
+    s = res.sample(np.array([th_]))
+    assert -1e-12 <= pair_gap(sim, s, 0, 1, 0) <= 1e-11 * 0.05 + 1e-15
+    ts = np.union1d(np.linspace(0.0, 2.0, 4001), ev["t"])
+    s = res.sample(ts)
+    gaps = np.array([pair_gap(sim, s, i, 1, 0) for i in range(len(ts))])
+    assert gaps.min() >= -1e-9
+    assert np.min(s["y"][:, 1]) > 0.05
+    E = energy(sim, s)
+    assert np.max(E - np.minimum.accumulate(E)) <= 1e-12 * 1.3 * G * 0.5
+    # at the end the box rests flat and the disk rolls on it (a cluster, sticking): at a
+    # constant speed v = -omega r, on the top face
+    assert np.abs(s["vx"][-1, 0]) <= 1e-12 and abs(s["angle"][-1, 0]) <= 1e-9
+    assert s["y"][-1] == pytest.approx([0.1, 0.25], abs=1e-9)
+    assert s["vx"][-1, 1] == pytest.approx(-0.05 * s["omega"][-1, 1], rel=1e-9)
+    assert ev["kind"][-1] == "stick" and ev["mode"][-1] == 6
+
+
 def test_five_box_stack_stays_at_rest_for_ten_seconds():
     """Issue 16's stack: five boxes (0.4 x 0.2 m, 1 kg) placed on the floor and on each
     other, each offset 2 cm from the one below (e = 0, mu = 0.5). Their first contacts
