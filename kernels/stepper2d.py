@@ -1018,16 +1018,17 @@ def _held_bound(pgen, i, o, K, M, st, tref, bint, bflt, verts, planes, pairs, tz
     Ro = _body_size(o, bint, bflt, verts)
     touch = HELD_TOUCH * min(Ri, Ro)
     if g0 <= touch:
-        # touching: an impact if they close faster than the rate's round-off
-        # (pair_zero_speed of the speeds it is computed from), a persistent contact if
-        # no faster than the accumulation speed (the single point's rule, _vz2)
+        # touching: an impact if they close faster than the accumulation speed (the
+        # single point's rule, _vz2), a persistent contact if they close slower or part
+        # no faster than the rate's round-off (pair_zero_speed of the speeds it is
+        # computed from); parting faster: apart (the next pass crosses the touch distance)
         v = _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx, ny)
         sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(tmp[1, VX], tmp[1, VY])
               + abs(st[i, OMEGA]) * Ri + abs(tmp[1, OMEGA]) * Ro)
-        if v * v <= _vz2(tolf, math.hypot(grav[0], grav[1])):
-            return HB_REST, ti, g0, 0.0, 0.0, Ro
-        if v < -pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp):
+        if v < 0.0 and v * v > _vz2(tolf, math.hypot(grav[0], grav[1])):
             return HB_IMPACT, ti, g0, 0.0, 0.0, Ro
+        if v <= pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp):
+            return HB_REST, ti, g0, 0.0, 0.0, Ro
     beta = 1.0 / math.sqrt(bflt[i, B_MASS]) + Ri / math.sqrt(bflt[i, B_INERTIA])
     ui = math.sqrt(2.0 * K) * beta
     ci = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta

@@ -302,7 +302,7 @@ def test_box_settling_on_a_box_held_on_the_floor_comes_to_rest():
     pass end is an impact instant with the pivot contact held, touching slower than the
     accumulation speed a cluster (this was refused by name before session 26). Both come to
     rest on each other: no overlap beyond gap_tol, no energy created (Routh's law cannot
-    create it), the upper box flat on the lower one."""
+    create it) beyond the entry's projection, the upper box flat on the lower one."""
     scene = Scene2D(gravity=(0.0, -9.81))
     scene.add_floor()
     scene.add_body(Box(0.4, 0.2), 1.0, (0.0, 0.1))
@@ -320,8 +320,10 @@ def test_box_settling_on_a_box_held_on_the_floor_comes_to_rest():
                       sim._verts, 0, 4, s["x"][k, 0] - s["x"][k, 1],
                       s["y"][k, 0] - s["y"][k, 1], s["angle"][k, 0])[0]
         assert g > -1e-9
+    # no energy created beyond the cluster entry's projection of contacts within gap_tol
+    # onto g = 0 (at most the bodies' weight times gap_tol: 1.5 * 9.81 * 1e-9 J)
     E = res.energy(ts)
-    assert np.max(E - np.minimum.accumulate(E)) <= 1e-12 * 1.5 * 9.81 * 0.4
+    assert np.max(E - np.minimum.accumulate(E)) <= 1.5 * 9.81 * 1e-9
     assert s["y"][-1] == pytest.approx([0.1, 0.25], abs=1e-9)
     assert np.abs(s["angle"][-1]).max() <= 1e-9
     assert np.abs(s["vx"][-1]).max() == 0.0
