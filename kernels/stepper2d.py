@@ -165,8 +165,9 @@ dissolves into that instant). One cluster at a time (``PP_TWO``); a pair with on
 a moving cluster is bounded (``_held_cluster_pair``: the cluster's pass ends where the
 bound must be taken again, so approaching the touch; touching and closing at a pass end:
 the impact instant, the cluster dissolving into it), a pair with a body
-held by an integrated (pivot) contact is refused (``PP_HELD``: no closed-form motion to
-search); a member leaving while others stay in contact (``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
+held by one pivot contact is bounded at each of its passes (``_pivot_partners``, the same
+bound; two held bodies, or a body held on two planes, are refused: ``PP_HELD``); a member
+leaving while others stay in contact (``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
 arguments of the loop after ``err``.
 """
 import functools
@@ -746,8 +747,10 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
     after an impact of the pair (``pr_off[q] == PR_HIT``) the persistence check of
-    ``_pair_persists`` (two disks: its re-contact rule, on the closed form). A body held on a plane by an integrated contact (``PM_PIVOT``) has
-    no closed-form motion to search: ``ERR_PERSISTENT_PAIR`` (reason ``PP_HELD``)."""
+    ``_pair_persists`` (two disks: its re-contact rule, on the closed form). A pair with a
+    body in integrated motion is not searched: a moving cluster's member by
+    ``_held_cluster_pair``, a body held by one pivot contact at its passes
+    (``_pivot_partners``); two held bodies, or one held on two planes: ``PP_HELD``."""
     if pr_off[q] == PR_OFF:
         pr_t[q] = INF
         return 0
@@ -802,14 +805,18 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                         cid[CL_PEND] = q
                     pr_t[q] = INF
                     return 0
-            m = bflt[i, B_MASS]
-            K = 0.5 * (m * (st[i, VX] ** 2 + st[i, VY] ** 2)
-                       + bflt[i, B_INERTIA] * st[i, OMEGA] ** 2)
-            rc, meet, tn = _held_pair(pgen, q, i, o, bmark[o] != 0 and bmark[i] == 0, t_now,
-                                      K, m, st, tref, bint, bflt, verts, planes, pairs, pm,
-                                      tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, grav)
             pr_t[q] = INF
-            return rc
+            if bmark[o] != 0 and bmark[i] == 0:
+                # o's own event: the guard of a pass of i that ran ahead (_held_pair); the
+                # bound itself is taken at i's next pass (_pivot_partners)
+                m = bflt[i, B_MASS]
+                K = 0.5 * (m * (st[i, VX] ** 2 + st[i, VY] ** 2)
+                           + bflt[i, B_INERTIA] * st[i, OMEGA] ** 2)
+                rc, meet, tn = _held_pair(pgen, i, o, True, t_now, K, m, st, tref, bint,
+                                          bflt, verts, planes, pairs, pm, tz, zp, ttr, bp_t,
+                                          pr_t, tolf, tmp, err, grav)
+                return rc
+            return 0
     # a body in a pending accumulation jump moves with its held motion
     for j in range(2):
         i = a if j == 0 else b
@@ -821,16 +828,8 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     # no search past the next scheduled event of either body after t_now (a plane impact,
     # an accumulation point, a transition): that event marks the body, and its pairs are
     # searched again from there (run_loop: planes first, then _recompute_pairs)
-    tl = tolf[TF_T_END]
-    for j in range(2):
-        i = a if j == 0 else b
-        if t_now < tz[i] < tl:
-            tl = tz[i]
-        if t_now < ttr[i] < tl:
-            tl = ttr[i]
-        for p in range(planes.shape[0]):
-            if t_now < bp_t[i, p] < tl:
-                tl = bp_t[i, p]
+    tl = _next_event(b, t_now, _next_event(a, t_now, tolf[TF_T_END], tz, ttr, bp_t), tz, ttr,
+                     bp_t)
     S = tl - t_now
     if disks:
         R = bflt[a, B_RADIUS] + bflt[b, B_RADIUS]
@@ -933,6 +932,20 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
         return ERR_TOI
     pr_t[q] = t_now + s
     return 0
+
+
+@_inner
+def _next_event(i, t0, tl, tz, ttr, bp_t):
+    """The earliest of tl and body i's scheduled events after t0 (its accumulation point,
+    its transition or pass, its plane impacts), s."""
+    if t0 < tz[i] < tl:
+        tl = tz[i]
+    if t0 < ttr[i] < tl:
+        tl = ttr[i]
+    for p in range(bp_t.shape[1]):
+        if t0 < bp_t[i, p] < tl:
+            tl = bp_t[i, p]
+    return tl
 
 
 @_inner
@@ -1040,14 +1053,7 @@ def _held_bound(pgen, i, o, K, M, st, tref, bint, bflt, verts, planes, pairs, tz
     B = ui + uo
     C = ci + co
     sg = 2.0 * d / (B + math.sqrt(B * B + 2.0 * C * d)) if B + C > 0.0 else INF
-    tn = ti + HELD_CHECK * sg
-    if ti < tz[o] < tn:
-        tn = tz[o]
-    if ti < ttr[o] < tn:
-        tn = ttr[o]
-    for p in range(planes.shape[0]):
-        if ti < bp_t[o, p] < tn:
-            tn = bp_t[o, p]
+    tn = _next_event(o, ti, ti + HELD_CHECK * sg, tz, ttr, bp_t)
     for q2 in range(pairs.shape[0]):
         if (pairs[q2, 0] == o or pairs[q2, 1] == o) and ti < pr_t[q2] < tn:
             tn = pr_t[q2]
@@ -1055,11 +1061,11 @@ def _held_bound(pgen, i, o, K, M, st, tref, bint, bflt, verts, planes, pairs, tz
 
 
 @_inner
-def _held_pair(pgen, q, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts, planes, pairs,
+def _held_pair(pgen, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts, planes, pairs,
                pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, grav):
-    """Pair q of body i in integrated motion (a moving cluster's member, or held by a pivot
-    contact) and body o outside it (``_held_bound``, with K and M those of i's system), at
-    t_now (``moved``: o was marked by its own event, i was not). Returns ``(rc, hit, tn)``:
+    """Body i in integrated motion (a moving cluster's member, or held by a pivot contact)
+    and body o outside it (``_held_bound``, with K and M those of i's system), at t_now
+    (``moved``: o was marked by its own event, i was not). Returns ``(rc, kind, tn)``:
     rc 0 or ``ERR_PERSISTENT_PAIR`` (``PP_HELD``) when o is held by an integrated contact
     itself, or when o's motion changed inside a pass of i that had run ahead to tref[i]
     (not expected: passes end at o's known events) and the speed bounds over that stretch
@@ -1095,7 +1101,7 @@ def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts,
         M += bflt[j, B_MASS]
         K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
                     + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
-    rc, kind, tn = _held_pair(pgen, q, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts,
+    rc, kind, tn = _held_pair(pgen, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts,
                               planes, pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err,
                               grav)
     if rc < 0:
@@ -1118,8 +1124,9 @@ def _pivot_partners(pgen, i, t, st, tref, bint, bflt, verts, planes, pairs, pm, 
     bodies it may meet, each by ``_held_pair`` with i's own kinetic energy and mass.
     Returns ``(rc, q, tn, kind)``: q the pair that touches now (-1: none) and kind
     (``HB_IMPACT``: they close, ``HB_REST``: a persistent contact), else tn the time by
-    which i's next pass must end (conservative advancement towards each partner). Partners in integrated motion themselves (a pivot, a moving
-    cluster) are refused by their own pair rule (``_recompute_pair``)."""
+    which i's next pass must end (conservative advancement towards each partner).
+    Partners in integrated motion themselves (a pivot, a moving cluster) are refused by
+    their own pair rule (``_recompute_pair``)."""
     m = bflt[i, B_MASS]
     K = 0.5 * (m * (st[i, VX] ** 2 + st[i, VY] ** 2) + bflt[i, B_INERTIA] * st[i, OMEGA] ** 2)
     tn = INF
@@ -1129,7 +1136,7 @@ def _pivot_partners(pgen, i, t, st, tref, bint, bflt, verts, planes, pairs, pm, 
         o = pairs[q, 1] if pairs[q, 0] == i else pairs[q, 0]
         if pm[o, M_MODE] == PM_CLUSTER and cid[CL_FROZEN] == 0:
             continue
-        rc, kind, tq = _held_pair(pgen, q, i, o, False, t, K, m, st, tref, bint, bflt,
+        rc, kind, tq = _held_pair(pgen, i, o, False, t, K, m, st, tref, bint, bflt,
                                   verts, planes, pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf,
                                   tmp, err, grav)
         if rc < 0:
@@ -1974,9 +1981,9 @@ def _pivot_event(i, t, st, tref, bint, bflt, verts, planes, grav, law_par, bp_la
                  bp_t, pm, tz, zp, ttr, tolf, w, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
                  err, t_cap):
     """The event due at t of body i in integrated pivot contact (st[i] is its state at t),
-    then the next pass (ending by ``t_cap``, s). Returns (rc, action): action 0 a pass ran (its pieces are
-    recorded), 1 the body was released to flight (log its segment, recompute), 2 an impact
-    at t is pending (bp_t, left to the impact step)."""
+    then the next pass (ending by ``t_cap``, s). Returns (rc, action): action 0 a pass ran
+    (its pieces are recorded), 1 the body was released to flight (log its segment,
+    recompute), 2 an impact at t is pending (bp_t, left to the impact step)."""
     code = zp[i]
     kind = code % 8
     idx = code // 8
