@@ -31,6 +31,8 @@ ERR_NOT_COMPILED = -18   # a handler the loop was compiled without (a bug of the
 ERR_FAR_ACCUMULATION = -19  # bounces accumulate only after max_accumulation_impacts
 ERR_PERSISTENT_PAIR = -20   # two bodies stay in contact (persistent body-body contact,
                             # issue 16 item 2, not built); err[5] holds a PP_* reason
+ERR_IDLE = -21           # idle_passes consecutive passes of the loop recorded no event
+                         # (integrated or bounded motion that never reaches an event)
 
 # Body pairs (issue 16). ``pr_off[q]`` of pair q: PR_ON searched for impacts; PR_OFF
 # disabled for good (a perforating impact); PR_HIT had an impact at the instant just

@@ -13,6 +13,14 @@ segments ``6 nb + 4 maxc + 16``.
 import numpy as np
 from numba import njit
 
+# The loops' counters (``cnt``, int64, ``N_CNT`` slots), shared by 2D and 3D:
+CN_EVENTS = 0   # event rows used (the Python front end drains them: not a run total)
+CN_SEGS = 1     # segment rows used (drained likewise)
+CN_STALL = 2    # consecutive passes of the loop at one instant (``stall_events``)
+CN_STARTED = 3  # 0 until the run's first pass has initialised it
+CN_IDLE = 4     # consecutive passes since the last event was logged (``idle_passes``)
+N_CNT = 5
+
 
 @njit(cache=True, inline="always")
 def event_margin(seq_max_steps, maxc, nb):

@@ -206,7 +206,7 @@ from .layout import (B_COUNT, B_FIRST, B_KIND, B_MASS, M_AUX, M_FEAT, M_FEAT2, M
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
                    ERR_PERSISTENT_PAIR, ERR_PGS, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_TOI,
-                   ERR_TOO_MANY,
+                   ERR_TOO_MANY, ERR_IDLE,
                    ERR_TWO_PLANES, EVENT_KINDS, EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT,
                    EV_RELEASE, EV_REST, EV_SLIDE, EV_STICK, FEATURES, FEATURE_JOINT, FEATURE_PAIR,
                    FEATURE_PIVOT, PM_FLIGHT, PM_PIVOT, PM_REST, PM_ROLL, PM_SLIDE, PM_WEDGED,
@@ -276,7 +276,8 @@ TI_STALL = 3
 TI_POLICY = 4
 TI_MAX_EVENTS = 5
 TI_ACC_MAX = 6         # max_accumulation_impacts
-N_TI = 7
+TI_IDLE = 7            # idle_passes
+N_TI = 8
 
 RC_TIP = 2           # _persist_setup: the face would tip over; pivot on vertex pm[i, M_FEAT]
 ROLL_RTOL = 8.0 * 2.220446049250313e-16
@@ -359,6 +360,7 @@ def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, vi
     ev_f[k, 9] = PT
     ev_f[k, 10] = dE
     cnt[0] = k + 1
+    cnt[evbuf.CN_IDLE] = 0
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -4288,7 +4290,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                  ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
                  bmark, v2, W2, P2, tmp, err, cbod, ccon, cw, cid):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
-        contract. The first call (cnt[3] == 0) initialises the run at glob[0]. Compile-time
+        contract. The first call (cnt[CN_STARTED] == 0) initialises the run at glob[0]. Compile-time
         constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint``, ``shapes``
         (``loop_for``)."""
         nb = st.shape[0]
@@ -4322,7 +4324,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                 if rc < 0:
                     return rc
             t_now = glob[0]
-            if cnt[3] == 0:
+            if cnt[evbuf.CN_STARTED] == 0:
                 # ---- start of the run
                 if not evbuf.has_room(cnt, margin_e, margin_s + nb, cap_e, cap_s):
                     return RC_BUFFER_FULL
@@ -4331,7 +4333,7 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                            err)
                 if rc < 0:
                     return rc
-                cnt[3] = 1
+                cnt[evbuf.CN_STARTED] = 1
                 for i in range(nb):
                     bmark[i] = 1
                     if pm[i, M_MODE] != PM_PIVOT:    # a pivot pass at t records its own motion
@@ -4355,18 +4357,22 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
             if tmin > t_end:
                 glob[0] = t_end
                 return RC_DONE
-            if cnt[0] >= max_events:
+            if cnt[evbuf.CN_EVENTS] >= max_events:
                 return RC_MAX_EVENTS
             if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
                 return RC_BUFFER_FULL
+            cnt[evbuf.CN_IDLE] += 1         # passes since the last event (_log resets it)
+            if cnt[evbuf.CN_IDLE] > toli[TI_IDLE]:
+                _set_err(err, t_now, -1, 0, 0.0, 0.0, cnt[evbuf.CN_IDLE], 0.0, 0.0)
+                return ERR_IDLE
             if tmin <= t_now:
                 tmin = t_now
-                cnt[2] += 1
-                if cnt[2] > toli[TI_STALL]:
-                    _set_err(err, t_now, -1, 0, 0.0, 0.0, cnt[2], 0.0, 0.0)
+                cnt[evbuf.CN_STALL] += 1
+                if cnt[evbuf.CN_STALL] > toli[TI_STALL]:
+                    _set_err(err, t_now, -1, 0, 0.0, 0.0, cnt[evbuf.CN_STALL], 0.0, 0.0)
                     return ERR_STALL
             else:
-                cnt[2] = 0
+                cnt[evbuf.CN_STALL] = 0
             t = tmin
             glob[0] = t
             for i in range(nb):

@@ -164,7 +164,7 @@ from .layout import (B_AXIS, B_COUNT, B_FIRST, B_KIND, B_MASS, B_ROT, CL_CHAT, C
                      CL_NK, CL_PEND, M_AUX, M_FEAT, M_MODE, M_PLANE, NCAND)
 from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JOINT_E,
                    ERR_MISSED, ERR_NONFINITE, ERR_NOT_COMPILED, ERR_NO_SOLUTION, ERR_PAINLEVE,
-                   ERR_PGS, ERR_ROT, ERR_SEQ, ERR_STALL, ERR_TIPPING,
+                   ERR_PGS, ERR_ROT, ERR_SEQ, ERR_STALL, ERR_TIPPING, ERR_IDLE,
                    ERR_TOI, ERR_TOO_MANY, ERR_UNSUPPORTED, EVENT_KINDS, EV_CAPTURE,
                    EV_CONTACT, EV_IMPACT, EV_IWC, EV_PIVOT, EV_RELEASE, EV_REST, EV_SLIDE,
                    EV_STICK, PAINLEVE_IMPACT,
@@ -244,7 +244,8 @@ TI_MAX_EVENTS = 5
 TI_ROT_MAX_STEPS = 6
 TI_CAPTURE = 7
 TI_ACC_MAX = 8         # max_accumulation_impacts
-N_TI = 9
+TI_IDLE = 9            # idle_passes
+N_TI = 10
 
 
 #: a slip is "along the slope" when the sine of the angle between the slip and the
@@ -390,6 +391,7 @@ def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, c_f, c, vi0, vi1, 
     ev_f[k, 17] = P2
     ev_f[k, 18] = dE
     cnt[0] = k + 1
+    cnt[evbuf.CN_IDLE] = 0
 
 
 @njit(cache=True)
@@ -4806,18 +4808,22 @@ def loop_for(law):
             if tmin > t_end:
                 glob[0] = t_end
                 return RC_DONE
-            if cnt[0] >= max_events:
+            if cnt[evbuf.CN_EVENTS] >= max_events:
                 return RC_MAX_EVENTS
             if not evbuf.has_room(cnt, margin_e, margin_s, cap_e, cap_s):
                 return RC_BUFFER_FULL
+            cnt[evbuf.CN_IDLE] += 1         # passes since the last event (_log resets it)
+            if cnt[evbuf.CN_IDLE] > toli[TI_IDLE]:
+                _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[evbuf.CN_IDLE], 0.0, 0.0)
+                return ERR_IDLE
             if tmin <= t_now:
                 tmin = t_now
-                cnt[2] += 1
-                if cnt[2] > toli[TI_STALL]:
-                    _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[2], 0.0, 0.0)
+                cnt[evbuf.CN_STALL] += 1
+                if cnt[evbuf.CN_STALL] > toli[TI_STALL]:
+                    _set_err(err, t_now, -1, 0, 0.0, 0.0, 0.0, cnt[evbuf.CN_STALL], 0.0, 0.0)
                     return ERR_STALL
             else:
-                cnt[2] = 0
+                cnt[evbuf.CN_STALL] = 0
             t = tmin
             glob[0] = t
 

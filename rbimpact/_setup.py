@@ -286,6 +286,19 @@ def _cluster_kernel(k):
     return k.cl.__name__.rsplit(".", 1)[-1]
 
 
+def idle_message(result, at, idle_passes):
+    """The message of a run stopped by ``ERR_IDLE`` (2D and 3D): ``idle_passes`` passes of
+    the event loop in a row recorded no event, up to ``at``; ``result`` the partial result
+    (its last recorded event, if any, says where the idle stretch began)."""
+    ev = result.events
+    since = (f" since the last event at t = {float(ev['t'][-1]):.12g} s" if len(ev)
+             else " since the start")
+    return (f"the run makes no progress {at}: {int(idle_passes)} consecutive passes of the event "
+            f"loop recorded no event{since} (integrated motion or bounded searches that "
+            f"never reach an event: a bug to report with the scene); raise idle_passes "
+            f"if the scene's integrated motion really needs more")
+
+
 def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_length):
     """The message of a run stopped by ``ERR_PERSISTENT_PAIR`` (2D and 3D; ``k`` the stepper
     module): reason ``why`` (``codes.PP_*``), the pair's bodies as text, ``third`` the body

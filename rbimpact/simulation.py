@@ -122,10 +122,11 @@ What the stepper does
   Perforation is decided by the law (Brach's e < 0), never by the sign of a round-off
   post-impact normal velocity (``kernels/decisions.py``).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
-  below ``-gap_tol``), a time-of-impact search that does not converge, or ``stall_events``
-  consecutive events at one instant raise ``SimulationError`` / ``NoSolutionError``; the
-  exception carries the partial ``Result`` as ``exc.result``, whose ``status`` names the
-  failure ("missed", "stall", "no_solution", ...). Reaching ``max_events``
+  below ``-gap_tol``), a time-of-impact search that does not converge, ``stall_events``
+  consecutive events at one instant, or ``idle_passes`` passes of the loop in a row that
+  record no event raise ``SimulationError`` / ``NoSolutionError``; the exception carries the
+  partial ``Result`` as ``exc.result``, whose ``status`` names the failure ("missed",
+  "stall", "idle", "no_solution", ...). Reaching ``max_events``
   before ``t_end`` stops early (after the instant in progress), warns, and returns a
   ``Result`` with ``status == "max_events"``.
 
@@ -144,7 +145,8 @@ import numpy as np
 
 from ._setup import (Arena, call_loop, check_law, check_loop, check_painleve, check_run_args,
                      check_scene, check_tolerances, compiled_loop, pack_laws,
-                     persistent_pair_message, run_status)
+                     idle_message, persistent_pair_message, run_status)
+from .kernels import evbuf
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -176,6 +178,10 @@ TOLERANCES = {
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "idle_passes": (1_000_000, "-", "maximum consecutive passes of the event loop that "
+                    "record no event (integrated motion, bounded searches): beyond it the "
+                    "run stops with status 'idle' instead of running on without end; "
+                    "raise it for long integrated motions that meet no event"),
     "max_accumulation_impacts": (1_000_000, "-", "a disk whose bounces on a plane would "
                                  "accumulate (or reach t_end) only after more impacts than "
                                  "this (e close to 1) stops the run with an error naming e "
@@ -247,7 +253,7 @@ class Simulation:
     toi_atol 1e-15 s; toi_max_iter 100000; simul_time 1e-11 s; simul_gap 1e-12 m;
     simul_tol 1e-14 (relative);
     simul_max_iter 100000; seq_vtol 1e-12 m/s; seq_max_steps 1000; stall_events 10000;
-    max_accumulation_impacts 1000000.
+    idle_passes 1000000; max_accumulation_impacts 1000000.
     """
 
     def __new__(cls, scene=None, *args, **kwargs):
@@ -374,6 +380,7 @@ class Simulation:
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
         toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
         toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_IDLE] = tol["idle_passes"]
         toli[k.TI_ACC_MAX] = tol["max_accumulation_impacts"]
         toli[k.TI_POLICY] = POLICIES.index(self.policy)
         st = np.zeros((nb, 9))
@@ -394,7 +401,7 @@ class Simulation:
             ("tz", (nb,), F, np.inf), ("zp", (nb,), I, -1), ("ttr", (nb,), F, np.inf),
             ("bp_t", (nb, npl), F, np.inf), ("bp_off", (nb, npl), I, 0),
             ("pr_t", (npr,), F, np.inf), ("pr_off", (npr,), I, 0), ("glob", (2,), F, 0.0),
-            ("cnt", (4,), I, 0),
+            ("cnt", (evbuf.N_CNT,), I, 0),
             # workspaces
             ("c_i", (M, k.N_CI), I, 0), ("c_f", (M, k.N_CF), F, 0.0),
             ("Wb", (2 * M, 2 * M), F, 0.0), ("Pb", (2 * M,), F, 0.0),
@@ -607,6 +614,8 @@ class Simulation:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
                                   f"{self.tolerances['stall_events']} consecutive events at "
                                   f"one instant")
+        elif rc == k.ERR_IDLE:
+            exc = SimulationError(idle_message(result, at, self.tolerances["idle_passes"]))
         elif rc == k.ERR_TOO_MANY:
             exc = SimulationError(f"more than {k.MAXC} contacts at one instant {at} "
                                   f"({body})")

@@ -50,8 +50,9 @@ What the stepper does
   landing on a face while spinning about the normal is snapped onto it with the spin
   removed (event "capture", ``dE`` the energy removed; ``capture=False`` raises instead).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event, a
-  search or an integration that does not converge, unsupported persistent motion, or
-  ``stall_events`` events at one instant raise ``SimulationError``/``NoSolutionError`` with
+  search or an integration that does not converge, unsupported persistent motion,
+  ``stall_events`` events at one instant, or ``idle_passes`` passes of the loop in a row
+  with no event raise ``SimulationError``/``NoSolutionError`` with
   the partial result as ``exc.result``; ``max_events`` stops early with status
   "max_events" and a ``RuntimeWarning``.
 """
@@ -61,7 +62,8 @@ import numpy as np
 
 from ._setup import (call_loop, check_law, check_loop, check_painleve, check_run_args,
                      check_scene, check_tolerances, compiled_loop, pack_laws,
-                     persistent_pair_message, run_status)
+                     idle_message, persistent_pair_message, run_status)
+from .kernels import evbuf
 from .kernels.codes import PAINLEVE_OPTIONS
 from .errors import NoSolutionError, SimulationError
 from ._recording import Recorder
@@ -89,6 +91,10 @@ TOLERANCES_3D = {
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "idle_passes": (1_000_000, "-", "maximum consecutive passes of the event loop that "
+                    "record no event (integrated motion, bounded searches): beyond it the "
+                    "run stops with status 'idle' instead of running on without end; "
+                    "raise it for long integrated motions that meet no event"),
     "max_accumulation_impacts": (1_000_000, "-", "a sphere whose bounces on a plane would "
                                  "accumulate (or reach t_end) only after more impacts than "
                                  "this (e close to 1) stops the run with an error naming e "
@@ -177,7 +183,7 @@ class Simulation3D:
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
-    seq_max_steps 1000; stall_events 10000;
+    seq_max_steps 1000; stall_events 10000; idle_passes 1000000;
     max_accumulation_impacts 1000000; rot_tol 1e-12; rot_max_steps 1e7;
     contact_tol 1e-10; slip_eps 1e-6 m/s.
     """
@@ -315,6 +321,7 @@ class Simulation3D:
         toli[k.TI_SIMUL_MAXIT] = tol["simul_max_iter"]
         toli[k.TI_SEQ_MAXSTEPS] = tol["seq_max_steps"]
         toli[k.TI_STALL] = tol["stall_events"]
+        toli[k.TI_IDLE] = tol["idle_passes"]
         toli[k.TI_ACC_MAX] = tol["max_accumulation_impacts"]
         toli[k.TI_POLICY] = POLICIES.index(self.policy)
         toli[k.TI_MAX_EVENTS] = max_events
@@ -342,7 +349,7 @@ class Simulation3D:
         ws = np.zeros((nb, N_WS))
         ws[:, 0] = -1.0
         glob = np.zeros(2)
-        cnt = np.zeros(4, np.int64)
+        cnt = np.zeros(evbuf.N_CNT, np.int64)
         pk = np.zeros((nb, 2), np.int64)
         pv = np.zeros((nb, N_CP))
         pw = np.zeros((nb, N_PW))
@@ -537,6 +544,8 @@ class Simulation3D:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
                                   f"{self.tolerances['stall_events']} consecutive events at "
                                   f"one instant")
+        elif rc == k.ERR_IDLE:
+            exc = SimulationError(idle_message(result, at, self.tolerances["idle_passes"]))
         elif rc == k.ERR_TOO_MANY:
             exc = SimulationError(f"more than {k.MAXC - 1} contacts at one instant {at} "
                                   f"({body})")

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from rbimpact import Law, Scene3D, Simulation, SimulationError, Sphere
+from rbimpact.kernels import evbuf
 from rbimpact.kernels import stepper3d as k
 from rbimpact.kernels.codes import PM_WEDGED
 from rbimpact.kernels.common import P_MU
@@ -225,7 +226,7 @@ def _enter(n1, n2, r, mu, u=0.3, spin=(0.4, -0.2, 0.1)):
     tolf[k.TF_REST_LENGTH] = 1e-3
     tolf[k.TF_ZENO_SPEED] = -1.0
     ev_t, ev_i, ev_f = np.zeros(8), np.zeros((8, 5), np.int64), np.zeros((8, 19))
-    cnt = np.zeros(4, np.int64)
+    cnt = np.zeros(evbuf.N_CNT, np.int64)
     c_f = np.zeros((k.MAXC, k.N_CF))
     err = np.zeros(k.N_ERR)
     rc = k._groove_enter(0, 0, 1, 0.0, st, bflt, planes, np.array([0.0, 0.0, -G]), law_par,
