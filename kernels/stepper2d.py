@@ -3738,27 +3738,34 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 cid[CL_HDR + nb + cl.KMAX + nc + k] = -2 - q2
             nk += ka
             nc += kc
-            # a contact of the pair separating faster than the zero speed and than the
-            # accumulation speed (the far end of a face on a face turning away) is a
-            # candidate, not held; slower, it is held: its bounce would rise less than
-            # rest_length under gravity, the limit of its accumulation (as a candidate a
-            # corner bouncing at e > 0 under a rocking body's acceleration entered again
-            # every 3e-7 s at a constant 1.5e-6 m/s, just outside the time rule below:
-            # the loop never ended). When the pair enters again right after its last entry
-            # (hold), every touching contact is held (PP_REENTRY otherwise)
+            # a contact of the pair separating faster than the zero speed (the far end of
+            # a face on a face turning away) is a candidate, not held; but when the pair
+            # enters again right after its last entry (hold), its touching contacts are
+            # held: the accumulation's limit (as candidates, they would bounce and enter
+            # again, PP_REENTRY)
             if q2 == q and hold:
                 continue
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
                   + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
                   + abs(st[j, OMEGA]) * _body_size(j, bint, bflt, verts))
-            vz = max(pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp),
-                     math.sqrt(_vz2(tolf, math.hypot(grav[0], grav[1]))))
+            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+            # ... and at an entry that follows an earlier one, a contact parting slower
+            # than the accumulation speed whose bounce since then rose less than
+            # rest_length (v dt / 4: a rise under uniform acceleration, v its speed, dt the
+            # time since that entry) is held too: the limit of impacts that accumulate
+            # there (a corner bouncing at e > 0 under a rocking box came back every
+            # 3.2e-7 s at 1.5e-6 m/s, just outside the time rule, and the run never ended)
+            vr = 0.0
+            if cw[te - 1] >= 1.0:
+                vr = min(math.sqrt(_vz2(tolf, math.hypot(grav[0], grav[1]))),
+                         4.0 * tolf[TF_REST_LENGTH] / max(t - cw[te], 1e-300))
             cid[CL_NK] = nk
             cid[CL_NC] = nc
             k = nk - ka
             while k < cid[CL_NK]:
-                if clr.row_rate(ccon, k, cbod[int(ccon[k, cl.CC_A])],
-                                cbod[int(ccon[k, cl.CC_B])]) > vz:
+                rate = clr.row_rate(ccon, k, cbod[int(ccon[k, cl.CC_A])],
+                                    cbod[int(ccon[k, cl.CC_B])])
+                if rate > vz and rate > vr:
                     if _cl_lift(ccon, cid, nb, k, err) < 0:
                         cid[CL_N] = 0
                         return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
