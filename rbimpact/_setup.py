@@ -294,9 +294,9 @@ def idle_message(result, at, idle_passes):
     since = (f" since the last event at t = {float(ev['t'][-1]):.12g} s" if len(ev)
              else " since the start")
     return (f"the run makes no progress {at}: {int(idle_passes)} consecutive passes of the event "
-            f"loop recorded no event{since} (integrated motion or bounded searches that "
-            f"never reach an event: a bug to report with the scene); raise idle_passes "
-            f"if the scene's integrated motion really needs more")
+            f"loop recorded no event{since} (integrated motion, or a bound between two "
+            f"bodies that crawls, reaching no event: please report the scene); raise "
+            f"idle_passes if the scene's motion really needs more")
 
 
 def persistent_pair_message(k, why, body, other, third, at, pt, v, s, rest_length):

@@ -91,7 +91,7 @@ TOLERANCES_3D = {
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
     "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
-    "idle_passes": (1_000_000, "-", "maximum consecutive passes of the event loop that "
+    "idle_passes": (10_000_000, "-", "maximum consecutive passes of the event loop that "
                     "record no event (integrated motion, bounded searches): beyond it the "
                     "run stops with status 'idle' instead of running on without end; "
                     "raise it for long integrated motions that meet no event"),
@@ -183,7 +183,7 @@ class Simulation3D:
     of ``TOLERANCES_3D`` (name: default, unit): rest_length 1e-10 m; zeno_speed None (m/s);
     gap_tol 1e-9 m; toi_rtol 1e-14; toi_atol 1e-15 s; toi_max_iter 100000; simul_time
     1e-11 s; simul_tol 1e-13 m/s; simul_max_iter 100000; seq_vtol 1e-12 m/s;
-    seq_max_steps 1000; stall_events 10000; idle_passes 1000000;
+    seq_max_steps 1000; stall_events 10000; idle_passes 10000000;
     max_accumulation_impacts 1000000; rot_tol 1e-12; rot_max_steps 1e7;
     contact_tol 1e-10; slip_eps 1e-6 m/s.
     """
