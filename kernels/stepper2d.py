@@ -4525,6 +4525,8 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                          toli, tref, bp_t, pr_t, c_i, bmark, err)
             if nc < 0:
                 return nc
+            q_again = _pair_again(pgen, nc, t, tref, c_i)
+            ev0 = cnt[evbuf.CN_EVENTS]
             _bring_to_t(t, st, tref, bint, planes, grav, tz, zp, bmark)
             nc = _frames(pgen, shapes, nc, t, st, bint, bflt, verts, planes, tolf, c_i, c_f,
                          err)
@@ -4547,6 +4549,13 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                         break
             if rc < 0:
                 return rc
+            if q_again >= 0 and cnt[evbuf.CN_EVENTS] == ev0 and cid[CL_PEND] < 0:
+                # a pair due again at the instant of its own impact whose contact rows the
+                # impact step found not approaching (its time of impact saw the closing
+                # witness of a face on a face beyond their overlap): the bodies touch
+                # without approaching, a persistent contact entered from the next pass
+                # (searched again, it was due at once for ever: a stall)
+                cid[CL_PEND] = q_again
             # ---- after the impacts: disable perforated pairs, re-evaluate persistent
             # contacts, schedule accumulation points, hold a vertex whose impacts accumulate
             # (integrated pivot contact; other single-point chatter is an error), log
@@ -4575,6 +4584,19 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                 return rc
             pend = True
     return run_loop
+
+
+@_inner
+def _pair_again(pgen, nc, t, tref, c_i):
+    """The first pair among the nc contacts gathered at t whose two bodies already had an
+    instant at t (``tref`` = t before this impact step: the pair is due again at the time
+    of an impact just resolved), or -1 (also where the loop has no general pairs)."""
+    if pgen is None:
+        return -1
+    for c in range(nc):
+        if c_i[c, CI_TYPE] == 1 and tref[c_i[c, CI_A]] == t and tref[c_i[c, CI_B]] == t:
+            return -2 - c_i[c, CI_FEAT]
+    return -1
 
 
 @njit((_A1, _f, _i, _i), **_INNER)   # one signature: each FEATURE_* literal compiled it again

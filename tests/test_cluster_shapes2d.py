@@ -214,6 +214,40 @@ def test_disk_bouncing_on_a_stack_sets_it_rocking_and_all_comes_to_rest(v):
     _stack_overlap_and_energy(sim, res, 1e-9)
 
 
+def test_face_pair_due_again_with_nothing_to_resolve_enters_a_cluster():
+    """Three boxes dropped into a stack (``examples/three_box_drop.py``: e = 0.3, mu = 0.8,
+    Kane & Levinson, box 1 tilted by 0.05 rad, box 2 0.03 m higher). At t = 0.3869 s an
+    impact instant leaves box 2's face on box 1's face with both ends of their overlap at
+    rest, while box 2 turns; the pair's time of impact saw the face's far corner, beyond
+    the overlap, closing at 5.5e-6 m/s and made the pair due at once again, but the impact
+    step found its contact rows not approaching: due at once for ever, the run stalled
+    ("more than stall_events"). A pair due again at the instant of its own impact with
+    nothing to resolve now enters a cluster: the three boxes come to rest stacked, no
+    overlap, energy not rising beyond round-off."""
+    tilt = 0.05
+    sc = Scene2D(gravity=(0.0, -G))
+    sc.add_floor(0.0)
+    sc.add_body(Box(0.6, 0.2), 2.0, (0.0, 0.1))
+    sc.add_body(Box(0.4, 0.2), 1.0, (0.05, 0.35 + 0.2 * abs(np.sin(tilt))), angle=tilt)
+    sc.add_body(Box(0.3, 0.2), 0.5, (0.1, 0.85 + 0.03))
+    sim = Simulation(sc, Law("kane_levinson", e=0.3, mu=0.8))
+    res = sim.run(3.0)
+    assert res.status == "done", res.message
+    ev = res.events
+    assert np.any((ev["kind"] == "rest") & (ev["mode"] == 6))
+    s = res.sample(np.array([3.0]))
+    for c in ("vx", "vy", "omega"):
+        assert np.abs(s[c][0]).max() == 0.0
+    assert np.abs(s["y"][0] - [0.1, 0.3, 0.5]).max() <= 1e-9
+    ts = np.union1d(np.linspace(0.0, 3.0, 1501), ev["t"])
+    s = res.sample(ts)
+    for i, j in ((0, 1), (1, 2), (0, 2)):
+        gaps = np.array([pair_gap(sim, s, k, j, i) for k in range(len(ts))])
+        assert gaps.min() >= -1e-9
+    E = energy(sim, s)
+    assert np.max(E - np.minimum.accumulate(E)) <= 1e-9 * float(E[0])
+
+
 def test_disk_dropped_on_a_rocking_box_hits_it_while_it_pivots():
     """A box released tilted by 0.3 rad on one corner (a pivot contact with the floor)
     lands on its face, bounces (Routh, e = 0.3) onto a pivot again, and a disk dropped
