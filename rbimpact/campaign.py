@@ -357,7 +357,8 @@ class DropRow:
 
     @property
     def reproducer(self):
-        extra = " --bodies 2" if self.layout in PAIR_LAYOUTS else ""
+        extra = (" --bodies 2" if self.layout in PAIR_LAYOUTS else
+                 f" --bodies {STACK_BODIES}" if self.layout == STACK_LAYOUT else "")
         extra += " --planar" if self.planar else ""
         return f"rbimpact stability --replay {self.dim}:{self.seed}{extra}"
 
@@ -645,6 +646,122 @@ def _build_pair_scene_3d(spec, law, shapes, R, m):
     return sim, t_end, MAX_EVENTS
 
 
+# ============================================================================================
+# the stack axis (issue 16 items 2 and 5): three random shapes dropped onto each other
+# ============================================================================================
+STACK_LAYOUT = "stack"
+"""Layout of the stack axis: a floor, three bodies released at rest one above the other."""
+STACK_STREAM = 3
+"""Extra word of the seed sequence of a stack scene (``stack_scene_seed``)."""
+STACK_BODIES = 3
+STACK_SIZE = (0.05, 0.5)
+"""Sizes (m) of the stacked bodies, log-uniform: within a factor 10 of one another."""
+STACK_GAP = (1e-6, 0.1)
+"""Drop height (m) of each body above the bounding circle of the one below (the lowest:
+above the floor), log-uniform."""
+STACK_OFFSET = 0.3
+"""Lateral offset of each body from the one below, uniform within +- this times the
+lower body's size."""
+STACK_TILT = 0.3
+"""Tilt (rad) of a box, rod or capsule from lying flat, uniform within +- this (polygons
+and ellipses: any angle)."""
+STACK_SETTLE = 1.0
+"""Time (s) a stack scene runs past the top body's free-fall time to the floor."""
+
+
+def stack_scene_seed(dim, seed, index):
+    """The seed (int) of stack scene ``index`` of the campaign ``(dim, seed)``."""
+    return int(np.random.SeedSequence([int(seed), int(dim), int(index), STACK_STREAM])
+               .generate_state(1)[0])
+
+
+def draw_stack_scene(dim, sseed):
+    """The parameters of one stack scene (2D; a plain dict) from its seed ``sseed``: a law,
+    e, mu, e_t and a policy as ``draw_scene``; three shapes of ``SHAPES[2]``, sizes in
+    ``STACK_SIZE``, aspects 0.3 to 1, masses 0.1 to 10 kg (log-uniform), each released at
+    rest ``STACK_GAP`` above the one below, offset sideways by up to ``STACK_OFFSET`` of
+    the lower body's size, tilted by up to ``STACK_TILT``."""
+    if dim != 2:
+        raise ValueError(f"the stack campaign axis is 2D (dim 2); got dim={dim!r}")
+    rng = np.random.default_rng(sseed)
+    label, name, params = _draw_law(rng)
+    bodies = []
+    for _ in range(STACK_BODIES):
+        shape = SHAPES[2][rng.integers(len(SHAPES[2]))]
+        L = _loguniform(rng, *STACK_SIZE)
+        aspect = float(rng.uniform(0.3, 1.0))
+        b = dict(shape=shape, size=L, aspect=aspect, mass=_loguniform(rng, 0.1, 10.0),
+                 gap=_loguniform(rng, *STACK_GAP),
+                 offset=float(rng.uniform(-STACK_OFFSET, STACK_OFFSET)))
+        if shape in ("polygon", "ellipse"):
+            b["angle"] = float(rng.uniform(0, 2 * math.pi))
+        else:
+            b["angle"] = float(rng.uniform(-STACK_TILT, STACK_TILT))
+        if shape == "polygon":
+            b["vertices"] = _polygon_vertices(rng, L, aspect)
+        bodies.append(b)
+    return dict(dim=dim, seed=int(sseed), law=label, law_name=name, params=params,
+                policy=POLICIES[rng.integers(2)], layout=STACK_LAYOUT,
+                shape="+".join(b["shape"] for b in bodies),
+                size=min(b["size"] for b in bodies), bodies=bodies, height=bodies[0]["gap"])
+
+
+def build_stack_scene(spec):
+    """``(simulation, t_end, max_events)`` for a drawn stack scene: a floor at y = 0, body
+    k's centre ``gap_k + R_k`` above the top of body k - 1's bounding circle (R the
+    bounding radius), ``offset_k`` times body k - 1's size to the side; ``t_end`` the top
+    body's free-fall time to the floor plus ``STACK_SETTLE``."""
+    from .laws import Law
+    from .scene import Scene2D
+    from .simulation import Simulation
+    law = Law(spec["law_name"], **spec["params"])
+    scene = Scene2D(gravity=(0.0, -GRAVITY))
+    scene.add_floor(0.0)
+    top, x, below = 0.0, 0.0, None
+    for b in spec["bodies"]:
+        sh = _shape(dict(b, dim=2))
+        R = sh.bounding_radius
+        if below is not None:
+            x += b["offset"] * below
+        y = top + b["gap"] + R
+        scene.add_body(sh, b["mass"], (x, y), angle=b["angle"])
+        top, below = y + R, b["size"]
+    t_end = math.sqrt(2.0 * top / GRAVITY) + STACK_SETTLE
+    return Simulation(scene, law, policy=spec["policy"]), t_end, MAX_EVENTS
+
+
+def check_stack_result(spec, sim, res, note):
+    """The invariants of a stack scene: ``check_result``'s (no body below the floor, no
+    energy created by a law that cannot create it), and no two bodies overlapping by more
+    than its tolerance (``pair_gap`` at the sampled times, local minima refined).
+    Returns ``(problems, penetration, pen_tol, energy_gain)``."""
+    from scipy.optimize import minimize_scalar
+    problems, worst, pen_tol, gain = check_result(spec, sim, res, note)
+    if res is None or res.t_end <= res.t_start:
+        return problems, worst, pen_tol, gain
+    t = _sample_times(res, N_SAMPLES)
+    s = res.sample(t)
+    n = len(spec["bodies"])
+    for i in range(n):
+        for j in range(i + 1, n):
+            g = np.array([pair_gap(sim, s, k, i, j) for k in range(len(t))])
+            gmin = float(g.min())
+            loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
+            for k in loc[np.argsort(g[loc])][:4]:
+                lo, hi = t[k - 1], t[k + 1]
+                if hi > lo:
+                    r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0, i, j),
+                                        bounds=(lo, hi), method="bounded",
+                                        options={"xatol": 1e-15 * max(1.0, abs(hi))})
+                    gmin = min(gmin, float(r.fun))
+            if -gmin > worst:
+                worst = -gmin
+                if worst > pen_tol:
+                    problems.append(f"penetration {worst:.3g} m > {pen_tol:.2g} m (body {j} "
+                                    f"in body {i})")
+    return problems, worst, pen_tol, gain
+
+
 def pair_gap(sim, s, k, i=0, j=1):
     """Signed gap (m) of bodies i and j at sample ``k`` of ``s`` (``Result.sample``):
     ``kernels.pair2d.frame_rel`` (3D: ``kernels.pair3d.pair_frame``; distance when apart,
@@ -788,8 +905,11 @@ def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
     (``_setup.LOOP_KINDS``; the same results), None for ``$RBIMPACT_LOOP``'s."""
     import warnings
     two = bodies == 2
+    draw, build, check = ((draw_pair_scene, build_pair_scene, check_pair_result) if two else
+                          (draw_stack_scene, build_stack_scene, check_stack_result)
+                          if bodies == STACK_BODIES else (None, build_scene, check_result))
     if spec is None:
-        spec = draw_pair_scene(dim, sseed) if two else draw_scene(dim, sseed, planar)
+        spec = draw(dim, sseed) if draw is not None else draw_scene(dim, sseed, planar)
     p = spec["params"]
     row = dict(dim=dim, seed=int(sseed), shape=spec["shape"], law=spec["law"],
                layout=spec["layout"], policy=spec["policy"], e=p["e"], mu=p["mu"],
@@ -797,7 +917,7 @@ def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
     t0 = time.perf_counter()
     note = []
     try:
-        sim, t_end, max_events = (build_pair_scene if two else build_scene)(spec)
+        sim, t_end, max_events = build(spec)
     except Exception as exc:        # a scene the campaign draws must be accepted
         return DropRow(**row, verdict="FAIL", status="not built", impacts=0,
                        penetration=0.0, pen_tol=0.0, energy_gain=0.0,
@@ -828,8 +948,7 @@ def run_drop(dim, sseed, spec=None, bodies=1, planar=False, loop=None):
         note.append(f"{type(exc).__name__}: {exc}"[:300])
     wall = time.perf_counter() - t0
     try:
-        problems, pen, pen_tol, gain = (check_pair_result if two else check_result)(
-            spec, sim, res, note)
+        problems, pen, pen_tol, gain = check(spec, sim, res, note)
     except Exception as exc:
         problems, pen, pen_tol, gain = [f"check failed: {type(exc).__name__}: {exc}"], 0, 0, 0
     if problems:
@@ -901,12 +1020,19 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=
                   loop=None):
     """Run ``n_scenes`` random scenes per dimension (``dim``: 2, 3 or "both") from campaign
     seed ``seed``; returns a ``CampaignReport``. ``progress``: optional callable receiving
-    each ``DropRow``. ``bodies``: 1 (the drop scenes) or 2 (the two-body axis,
-    ``draw_pair_scene``, its own seed stream ``pair_scene_seed``). ``planar``: the planar
+    each ``DropRow``. ``bodies``: 1 (the drop scenes), 2 (the two-body axis,
+    ``draw_pair_scene``, its own seed stream ``pair_scene_seed``) or 3 (the stack axis, 2D,
+    ``draw_stack_scene``, seed stream ``stack_scene_seed``). ``planar``: the planar
     axis, the 3D drop scenes of the same seeds made planar (``_make_planar``; 3D, one body).
     ``loop``: the event loop of every scene (``run_drop``)."""
-    if bodies not in (1, 2) or isinstance(bodies, bool):
-        raise ValueError(f"drop_campaign: bodies must be 1 or 2, got {bodies!r}")
+    if bodies not in (1, 2, STACK_BODIES) or isinstance(bodies, bool):
+        raise ValueError(f"drop_campaign: bodies must be 1, 2 or {STACK_BODIES}, got "
+                         f"{bodies!r}")
+    if bodies == STACK_BODIES:
+        if dim not in (2, "2", "both"):
+            raise ValueError(f"drop_campaign: the stack axis (bodies = {STACK_BODIES}) is 2D "
+                             f"(dim 2), got dim = {dim!r}")
+        dim = 2
     if planar and (bodies != 1 or dim not in (3, "3")):
         raise ValueError(f"drop_campaign: the planar axis is 3D drop scenes (dim 3, bodies 1), "
                          f"got dim = {dim!r}, bodies = {bodies!r}")
@@ -921,7 +1047,7 @@ def drop_campaign(n_scenes, dim="both", seed=0, progress=None, bodies=1, planar=
         raise ValueError(f"drop_campaign: dim must be 2, 3 or 'both', got {dim!r}")
     t0 = time.perf_counter()
     rows = []
-    seeder = pair_scene_seed if bodies == 2 else scene_seed
+    seeder = {2: pair_scene_seed, STACK_BODIES: stack_scene_seed}.get(bodies, scene_seed)
     for d in dims:
         for k in range(int(n_scenes)):
             rows.append(run_drop(d, seeder(d, seed, k), bodies=bodies, planar=planar,
@@ -946,7 +1072,8 @@ def _progress_bar(total):
 
 def replay_text(dim, sseed, bodies=1, planar=False):
     """One scene, run again and explained: what was drawn, how it ended, the checks."""
-    spec = draw_pair_scene(dim, sseed) if bodies == 2 else draw_scene(dim, sseed, planar)
+    spec = (draw_pair_scene(dim, sseed) if bodies == 2 else draw_stack_scene(dim, sseed)
+            if bodies == STACK_BODIES else draw_scene(dim, sseed, planar))
     row = run_drop(dim, sseed, spec, bodies=bodies)
     lines = [f"scene {dim}:{sseed}"]
     for k, v in spec.items():
@@ -960,7 +1087,7 @@ def replay_text(dim, sseed, bodies=1, planar=False):
 
 
 def main(args):
-    """``rbimpact stability --scenes N [--dim 2|3|both] [--seed S] [--bodies 2] [--planar]
+    """``rbimpact stability --scenes N [--dim 2|3|both] [--seed S] [--bodies 2|3] [--planar]
     [--out CSV]`` and ``--replay DIM:SEED``: print the table; exit status 1 when a scene
     FAILs."""
     if args.replay is not None:

@@ -250,9 +250,10 @@ def _parser():
     q.add_argument("--seed", type=int, default=0, help="campaign seed (default 0)")
     q.add_argument("--replay", metavar="DIM:SEED",
                    help="run one campaign scene (from a failure's reproducer) and explain it")
-    q.add_argument("--bodies", type=int, choices=(1, 2), default=1,
-                   help="campaign: 1 body dropped (default) or 2 bodies thrown at each other "
-                   "in flight (2D or 3D, issue 16)")
+    q.add_argument("--bodies", type=int, choices=(1, 2, 3), default=1,
+                   help="campaign: 1 body dropped (default), 2 bodies thrown at each other "
+                   "in flight (2D or 3D, issue 16), or 3 bodies dropped into a stack on a "
+                   "floor (2D)")
     q.add_argument("--planar", action="store_true",
                    help="campaign: the 3D drop scenes made planar (rotation about y, motion "
                    "in the xz plane: exact zeros where random scenes have round-off)")

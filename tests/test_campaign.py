@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from rbimpact import Box, Disk, Law, Scene2D, Simulation
-from rbimpact.campaign import (ENERGY_RTOL, DropRow, build_scene, draw_scene, drop_campaign,
-                               run_drop, scene_seed)
+from rbimpact.campaign import (ENERGY_RTOL, DropRow, build_scene, build_stack_scene, draw_scene,
+                               draw_stack_scene, drop_campaign, pair_gap, run_drop, scene_seed,
+                               stack_scene_seed)
 
 CI_SCENES = 200
 """Scenes per dimension of the fixed-seed sample run in CI."""
@@ -55,7 +56,7 @@ def _classify(rows):
     for r in rows:
         if r.verdict != "FAIL":
             continue
-        single_plane = r.layout in ("floor", "resting", "touching")
+        single_plane = r.layout in ("floor", "resting", "touching", "stack")
         silent = r.status == "done"     # the run did not say it failed
         loud = r.status in ("done", "max_events", "SimulationError", "NoSolutionError")
         if (not loud or any(re.search(p, r.note) for p in ALWAYS)
@@ -81,6 +82,39 @@ def test_fixed_seed_sample_has_no_sinking_no_energy_gain_no_new_failure(dim):
     # the campaign checked something: every scene ran, most ended 'done'
     done = sum(r.status == "done" for r in report.rows)
     assert done >= 0.6 * CI_SCENES, (done, known)
+
+
+STACK_CI_SCENES = 3
+"""Stack scenes (``--bodies 3``) of the fixed-seed sample run in CI (the axis's scenes that
+end in a refusal can run for minutes before it: the axis itself is for campaigns)."""
+
+
+def test_stack_axis_sample_is_never_silently_wrong():
+    """Three random shapes dropped into a stack on a floor (2D): no scene silently wrong
+    (ending 'done' with an overlap beyond tolerance, energy created by a law that cannot
+    create it), none the campaign fails to build or check, every failure a known open
+    mode; the bodies start apart and each above the one below."""
+    report = drop_campaign(STACK_CI_SCENES, dim=2, seed=2026, bodies=3)
+    assert len(report.rows) == STACK_CI_SCENES
+    assert all(r.layout == "stack" and r.shape.count("+") == 2 for r in report.rows)
+    bad, known = _classify(report.rows)
+    assert not bad, "\n".join(f"{r.reproducer}: {r.note}" for r in bad)
+    assert all(r.reproducer.endswith("--bodies 3") for r in report.rows)
+    for k in range(STACK_CI_SCENES):
+        spec = draw_stack_scene(2, stack_scene_seed(2, 2026, k))
+        assert spec == draw_stack_scene(2, stack_scene_seed(2, 2026, k))
+        sim, t_end, _ = build_stack_scene(spec)
+        s = sim.run(1e-9).sample([0.0])
+        for i in range(3):
+            lowest = s["y"][0, i] - sim.scene.bodies[i].shape.bounding_radius
+            assert lowest >= spec["bodies"][0]["gap"] * (i == 0) - 1e-15
+            for j in range(i + 1, 3):
+                assert pair_gap(sim, s, 0, i, j) > 0.0
+                assert s["y"][0, j] > s["y"][0, i]
+    with pytest.raises(ValueError, match="stack axis"):
+        drop_campaign(1, dim=3, bodies=3)
+    with pytest.raises(ValueError, match="bodies must be 1, 2 or 3"):
+        drop_campaign(1, bodies=4)
 
 
 def test_scene_seeds_are_reproducible_and_distinct():
