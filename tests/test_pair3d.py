@@ -639,12 +639,21 @@ def test_gap_rate_against_finite_difference(pair):
     assert checked >= 20
 
 
+SWAP_ULPS = 16
+"""The gap of (A, B) and of (B, A) agree to this many ulps of the sum of the bodies' sizes:
+each frame brings the other body into its own coordinates (a quaternion product, a
+rotation, a projection: about ten roundings at the coordinates' scale), and swapped the
+roundings differ. 4 held on earlier machines; an AVX-512 machine, whose compiled code
+contracts other products into fused multiply-adds, gave 6 (box-box, 0.997 m apart)."""
+
+
 @pytest.mark.parametrize("pair", PAIRS, ids=["-".join(p) for p in PAIRS])
 def test_invariance_rigid_motion_and_swap(pair):
     """Moving the whole scene (rotation, then translation by 1 km) moves the frame along
     (gap to 4 ulps of the coordinates' scale, normal and witnesses rotated); swapping A and B
-    keeps the gap, flips the normal, swaps witnesses and features; scaling the scene by
-    1e-6 and 1e6 scales the gap and keeps the normal and features."""
+    keeps the gap (to ``SWAP_ULPS`` of the bodies' size), flips the normal, swaps witnesses
+    and features; scaling the scene by 1e-6 and 1e6 scales the gap and keeps the normal and
+    features."""
     rng = np.random.default_rng(seed("inv", *pair))
     for it in range(30):
         a, b = pair if it % 2 == 0 else pair[::-1]
@@ -655,7 +664,7 @@ def test_invariance_rigid_motion_and_swap(pair):
         size = size_of(bA) + size_of(bB)
         # swap
         fs, es = frame(bB, stB, bA, stA)
-        assert abs(fs[FR_GAP] - fr[FR_GAP]) <= 4 * EPS * size
+        assert abs(fs[FR_GAP] - fr[FR_GAP]) <= SWAP_ULPS * EPS * size
         assert np.allclose(fs[FR_NX:FR_NX + 3], -fr[FR_NX:FR_NX + 3], atol=1e-12)
         if abs(fr[FR_GAP]) > 1e-6 * size:   # unique closest points
             assert np.allclose(fs[FR_PAX:FR_PAX + 3], fr[FR_PBX:FR_PBX + 3], atol=1e-9)
