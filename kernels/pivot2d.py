@@ -85,7 +85,9 @@ cone ``mu lam - |f| = 0`` (slip starts); the slip ``sig v_T`` of a sliding conta
 0 (it sticks or reverses; not for ``mu = 0``); the gap of any other vertex to any plane
 (and of the held vertex to the other planes) reaching 0 (an impact). A function starting
 below its arm (``FORCE_ARM m |g|``, ``SLIP_ARM V``, ``GAP_ARM L``) fires below
-``min(0, start) - arm`` instead. Each step also samples the events where ``w`` changes
+``min(0, start) - arm`` instead (a gap: no deeper than ``-GAP_FLOOR L`` when it starts
+above that, so the allowance taken anew at each step cannot let a vertex sink step by
+step). Each step also samples the events where ``w`` changes
 sign (a swing turning back), so a corner that swings onto the plane and back within one
 step is seen; otherwise two roots of one function inside one step are not (steps rotate
 the body by at most ``MAX_ANGLE``: a stated limitation, as in ``pivot3d``).
@@ -187,6 +189,11 @@ PIECE_BUDGET = 512  # recorded pieces per call of pivot_advance at most (buffer 
 FORCE_ARM = 1e-9    # force events starting below FORCE_ARM m |g| are armed (see above)
 SLIP_ARM = 1e-12    # slip event armed below SLIP_ARM V
 GAP_ARM = 1e-12     # gap events armed below GAP_ARM L
+GAP_FLOOR = 1e-10   # ... but a gap event whose step starts above -GAP_FLOOR L fires there at
+                    # the latest: the arm's allowance is taken anew at every step (and every
+                    # pass), so a vertex touching at a step start could otherwise sink by up
+                    # to GAP_ARM L per step; a pivot bounded by a partner crawling in
+                    # passes of one step each let a corner sink 1.8e-8 m (a three-box drop)
 EVENT_ITER = 200    # secant/bisection iterations locating an event on the dense output
 MAX_ATTEMPTS = 200_000  # RK step attempts per call at most (PI_TOO_MANY_STEPS)
 PIECE_ITER = 60     # shrinks of one piece at most (then it is accepted as is)
@@ -652,6 +659,10 @@ def _floor(w, e, v):
             arm = SLIP_ARM * w[CP_V]
     else:
         arm = GAP_ARM * L
+        if v > arm:
+            return 0.0
+        fl = min(0.0, v) - arm
+        return fl if v <= -GAP_FLOOR * L else max(fl, -GAP_FLOOR * L)
     if v > arm:
         return 0.0
     return min(0.0, v) - arm
