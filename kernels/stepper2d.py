@@ -3665,6 +3665,16 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     L = _cl_scale(cid, bint, bflt, verts)
     entries = _cl_close(t, cw[te], int(cw[te - 1]), _cl_time(L, grav[0], grav[1], cbod[:n]))
     hold = entries >= CL_REENTRY_HOLD
+    # ... and at an entry that follows an earlier one, a touching contact parting slower than
+    # vr (m/s) is held too: slower than the accumulation speed and rising less than
+    # rest_length since that entry (v dt / 4: a rise under uniform acceleration, dt the time
+    # since it), the limit of impacts that accumulate there (a corner bouncing at e > 0
+    # under a rocking box came back every 3.2e-7 s at 1.5e-6 m/s, just outside the time
+    # rule, and the run never ended)
+    vr = 0.0
+    if cw[te - 1] >= 1.0:
+        vr = min(math.sqrt(_vz2(tolf, math.hypot(grav[0], grav[1]))),
+                 4.0 * tolf[TF_REST_LENGTH] / max(t - cw[te], 1e-300))
     # contacts (active within gap_tol) and candidates
     nk = 0
     nc = 0
@@ -3738,27 +3748,17 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 cid[CL_HDR + nb + cl.KMAX + nc + k] = -2 - q2
             nk += ka
             nc += kc
-            # a contact of the pair separating faster than the zero speed (the far end of
-            # a face on a face turning away) is a candidate, not held; but when the pair
-            # enters again right after its last entry (hold), its touching contacts are
-            # held: the accumulation's limit (as candidates, they would bounce and enter
-            # again, PP_REENTRY)
+            # a contact of the pair separating faster than the zero speed and than vr
+            # (the far end of a face on a face turning away) is a candidate, not held; but
+            # when the pair enters again right after its last entry (hold), its touching
+            # contacts are held: the accumulation's limit (as candidates, they would
+            # bounce and enter again, PP_REENTRY)
             if q2 == q and hold:
                 continue
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
                   + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
                   + abs(st[j, OMEGA]) * _body_size(j, bint, bflt, verts))
             vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
-            # ... and at an entry that follows an earlier one, a contact parting slower
-            # than the accumulation speed whose bounce since then rose less than
-            # rest_length (v dt / 4: a rise under uniform acceleration, v its speed, dt the
-            # time since that entry) is held too: the limit of impacts that accumulate
-            # there (a corner bouncing at e > 0 under a rocking box came back every
-            # 3.2e-7 s at 1.5e-6 m/s, just outside the time rule, and the run never ended)
-            vr = 0.0
-            if cw[te - 1] >= 1.0:
-                vr = min(math.sqrt(_vz2(tolf, math.hypot(grav[0], grav[1]))),
-                         4.0 * tolf[TF_REST_LENGTH] / max(t - cw[te], 1e-300))
             cid[CL_NK] = nk
             cid[CL_NC] = nc
             k = nk - ka
@@ -4301,9 +4301,9 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                  ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, c_i, c_f, Wb, Pb, vb, tb, comp,
                  bmark, v2, W2, P2, tmp, err, cbod, ccon, cw, cid):
         """Advance from glob[0] to tolf[TF_T_END]; see the module docstring for the
-        contract. The first call (cnt[CN_STARTED] == 0) initialises the run at glob[0]. Compile-time
-        constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint``, ``shapes``
-        (``loop_for``)."""
+        contract. The first call (``cnt[CN_STARTED] == 0``) initialises the run at glob[0].
+        Compile-time constants: ``law``, ``pivot``, ``wedge``, ``pair``, ``joint``,
+        ``shapes`` (``loop_for``)."""
         nb = st.shape[0]
         npl = planes.shape[0]
         npr = pairs.shape[0]

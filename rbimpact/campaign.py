@@ -735,7 +735,6 @@ def check_stack_result(spec, sim, res, note):
     energy created by a law that cannot create it), and no two bodies overlapping by more
     than its tolerance (``pair_gap`` at the sampled times, local minima refined).
     Returns ``(problems, penetration, pen_tol, energy_gain)``."""
-    from scipy.optimize import minimize_scalar
     problems, worst, pen_tol, gain = check_result(spec, sim, res, note)
     if res is None or res.t_end <= res.t_start:
         return problems, worst, pen_tol, gain
@@ -744,22 +743,32 @@ def check_stack_result(spec, sim, res, note):
     n = len(spec["bodies"])
     for i in range(n):
         for j in range(i + 1, n):
-            g = np.array([pair_gap(sim, s, k, i, j) for k in range(len(t))])
-            gmin = float(g.min())
-            loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
-            for k in loc[np.argsort(g[loc])][:4]:
-                lo, hi = t[k - 1], t[k + 1]
-                if hi > lo:
-                    r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0, i, j),
-                                        bounds=(lo, hi), method="bounded",
-                                        options={"xatol": 1e-15 * max(1.0, abs(hi))})
-                    gmin = min(gmin, float(r.fun))
+            gmin = _worst_pair_gap(sim, res, t, s, i, j, 4)
             if -gmin > worst:
                 worst = -gmin
                 if worst > pen_tol:
                     problems.append(f"penetration {worst:.3g} m > {pen_tol:.2g} m (body {j} "
                                     f"in body {i})")
     return problems, worst, pen_tol, gain
+
+
+def _worst_pair_gap(sim, res, t, s, i, j, n_minima):
+    """The smallest gap (m) of bodies i and j over a run: ``pair_gap`` at the sampled
+    times ``t`` (states ``s``), each of its ``n_minima`` smallest local minima refined by a
+    bounded minimisation between the neighbouring samples (a sampled dip can miss its
+    bottom)."""
+    from scipy.optimize import minimize_scalar
+    g = np.array([pair_gap(sim, s, k, i, j) for k in range(len(t))])
+    worst = float(g.min())
+    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
+    for k in loc[np.argsort(g[loc])][:n_minima]:
+        lo, hi = t[k - 1], t[k + 1]
+        if hi > lo:
+            r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0, i, j),
+                                bounds=(lo, hi), method="bounded",
+                                options={"xatol": 1e-15 * max(1.0, abs(hi))})
+            worst = min(worst, float(r.fun))
+    return worst
 
 
 def pair_gap(sim, s, k, i=0, j=1):
@@ -843,16 +852,7 @@ def check_pair_result(spec, sim, res, note):
     pen_tol = (PEN_RTOL_INTEGRATED if cluster else PEN_RTOL) * L + PEN_ATOL
     t = _sample_times(res, N_SAMPLES)
     s = res.sample(t)
-    g = np.array([pair_gap(sim, s, k) for k in range(len(t))])
-    worst = float(g.min())
-    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
-    for k in loc[np.argsort(g[loc])][:8]:
-        lo, hi = t[k - 1], t[k + 1]
-        if hi > lo:
-            r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0), bounds=(lo, hi),
-                                method="bounded",
-                                options={"xatol": 1e-15 * max(1.0, abs(hi))})
-            worst = min(worst, float(r.fun))
+    worst = _worst_pair_gap(sim, res, t, s, 0, 1, 8)
     pen = max(0.0, -worst)
     if pen > pen_tol:
         problems.append(f"penetration {pen:.3g} m > {pen_tol:.2g} m (body 0 in body 1)")
