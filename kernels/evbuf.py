@@ -41,9 +41,9 @@ segment_margin_py = getattr(segment_margin, "py_func", segment_margin)
 
 @njit(cache=True, inline="always")
 def has_room(cnt, margin_e, margin_s, cap_e, cap_s):
-    """Do ``margin_e`` more events and ``margin_s`` more segments fit (``cnt[0]``, ``cnt[1]``
-    rows used of ``cap_e``, ``cap_s``)?"""
-    return cnt[0] + margin_e <= cap_e and cnt[1] + margin_s <= cap_s
+    """Do ``margin_e`` more events and ``margin_s`` more segments fit (``cnt[CN_EVENTS]``,
+    ``cnt[CN_SEGS]`` rows used of ``cap_e``, ``cap_s``)?"""
+    return cnt[CN_EVENTS] + margin_e <= cap_e and cnt[CN_SEGS] + margin_s <= cap_s
 
 
 def grow(arrays, used, need):

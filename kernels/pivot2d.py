@@ -120,6 +120,7 @@ from .cache_guard import guard
 guard(__name__, __file__)
 
 from .dopri5 import MAX_TRIES, dense_out, dopri5_step
+from .evbuf import CN_SEGS
 from .flight2d import body_energy, fly_into
 
 # ---- workspace w (float64[N_W], flat): contact parameters, integrator, scratch ----------
@@ -801,12 +802,12 @@ def _emit(w, sa, sb, hp, budget, t0, seg_t, seg_b, seg_s, cnt, ib):
             # energy deviation ~ h^2, point deviation ~ h^3
             h = h * max(0.1, 0.8 / math.sqrt(r))
             last = False
-        k = cnt[1]
+        k = cnt[CN_SEGS]
         seg_t[k] = t0 + s
         seg_b[k] = ib
         for j in range(9):
             seg_s[k, j] = w[W_ROW + j]
-        cnt[1] = k + 1
+        cnt[CN_SEGS] = k + 1
         n += 1
         if r < 0.25:
             hp = h * min(2.0, 0.9 / math.sqrt(max(r, 1e-6)))

@@ -341,7 +341,7 @@ def segment_margin(nb):
        _f), **_INNER)
 def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, viN, viT,
          vfN, vfT, PN, PT, dE):
-    k = cnt[0]
+    k = cnt[evbuf.CN_EVENTS]
     ev_t[k] = t
     ev_i[k, 0] = kind
     ev_i[k, 1] = a
@@ -359,28 +359,28 @@ def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, px, py, nx, ny, vi
     ev_f[k, 8] = PN
     ev_f[k, 9] = PT
     ev_f[k, 10] = dE
-    cnt[0] = k + 1
+    cnt[evbuf.CN_EVENTS] = k + 1
     cnt[evbuf.CN_IDLE] = 0
 
 
 @njit(cache=True, _nrt=False, inline="always")
 def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i):
-    k = cnt[1]
+    k = cnt[evbuf.CN_SEGS]
     seg_t[k] = tref[i]
     seg_b[k] = i
     for j in range(9):
         seg_s[k, j] = st[i, j]
-    cnt[1] = k + 1
+    cnt[evbuf.CN_SEGS] = k + 1
 
 
 @njit(cache=True, _nrt=False, inline="always")
 def _push_row(seg_t, seg_b, seg_s, cnt, row, t, i):
-    k = cnt[1]
+    k = cnt[evbuf.CN_SEGS]
     seg_t[k] = t
     seg_b[k] = i
     for j in range(9):
         seg_s[k, j] = row[j]
-    cnt[1] = k + 1
+    cnt[evbuf.CN_SEGS] = k + 1
 
 
 @_inner

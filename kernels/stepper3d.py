@@ -369,7 +369,7 @@ def segment_margin(nb):
 def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, c_f, c, vi0, vi1, vi2,
          vf0, vf1, vf2, P0, P1, P2, dE):
     """Log an event whose point and frame are row c of c_f."""
-    k = cnt[0]
+    k = cnt[evbuf.CN_EVENTS]
     ev_t[k] = t
     ev_i[k, 0] = kind
     ev_i[k, 1] = a
@@ -390,13 +390,13 @@ def _log(ev_t, ev_i, ev_f, cnt, t, kind, a, b, mode, cluster, c_f, c, vi0, vi1, 
     ev_f[k, 16] = P1
     ev_f[k, 17] = P2
     ev_f[k, 18] = dE
-    cnt[0] = k + 1
+    cnt[evbuf.CN_EVENTS] = k + 1
     cnt[evbuf.CN_IDLE] = 0
 
 
 @njit(cache=True)
 def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
-    k = cnt[1]
+    k = cnt[evbuf.CN_SEGS]
     seg_t[k] = tref[i]
     seg_b[k] = i
     for j in range(19):
@@ -407,7 +407,7 @@ def _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i, pm, pv):
             seg_s[k, 20 + j] = pv[i, j]
     else:
         seg_s[k, 19] = 0.0
-    cnt[1] = k + 1
+    cnt[evbuf.CN_SEGS] = k + 1
 
 
 @njit(cache=True)
@@ -439,12 +439,12 @@ def _held_into(src, kind, nx, ny, nz, out):
 @njit(cache=True)
 def _push_held(seg_t, seg_b, seg_s, cnt, st, tref, i, bint, planes, p):
     """Log body i's held motion during a pending accumulation jump on plane p."""
-    k = cnt[1]
+    k = cnt[evbuf.CN_SEGS]
     seg_t[k] = tref[i]
     seg_b[k] = i
     _held_into(st[i], bint[i, B_KIND], planes[p, 0], planes[p, 1], planes[p, 2], seg_s[k])
     seg_s[k, 19] = 0.0
-    cnt[1] = k + 1
+    cnt[evbuf.CN_SEGS] = k + 1
 
 
 @njit(cache=True, inline="always")
@@ -4671,11 +4671,11 @@ def _cluster_pass(t, st, tref, bint, bflt, planes, grav, law_par, bp_law, pm, tz
                         held = True
                 if not held:
                     return _cl_refuse(err, t, ids[r], ids[r], st, PP_SPLIT, 0.0, 0.0), 0
-    k0 = cnt[1]
+    k0 = cnt[evbuf.CN_SEGS]
     cs, ev, idx, ts = cl.cluster_advance(bod, con, cid[CL_NK], cand, cid[CL_NC], gx, gy, gz, L,
                                          t, tolf[TF_T_END], w, la, seg_t, seg_b, seg_s, cnt,
                                          ids)
-    for k in range(k0, cnt[1]):
+    for k in range(k0, cnt[evbuf.CN_SEGS]):
         seg_s[k, cl.N_ROW] = 0.0        # a closed-form row (flight3d.pose_at replays it)
     if cs == cl.CS_REST:
         # frozen: nothing moves until a body outside hits it

@@ -2,23 +2,23 @@
 ``record``, ``observer`` and ``snapshot_dt`` arguments, shared by the 2D and 3D front ends.
 
 The compiled loops (``kernels/stepper2d.py``, ``kernels/stepper3d.py``) write events at row
-``cnt[0]`` and trajectory segments at row ``cnt[1]`` of preallocated buffers and never read
-an earlier row back; when the worst case of one more instant does not fit they return
-``RC_BUFFER_FULL`` and are called again with the same state arrays (they resume exactly).
+``cnt[CN_EVENTS]`` and trajectory segments at row ``cnt[CN_SEGS]`` of preallocated buffers
+(``kernels/evbuf.py``) and never read an earlier row back; when the worst case of one more
+instant does not fit they return ``RC_BUFFER_FULL`` and are called again with the same state
+arrays (they resume exactly).
 ``Recorder.on_full`` runs between two such calls:
 
 * ``record="all"``: the new events are handed to the observer and the buffers grow (the
   front end's own growth rule): the run and its ``Result`` are those of a plain ``run``.
-* ``record="none"`` or an array of body indices: the filled rows are handed to the
-  observer, counted, filtered (events involving a recorded body and those bodies'
-  segments are appended to the kept lists), and dropped: ``cnt[0]`` and ``cnt[1]`` restart
+* ``record="none"`` or an array of body indices: the filled rows are handed to the observer,
+  counted, filtered (events involving a recorded body and those bodies' segments are
+  appended to the kept lists), and dropped: ``cnt[CN_EVENTS]`` and ``cnt[CN_SEGS]`` restart
   at 0 and ``toli[TI_MAX_EVENTS]`` is lowered by the number of events dropped, so that
   ``max_events`` still counts every event of the run. Of the segments of the other bodies
-  only each body's *tail* is carried on: its last segment starting at or before the
-  current time ``glob[0]`` and any later one (a pivot pass records pieces ahead of the
-  loop's time), which is all the exact state at any later time needs. The buffers keep
-  their first capacity: ``DRAIN_ROWS`` rows (at most ``max_events + 16``) beyond the
-  loop's margins.
+  only each body's *tail* is carried on: its last segment starting at or before the current
+  time ``glob[0]`` and any later one (a pivot pass records pieces ahead of the loop's time),
+  which is all the exact state at any later time needs. The buffers keep their first
+  capacity: ``DRAIN_ROWS`` rows (at most ``max_events + 16``) beyond the loop's margins.
 
 Snapshots (``snapshot_dt``): the states of every body at ``0, dt, 2 dt, ...`` up to the end
 of the run, evaluated by the result's own ``sample`` on the segments as they pass through:
@@ -31,6 +31,7 @@ import numpy as np
 
 from ._validate import _show, real
 from .errors import SimulationError
+from .kernels.evbuf import CN_EVENTS, CN_SEGS
 
 __all__ = ["DRAIN_ROWS", "NotRecordedError", "Recorder", "Recording", "check_record_args"]
 
@@ -239,7 +240,7 @@ class Recorder:
         ``grow(arrays, used)``: the front end's growth rule. Returns the buffers to pass to
         the loop's next call."""
         ev_t, ev_i, ev_f, seg_t, seg_b, seg_s = bufs
-        n, m = int(cnt[0]), int(cnt[1])
+        n, m = int(cnt[CN_EVENTS]), int(cnt[CN_SEGS])
         self._observe(ev_t, ev_i, ev_f, n)
         if self.keep_all:
             if n + margin_e > len(ev_t):
@@ -255,7 +256,7 @@ class Recorder:
                 self.kept_ev.append((ev_t[:n][sel], ev_i[:n][sel], ev_f[:n][sel]))
         self.dropped += n
         toli[self.ti_max_events] = self.max_events - self.dropped
-        cnt[0] = 0
+        cnt[CN_EVENTS] = 0
         self.observed = 0
         # ---- segments
         t_now = float(glob[0])
@@ -281,7 +282,7 @@ class Recorder:
             past &= ~self.keep_body[sb]
         self.cut[np.unique(sb[past])] = True
         self.carry = (st[tail], sb[tail], ss[tail])
-        cnt[1] = 0
+        cnt[CN_SEGS] = 0
         return bufs
 
     def finish(self, bufs, cnt, glob):
@@ -289,7 +290,7 @@ class Recorder:
         the last snapshots; returns ``(ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, recording)``
         for the result (``record="all"``: the buffers' filled rows as views)."""
         ev_t, ev_i, ev_f, seg_t, seg_b, seg_s = bufs
-        n, m = int(cnt[0]), int(cnt[1])
+        n, m = int(cnt[CN_EVENTS]), int(cnt[CN_SEGS])
         if self.plain:
             return ev_t[:n], ev_i[:n], ev_f[:n], seg_t[:m], seg_b[:m], seg_s[:m], None
         self._observe(ev_t, ev_i, ev_f, n, final=True)

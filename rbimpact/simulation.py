@@ -123,7 +123,7 @@ What the stepper does
   post-impact normal velocity (``kernels/decisions.py``).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event (a gap
   below ``-gap_tol``), a time-of-impact search that does not converge, ``stall_events``
-  consecutive events at one instant, or ``idle_passes`` passes of the loop in a row that
+  consecutive passes of the loop at one instant, or ``idle_passes`` passes of the loop in a row that
   record no event raise ``SimulationError`` / ``NoSolutionError``; the exception carries the
   partial ``Result`` as ``exc.result``, whose ``status`` names the failure ("missed",
   "stall", "idle", "no_solution", ...). Reaching ``max_events``
@@ -177,7 +177,7 @@ TOLERANCES = {
     "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
-    "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "stall_events": (10_000, "-", "maximum consecutive passes of the event loop at one instant"),
     "idle_passes": (10_000_000, "-", "maximum consecutive passes of the event loop that "
                     "record no event (integrated motion, bounded searches): beyond it the "
                     "run stops with status 'idle' instead of running on without end; "
@@ -612,8 +612,8 @@ class Simulation:
                                   f"{err[7]:.3g} N): not supported")
         elif rc == k.ERR_STALL:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
-                                  f"{self.tolerances['stall_events']} consecutive events at "
-                                  f"one instant")
+                                  f"{self.tolerances['stall_events']} consecutive passes of "
+                                  f"the event loop at one instant")
         elif rc == k.ERR_IDLE:
             exc = SimulationError(idle_message(result, at, self.tolerances["idle_passes"]))
         elif rc == k.ERR_TOO_MANY:

@@ -51,7 +51,7 @@ What the stepper does
   removed (event "capture", ``dE`` the energy removed; ``capture=False`` raises instead).
 * **Never silently wrong**: non-finite state, a law without solution, a missed event, a
   search or an integration that does not converge, unsupported persistent motion,
-  ``stall_events`` events at one instant, or ``idle_passes`` passes of the loop in a row
+  ``stall_events`` passes of the loop at one instant, or ``idle_passes`` passes of the loop in a row
   with no event raise ``SimulationError``/``NoSolutionError`` with
   the partial result as ``exc.result``; ``max_events`` stops early with status
   "max_events" and a ``RuntimeWarning``.
@@ -90,7 +90,7 @@ TOLERANCES_3D = {
     "simul_max_iter": (100_000, "-", "joint solve: maximum number of sweeps"),
     "seq_vtol": (1e-12, "m/s", "sequential policy: a contact approaches when v_N < -seq_vtol"),
     "seq_max_steps": (1000, "-", "sequential policy: maximum resolutions at one instant"),
-    "stall_events": (10_000, "-", "maximum consecutive events at one instant"),
+    "stall_events": (10_000, "-", "maximum consecutive passes of the event loop at one instant"),
     "idle_passes": (10_000_000, "-", "maximum consecutive passes of the event loop that "
                     "record no event (integrated motion, bounded searches): beyond it the "
                     "run stops with status 'idle' instead of running on without end; "
@@ -542,8 +542,8 @@ class Simulation3D:
                 self.tolerances["rest_length"]))
         elif rc == k.ERR_STALL:
             exc = SimulationError(f"the run stalls {at}: more than stall_events = "
-                                  f"{self.tolerances['stall_events']} consecutive events at "
-                                  f"one instant")
+                                  f"{self.tolerances['stall_events']} consecutive passes of "
+                                  f"the event loop at one instant")
         elif rc == k.ERR_IDLE:
             exc = SimulationError(idle_message(result, at, self.tolerances["idle_passes"]))
         elif rc == k.ERR_TOO_MANY:

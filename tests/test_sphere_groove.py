@@ -231,7 +231,7 @@ def _enter(n1, n2, r, mu, u=0.3, spin=(0.4, -0.2, 0.1)):
     err = np.zeros(k.N_ERR)
     rc = k._groove_enter(0, 0, 1, 0.0, st, bflt, planes, np.array([0.0, 0.0, -G]), law_par,
                          bp_law, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, k.MAXC - 1, err)
-    return rc, st[0], pm[0], int(cnt[0]), e, d, rho
+    return rc, st[0], pm[0], int(cnt[evbuf.CN_EVENTS]), e, d, rho
 
 
 @pytest.mark.parametrize("beta, tilt", [(0.5, 0.2), (0.3, 0.25), (0.9, 0.1), (0.6, -0.3)])
