@@ -513,7 +513,8 @@ class Simulation3D:
                          "on a face or side, or a sphere still bouncing on the second): "
                          "persistent contact with two planes at once",
                     5.0: "motion at three or more features on two planes, or at one "
-                         "corner touching both, faster than the accumulation speed or "
+                         "corner touching both with friction (a corner pinned in a "
+                         "groove's crease), faster than the accumulation speed or "
                          "with no rest in the friction cones",
                     4.0: "a sphere slipping along the groove of two planes (rolling on both "
                          "needs more friction, or its contact points slip faster than the "

@@ -436,6 +436,21 @@ def test_3d_corner_left_on_a_wall_at_zero_normal_speed_does_not_stall():
     assert row.verdict == "OK", row.note
 
 
+@pytest.mark.parametrize("seed, why", [
+    (944403545, "a frictionless box sliding on one groove face into the crease: its edge's "
+                "impact on the other plane was resolved without the held face, whose "
+                "projection drove the edge back at once (1500 impacts at one instant)"),
+    (3296689687, "a frictionless box tumbling on one corner in the groove's crease: now "
+                 "held on both planes at that corner (two sliding contacts at one point)"),
+])
+def test_3d_box_in_a_groove_crease(seed, why):
+    """3D boxes in a V-groove's crease that stalled or were refused ("motion at three or
+    more features on two planes, or at one corner touching both ... is not supported")."""
+    row = run_drop(3, seed)
+    assert row.verdict == "OK", (why, row.note)
+    assert row.penetration <= row.pen_tol
+
+
 @pytest.mark.parametrize("seed,why", [
     (2574756275, "a plastic impact leaves -1.1e-16 m/s at a vertex of a polygon spinning at "
                  "19 rad/s; the impulse of the next 'impact' no longer changes the state"),
