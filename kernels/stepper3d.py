@@ -102,6 +102,13 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   error control (``contact_tol``) until a feature lifts off ("release"), a contact starts or
   stops slipping ("slide", "stick"), or another feature hits a plane (an impact, with the
   held features in its cluster). Sliding contacts whose slip falls to ``slip_eps`` stick.
+* One corner in the crease of two frictionless planes: held on both (two sliding
+  contacts at one point, each with its own normal; with friction both would stick at
+  once, a pinned point that the two-contact stick does not build: ``ERR_UNSUPPORTED``).
+* A box or capsule held on a face or side (or at rest on two planes) that hits another
+  plane takes the features touching its held plane into the impact and is in flight
+  after it: what persists is decided as for any body after an impact (a box sliding on
+  one groove plane into the crease ends held on its face and edge).
 * The same at three to eight features on two planes (a box's edge or face on one groove
   plane and a corner or an edge on the other, a capsule's caps on both, a corner in the crease
   counted once per plane; ``_pivot_gathered``) when no rest holds the body (below):
@@ -2489,9 +2496,11 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
     """Features of body i (in flight) that touch a plane pushing it with a normal speed
     below the accumulation speed while their gap accelerates into it: impacts would
     accumulate there. Returns (plane, count, first feature row, plane of the second,
-    second feature row, unsupported?, walls): one plane with any count, or two features
-    on two planes (a groove, a corner); more features on two or more planes, or one sharp
-    corner on two planes (a single point held twice), are unsupported. With one feature,
+    second feature row, several?, walls): one plane with any count, or two features on
+    two planes (a groove, a corner); more features on two or more planes, or one sharp
+    corner on two planes (a single point held twice), are "several" (``_after_impact``:
+    a rest, a held motion at three or more points, or the corner held on both planes when
+    both are frictionless; else unsupported). With one feature,
     or two on one plane (a capsule on both caps), ``walls`` holds the wall candidates
     (``_second_plane``), else ``NO_WALLS``.
     Planes gravity does not press (walls) are searched only when no pressed plane has a
@@ -3731,9 +3740,28 @@ def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
                 vsc = max(vsc, _speed_scale(st, bflt, grav, c_i[c, CI_A] if side == 0 else
                                             c_i[c, CI_B]))
     if not converged and not dmax <= tolf[TF_SIMUL_TOL] + SIMUL_ACCEPT_RTOL * vsc:
+        # the plastic problem (no restitution target) of the same contacts: when it solves,
+        # friction jams them (3:526051317, a box's corner in a groove's crease at mu = 10;
+        # 3:1527272399, a capsule on the floor against a wall): Newton's restitution has
+        # no solution there in general (2D proves it by enumeration, _joint's enumerate2d;
+        # a Python enumeration of every stick/slip/lift-off mode of these two found none at
+        # e = 0.3 and a continuum at e = 0). Reported (err[8] = 1), not decided here.
+        jam = 0.0
+        v0 = np.empty(n3)
+        mus = np.empty(K)
+        t0 = np.zeros(n3)
+        P0 = np.zeros(n3)
+        for a in range(K):
+            c = members[a]
+            mus[a] = law_par[c_i[c, CI_LAW], P_MU]
+            for j in range(3):
+                v0[3 * a + j] = c_f[c, CF_VI + j]
+        if joint_polish(Wb, v0, t0, mus, P0, K, tol) or stick_sets(Wb, v0, t0, mus, P0, K,
+                                                                      tol):
+            jam = 1.0
         c = members[0]
         _set_err(err, t, c_i[c, CI_A], _bcode(c_i, c), c_f[c, CF_P], c_f[c, CF_P + 1],
-                 c_f[c, CF_P + 2], K, dmax, 0.0)
+                 c_f[c, CF_P + 2], K, dmax, jam)
         return ERR_PGS
     for a in range(K):
         c = members[a]

@@ -486,6 +486,14 @@ class Simulation3D:
         elif rc == k.ERR_SEQ:
             exc = SimulationError(f"sequential policy: contacts of {body} still approach after "
                                   f"seq_max_steps = {int(err[7])} resolutions {at}")
+        elif rc == k.ERR_PGS and err[8] == 1.0:
+            exc = SimulationError(
+                f"simultaneous policy: {int(err[6])} contacts of {body} {at} jam: no "
+                f"solution of their joint Newton-restitution/Coulomb impact found (projected "
+                f"Gauss-Seidel, the semismooth Newton polish and every sticking set tried), "
+                f"while the plastic problem (e = 0) of the same contacts has one: friction "
+                f"locks them, where Newton's restitution generally has no solution; "
+                f"policy='sequential' resolves them one at a time")
         elif rc == k.ERR_PGS:
             exc = SimulationError(f"simultaneous policy: the joint solve of {int(err[6])} "
                                   f"contacts of {body} {at} did not reach simul_tol in "

@@ -9,49 +9,60 @@ process compiles them one after the other on one core; ``conftest`` runs this sc
 into the cache, where the suite then loads them. It changes no result: a compile the
 warm-up misses happens in the test that needs it, as before.
 
-``python tests/_prewarm.py K N`` runs the tasks ``K, K + N, K + 2N, ...`` of ``TASKS``
-(the heaviest first, so that the shares balance) and prints one line per task (its wall
-seconds).
+``python tests/_prewarm.py K N`` runs worker K's share of ``TASKS`` among N workers
+(``share``: split by each task's measured compile time, so that the shares balance) and
+prints one line per task (its wall seconds).
 """
 import sys
 import time
 
-#: (kind, dimension, argument): "loop" runs a small scene on the general loop and samples it
-#: (the loop, its sampler); "gas" (law, sleep) runs a small gas of that law and sleep
-#: option; "batch" resolves a few contacts with every law (``Law.resolve_batch``); "scene"
-#: runs scene k of ``test_loop_kinds.SCENES`` on its scene loop; "test" (module, function,
-#: arguments) calls a test without fixtures whose compiles are its own (the pair kernels'
-#: known poses, the scene loops of the pay-for-what-you-use rows and of the disk-only
-#: switch). Ordered by decreasing
-#: compile time (measured on the development machine: a general loop 150-250 s, a gas
-#: entry 40-100 s, the batch kernels of one dimension about 50 s, a scene loop 15-35 s);
-#: the workers take every n-th task.
+#: (kind, dimension, argument, seconds): "loop" runs a small scene on the general loop and
+#: samples it (the loop, its sampler); "gas" (law, sleep) runs a small gas of that law and
+#: sleep option; "batch" resolves a few contacts with every law (``Law.resolve_batch``);
+#: "scene" runs scene k of ``test_loop_kinds.SCENES`` on its scene loop; "test" (module,
+#: function, arguments) calls a test without fixtures whose compiles are its own (the pair
+#: kernels' known poses, the scene loops of the pay-for-what-you-use rows and of the
+#: disk-only switch). The seconds are each task's compile time in a clean-clone CI run
+#: (session 27, a 2-core machine, two workers): ``share`` splits the tasks between the
+#: workers by them (longest first, each to the least loaded worker).
 TASKS = (
-    ("loop", 3, None),
-    ("loop", 2, None),
-    ("gas", 2, ("kane_levinson", True)),
-    ("gas", 3, ("kane_levinson", True)),
-    ("gas", 2, ("kane_levinson", False)),
-    ("gas", 3, ("kane_levinson", False)),
-    ("batch", 2, None),
-    ("gas", 2, ("chatterjee_ruina", True)),
-    ("batch", 3, None),
-    ("gas", 2, ("smith", False)),
-    ("scene", 3, 4),
-    ("scene", 3, 5),
-    ("scene", 2, 1),
-    ("scene", 2, 2),
-    ("scene", 3, 3),
-    ("scene", 2, 0),
-    ("test", 3, ("test_pair3d", "test_features_of_known_poses", {})),
+    ("loop", 3, None, 323),
+    ("loop", 2, None, 175),
+    ("gas", 3, ("kane_levinson", True), 86),
+    ("gas", 2, ("kane_levinson", True), 67),
+    ("gas", 2, ("kane_levinson", False), 59),
+    ("gas", 3, ("kane_levinson", False), 52),
     ("test", 2, ("test_bench", "test_pay_only_for_what_is_used_a_2d_scene_touches_no_3d_kernel",
-                 {})),
+                 {}), 50),
+    ("test", 3, ("test_pair3d", "test_features_of_known_poses", {}), 49),
+    ("scene", 3, 5, 44),
+    ("batch", 2, None, 31),
+    ("scene", 3, 3, 22),
     ("test", 2, ("test_shapes_switch2d", "test_disk_loop_is_the_general_loop",
-                 {"vx": 1.0, "mu": 0.3, "e": 0.8})),
-    ("test", 2, ("test_shapes_switch2d", "test_disk_loop_refuses_other_shapes", {})),
+                 {"vx": 1.0, "mu": 0.3, "e": 0.8}), 22),
+    ("scene", 3, 4, 20),
+    ("scene", 2, 2, 20),
+    ("batch", 3, None, 19),
+    ("scene", 2, 1, 16),
+    ("test", 2, ("test_shapes_switch2d", "test_disk_loop_refuses_other_shapes", {}), 15),
+    ("scene", 2, 0, 13),
     ("test", 3, ("test_bad_input", "test_resolve_refuses_a_contact_whose_energy_overflows",
-                 {"d": 3})),
+                 {"d": 3}), 4),
 )
+
+
+def share(k, n):
+    """Worker k's tasks of ``n``: the longest-processing-time split of ``TASKS`` by their
+    seconds (each task, longest first, to the worker with the least work so far; ties to
+    the lowest worker), in that order."""
+    load = [0.0] * n
+    mine = []
+    for task in sorted(TASKS, key=lambda task: -task[3]):
+        w = min(range(n), key=lambda j: (load[j], j))
+        load[w] += task[3]
+        if w == k:
+            mine.append(task)
+    return mine
 
 
 def _loop(dim):
@@ -79,9 +90,8 @@ def _loop(dim):
 
 def _gas(dim, law, sleep):
     from rbimpact.manybody import random_gas, run_gas
-    params = {"mu": 0.3} if law == "chatterjee_ruina" else {}
     s = random_gas(8, dim=dim, packing=0.05, law=law, e=0.7, gravity=1.0 if sleep else 0.0,
-                   seed=0, **params)
+                   seed=0)
     run_gas(s, max_impacts=50, sleep=sleep)
 
 
@@ -109,10 +119,10 @@ def _test(module, function, kwargs):
 
 
 def main(k, n):
-    """Run tasks k, k + n, ...; a task that fails is reported and the next one runs (its
+    """Run worker k's share of the tasks (of n workers, ``share``); a task that fails is reported and the next one runs (its
     test, run by pytest afterwards, reports the failure). Returns the number failed."""
     failed = 0
-    for kind, dim, arg in TASKS[k::n]:
+    for kind, dim, arg, _ in share(k, n):
         t0 = time.perf_counter()
         what = "" if arg is None else arg[:2] if kind == "test" else arg
         try:

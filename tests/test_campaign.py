@@ -451,6 +451,23 @@ def test_3d_box_in_a_groove_crease(seed, why):
     assert row.penetration <= row.pen_tol
 
 
+@pytest.mark.parametrize("seed", [526051317, 1527272399])
+def test_3d_jammed_simultaneous_impact_names_the_jam(seed):
+    """Newton restitution at frictional contacts that jam (mu = 10, e = 0.3: a box's corner
+    in a groove's crease; a capsule on the floor against a wall): the joint solve finds no
+    solution -- an enumeration of every stick/slip/lift-off mode found none, and a
+    continuum for the plastic problem -- and says so, naming the jam and the sequential
+    policy, instead of "did not reach simul_tol". Still a FAIL: nothing proves, in 3D,
+    that no solution exists."""
+    from rbimpact.errors import SimulationError
+    sim, t_end, max_events = build_scene(draw_scene(3, seed))
+    with pytest.raises(SimulationError) as info:
+        sim.run(t_end, max_events=max_events)
+    msg = str(info.value)
+    assert "jam" in msg and "policy='sequential'" in msg
+    assert "the plastic problem (e = 0) of the same contacts has one" in msg
+
+
 @pytest.mark.parametrize("seed,why", [
     (2574756275, "a plastic impact leaves -1.1e-16 m/s at a vertex of a polygon spinning at "
                  "19 rad/s; the impulse of the next 'impact' no longer changes the state"),
