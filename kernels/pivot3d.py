@@ -1096,15 +1096,21 @@ def pivot_next_event(pw, cp, fw, feats, f0, nf, planes, skip, S, t0, rtol, atol,
 
 @njit(cache=True)
 def sample_segments(seg_t, seg_s, start, stop, rk, axis, I1, I2, I3, rot_tol, contact_tol,
-                    max_steps, times, order, out, col, ws, pw, fw, pose):
+                    max_steps, times, order, out, col, ws, pw, pwck, fw, pose, curbox):
     """Evaluate one body's piecewise motion at ``times[order]`` (``order`` sorts them) into
     ``out[k, col, 0:13]`` (x, q, v, w): closed-form or integrated flight segments
     (``flight3d.pose_at``) and integrated-contact segments (``seg_s[r, 19] == 1``, contact
     parameters in ``seg_s[r, 20:]``), each re-integrated from its start exactly as in the
-    run. ``ws``, ``pw``, ``fw``, ``pose`` are scratch. Returns 0, or 1 on integrator
-    failure."""
+    run. ``fw`` and ``pose`` are scratch; ``ws`` and ``pw`` are the integrators of segment
+    row ``curbox[0]`` (-1: none) and are kept from one call to the next: a later time in
+    the same segment steps on from where the last call stopped. ``pwck`` keeps the
+    integrated contact's state at the step of the time evaluated before the last forward
+    move (``pwck[PW_H] <= 0``: none): an earlier time at or after that step resumes from
+    it (a minimiser's probes go back and forth within a small bracket), an earlier one
+    restarts the segment. The steps do not depend on the times asked, so the values are
+    the same bit for bit. Returns 0, or 1 on integrator failure."""
     n = stop - start
-    cur = -1
+    cur = curbox[0]
     for kk in range(times.shape[0]):
         k = order[kk]
         t = times[k]
@@ -1126,16 +1132,28 @@ def sample_segments(seg_t, seg_s, start, stop, rk, axis, I1, I2, I3, rot_tol, co
             cp = seg_s[r, 20:]
             if r != cur:
                 pivot_start(pw, seg_s[r], cp, contact_tol, max_steps)
+                pwck[PW_H] = 0.0
                 cur = r
+                curbox[0] = r
+            if s < pw[PW_S0]:
+                if pwck[PW_H] > 0.0 and s >= pwck[PW_S0]:
+                    for j in range(N_PW):
+                        pw[j] = pwck[j]
+            elif pw[PW_H] > 0.0 and s > pw[PW_S0] + pw[PW_H]:
+                for j in range(N_PW):
+                    pwck[j] = pw[j]
             rc = pivot_eval(pw, cp, fw, s, pose)
             if rc != PI_OK:
+                curbox[0] = -1
                 return 1
         else:
             if r != cur:
                 ws[0] = -1.0
                 cur = r
+                curbox[0] = r
             rc = pose_at(seg_s[r], rk, axis, I1, I2, I3, ws, s, rot_tol, max_steps, pose)
             if rc != 0:
+                curbox[0] = -1
                 return 1
         for m in range(13):
             out[k, col, m] = pose[m]

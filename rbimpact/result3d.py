@@ -153,19 +153,26 @@ class Result3D(ResultBase):
         self._check_kept(t, idx, "sample")
         out = np.empty((t.size, idx.size, 13))
         order = np.argsort(t, kind="stable")
-        ws = np.zeros(N_WS)
-        pw = np.zeros(N_PW)
         fw = np.zeros(N_FW)
         pose = np.zeros(19)
         rot_tol = float(self.tolerances.get("rot_tol", 1e-12))
         contact_tol = float(self.tolerances.get("contact_tol", 1e-10))
         max_steps = int(self.tolerances.get("rot_max_steps", 10_000_000))
+        # each body's integrators are kept between calls: sampling a held (integrated)
+        # motion one time after another, as a minimiser does, steps on instead of
+        # re-integrating its segment from the start every call (the same values)
+        keep = self.__dict__.setdefault("_integrators", {})
         for col, i in enumerate(idx):
             rk, axis = self._rotation[i]
             I1, I2, I3 = self.inertias[i]
+            if i not in keep:
+                keep[i] = (np.zeros(N_WS), np.zeros(N_PW), np.zeros(N_PW),
+                           np.full(1, -1, np.int64))
+            ws, pw, pwck, cur = keep[i]
             rc = sample_segments(self._seg_t, self._seg_s, self._seg_start[i],
                                  self._seg_start[i + 1], rk, axis, I1, I2, I3, rot_tol,
-                                 contact_tol, max_steps, t, order, out, col, ws, pw, fw, pose)
+                                 contact_tol, max_steps, t, order, out, col, ws, pw, pwck, fw,
+                                 pose, cur)
             if rc != 0:
                 raise SimulationError(f"sample: the integrator of body {i} failed (step "
                                       f"limit rot_max_steps = {max_steps})")

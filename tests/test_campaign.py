@@ -31,6 +31,8 @@ KNOWN_OPEN = {
         r"impacts accumulate at a single contact point of body \d+ \(\w+\) on plane",
     "a body held by two planes or two bodies (chatter, stalls)":
         r"the run stalls|status 'max_events'|did not reach simul_tol|still approach after",
+    "3D Newton restitution at frictional contacts that jam (the plastic problem solves)":
+        r"jam: no solution of their joint Newton-restitution/Coulomb impact found",
     "a body held by two planes: drift into or a missed event at the second plane":
         r"penetration .* in plane [1-9]|missed event|time-of-impact search",
     "pivot that has no consistent contact force": r"no consistent|pivot integrator reached",

@@ -64,7 +64,7 @@ def _passes_needed(make, t_end):
     return hi
 
 
-@pytest.mark.parametrize("make, t_end", [(_rocking_ellipse, 20.0), (_rolling_pair, 20.0)],
+@pytest.mark.parametrize("make, t_end", [(_rocking_ellipse, 5.0), (_rolling_pair, 20.0)],
                          ids=["2d-rocking-ellipse", "3d-rolling-pair"])
 def test_a_run_that_records_no_event_stops_with_status_idle(make, t_end):
     full = make().run(t_end)
