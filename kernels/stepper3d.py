@@ -2565,6 +2565,23 @@ def _persist_candidates(i, st, bint, bflt, feats, planes, grav, bp_off, tolf):
 
 
 @njit(cache=True)
+def _touches_another(i, p, st, bint, bflt, feats, planes, grav, bp_off, tolf):
+    """Does a feature of body i touch (within gap_tol) another plane than p that gravity
+    presses (the other plane of a groove; a wall is left to the face rest's own tests)?"""
+    f0 = bint[i, B_FIRST]
+    rad = bflt[i, B_RADIUS]
+    for q in range(planes.shape[0]):
+        if q == p or bp_off[i, q] != 0:
+            continue
+        if not planes[q, 0] * grav[0] + planes[q, 1] * grav[1] + planes[q, 2] * grav[2] < 0.0:
+            continue
+        for k in range(bint[i, B_COUNT]):
+            if _feature_contact(st, i, feats, f0 + k, planes, q, rad)[0] <= tolf[TF_GAP_TOL]:
+                return True
+    return False
+
+
+@njit(cache=True)
 def _second_plane(i, st, bint, bflt, feats, planes, p, acc1, bp_off, tolf):
     """Wall candidates of body i while features of it are held on plane p: features
     touching a plane other than p (gravity need not press it) within gap_tol, with a normal
@@ -4122,6 +4139,24 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
             face, hr, ux, uy, uz = _rest_face(i, p, st, bint, bflt, planes)
             eex, eab = _excess(i, p, st, bint, bflt, planes, grav, hr)
             small = eex < 0.5 * bflt[i, B_MASS] * _vz2(tolf, -gn)
+            if (small or (K >= 3 and capture_on)) and _touches_another(
+                    i, p, st, bint, bflt, feats, planes, grav, bp_off, tolf):
+                # a face on p while touching the groove's other plane (at its crease): the
+                # snap onto p alone would turn the body into that plane (3:3320154933 went
+                # 1.2e-9 m into it, 'done'); it rests on both, or is held at all those
+                # points, or the run stops
+                rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                 bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
+                if rc != 1:
+                    return rc
+                rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                     bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f,
+                                     cnt, c_f, cw, Ii, err, pivot)
+                if rc != 1:
+                    return rc
+                _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
+                         0.0)
+                return ERR_UNSUPPORTED
             if small or (K >= 3 and capture_on):
                 rc = _settle(i, p, t, st, bint, bflt, planes, grav, law_par, bp_law, pm, ttr,
                              not small, ev_t, ev_i, ev_f, cnt, c_f, cw, tolf, err)

@@ -444,6 +444,9 @@ def test_3d_corner_left_on_a_wall_at_zero_normal_speed_does_not_stall():
                 "projection drove the edge back at once (1500 impacts at one instant)"),
     (3296689687, "a frictionless box tumbling on one corner in the groove's crease: now "
                  "held on both planes at that corner (two sliding contacts at one point)"),
+    (3320154933, "a box settling on a groove face while its edge touched the other plane: "
+                 "the snap onto the face (capture) turned the edge 1.2e-9 m into that plane, "
+                 "'done'; it is now held on both"),
 ])
 def test_3d_box_in_a_groove_crease(seed, why):
     """3D boxes in a V-groove's crease that stalled or were refused ("motion at three or
