@@ -3625,6 +3625,20 @@ def _speed_scale(st, bflt, grav, j):
 
 
 @njit(cache=True)
+def _joint_v0_mu(members, K, c_i, c_f, law_par):
+    """The joint solve's pre-impact contact velocities (3 K, m/s: each contact's N, T1, T2)
+    and friction coefficients (K) for its fallbacks (allocated: not the per-event path)."""
+    v0 = np.empty(3 * K)
+    mus = np.empty(K)
+    for a in range(K):
+        c = members[a]
+        mus[a] = law_par[c_i[c, CI_LAW], P_MU]
+        for j in range(3):
+            v0[3 * a + j] = c_f[c, CF_VI + j]
+    return v0, mus
+
+
+@njit(cache=True)
 def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii, tolf, toli,
            ev_t, ev_i, ev_f, cnt, err):
     """Simultaneous policy: Newton restitution + Coulomb friction solved jointly over the
@@ -3731,13 +3745,7 @@ def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
         # iterate (joint_polish), else from each set of sticking contacts (stick_sets:
         # PGS drifts along the null space of redundant contacts); the velocities follow
         # from the polished impulses
-        v0 = np.empty(n3)
-        mus = np.empty(K)
-        for a in range(K):
-            c = members[a]
-            mus[a] = law_par[c_i[c, CI_LAW], P_MU]
-            for j in range(3):
-                v0[3 * a + j] = c_f[c, CF_VI + j]
+        v0, mus = _joint_v0_mu(members, K, c_i, c_f, law_par)
         if joint_polish(Wb, v0, tb, mus, Pb, K, tol) or stick_sets(Wb, v0, tb, mus, Pb, K, tol):
             converged = True
             for a in range(n3):
@@ -3764,15 +3772,9 @@ def _joint(members, K, t, st, bflt, grav, law_par, c_i, c_f, Wb, Pb, vb, tb, Ii,
         # a Python enumeration of every stick/slip/lift-off mode of these two found none at
         # e = 0.3 and a continuum at e = 0). Reported (err[8] = 1), not decided here.
         jam = 0.0
-        v0 = np.empty(n3)
-        mus = np.empty(K)
+        v0, mus = _joint_v0_mu(members, K, c_i, c_f, law_par)
         t0 = np.zeros(n3)
         P0 = np.zeros(n3)
-        for a in range(K):
-            c = members[a]
-            mus[a] = law_par[c_i[c, CI_LAW], P_MU]
-            for j in range(3):
-                v0[3 * a + j] = c_f[c, CF_VI + j]
         if joint_polish(Wb, v0, t0, mus, P0, K, tol) or stick_sets(Wb, v0, t0, mus, P0, K,
                                                                       tol):
             jam = 1.0
