@@ -757,18 +757,9 @@ def _worst_pair_gap(sim, res, t, s, i, j, n_minima):
     times ``t`` (states ``s``), each of its ``n_minima`` smallest local minima refined by a
     bounded minimisation between the neighbouring samples (a sampled dip can miss its
     bottom)."""
-    from scipy.optimize import minimize_scalar
+    from .stability import refine_minima
     g = np.array([pair_gap(sim, s, k, i, j) for k in range(len(t))])
-    worst = float(g.min())
-    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
-    for k in loc[np.argsort(g[loc])][:n_minima]:
-        lo, hi = t[k - 1], t[k + 1]
-        if hi > lo:
-            r = minimize_scalar(lambda tt: pair_gap(sim, res.sample([tt]), 0, i, j),
-                                bounds=(lo, hi), method="bounded",
-                                options={"xatol": 1e-15 * max(1.0, abs(hi))})
-            worst = min(worst, float(r.fun))
-    return worst
+    return refine_minima(t, g, lambda tt: pair_gap(sim, res.sample([tt]), 0, i, j), n_minima)
 
 
 def pair_gap(sim, s, k, i=0, j=1):
@@ -839,7 +830,6 @@ def check_pair_result(spec, sim, res, note):
     ``ENERGY_RTOL`` of ``K0 + sum m |g| L``), and in zero gravity the linear and angular
     momentum kept to ``MOMENTUM_RTOL``. Returns ``(problems, penetration, pen_tol,
     energy_gain)``."""
-    from scipy.optimize import minimize_scalar
     from .kernels.codes import PM_CLUSTER
     from .stability import NEVER_GAIN, _energy_from_sample, kinetic_from_sample
     problems = []

@@ -1342,29 +1342,29 @@ def _sample_times(res, n):
     return np.unique(np.clip(t, t0, t1))
 
 
-def _refine(res, sim, dim, key, t, g):
-    """Bounded minimisation of one gap around its REFINE_MINIMA smallest sampled local
-    minima (the sampled minimum of a smooth dip can miss its true bottom)."""
+def refine_minima(t, g, gap_at, n_minima):
+    """The smallest of the sampled gaps ``g`` (m, at the sorted times ``t``) and of the
+    bottoms of its ``n_minima`` smallest local minima, each refined by a bounded
+    minimisation of ``gap_at(time)`` between the neighbouring samples (the sampled minimum
+    of a smooth dip can miss its true bottom)."""
     from scipy.optimize import minimize_scalar
-    n = len(t)
-    if n < 3:
-        return float(g.min())
-    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
-    loc = loc[np.argsort(g[loc])][:REFINE_MINIMA]
     best = float(g.min())
-
-    def gap(tt):
-        s = res.sample([tt])
-        gg = (_gaps_2d if dim == 2 else _gaps_3d)(sim, s)
-        return float(gg[key][0])
-    for k in loc:
+    loc = np.where((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:]))[0] + 1
+    for k in loc[np.argsort(g[loc])][:n_minima]:
         lo, hi = t[k - 1], t[k + 1]
-        if hi <= lo:
-            continue
-        r = minimize_scalar(gap, bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-15 * max(1.0, abs(hi))})
-        best = min(best, float(r.fun))
+        if hi > lo:
+            r = minimize_scalar(gap_at, bounds=(lo, hi), method="bounded",
+                                options={"xatol": 1e-15 * max(1.0, abs(hi))})
+            best = min(best, float(r.fun))
     return best
+
+
+def _refine(res, sim, dim, key, t, g):
+    """One body-plane gap (``key``) refined around its REFINE_MINIMA smallest sampled local
+    minima (``refine_minima``)."""
+    def gap(tt):
+        return float((_gaps_2d if dim == 2 else _gaps_3d)(sim, res.sample([tt]))[key][0])
+    return refine_minima(t, g, gap, REFINE_MINIMA)
 
 
 def run_scene(sc, quick=False):
