@@ -647,6 +647,7 @@ def _event(w, yo, e, verts, v0, nv, planes, p0, k0):
 def _floor(w, e, v):
     """Firing level of event e for a step starting at value v (see the module docstring)."""
     L = w[CP_L]
+    gap = False
     if e == EF_LAM or e == EF_LAM2:
         arm = FORCE_ARM * w[CP_M] * math.hypot(w[CP_GN], w[CP_GT])
     elif e == EF_TURN:
@@ -660,13 +661,13 @@ def _floor(w, e, v):
             arm = SLIP_ARM * w[CP_V]
     else:
         arm = GAP_ARM * L
-        if v > arm:
-            return 0.0
-        fl = min(0.0, v) - arm
-        return fl if v <= -GAP_FLOOR * L else max(fl, -GAP_FLOOR * L)
+        gap = True
     if v > arm:
         return 0.0
-    return min(0.0, v) - arm
+    fl = min(0.0, v) - arm
+    if gap and v > -GAP_FLOOR * L:
+        return max(fl, -GAP_FLOOR * L)     # a gap starting above -GAP_FLOOR L
+    return fl
 
 
 @njit(cache=True, _nrt=False)

@@ -111,7 +111,7 @@ Persistent contact and accumulation (the 3D version of ``stepper2d``'s rules):
   one groove plane into the crease ends held on its face and edge).
 * The same at three to eight features on two planes (a box's edge or face on one groove
   plane and a corner or an edge on the other, a capsule's caps on both, a corner in the crease
-  counted once per plane; ``_pivot_gathered``) when no rest holds the body (below):
+  counted once per plane; ``_rest_or_gathered``) when no rest holds the body (below):
   ``pivot3d`` with up to ``KMAX`` = 8 contacts (dependent ones share their force by
   minimum norm). A third contact that sticks while two others do stops the body
   (``_pv_still``); it then rests there when forces in the cones hold it (``_pv_rests``,
@@ -3994,12 +3994,16 @@ def _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_o
 
 
 @njit(cache=True)
-def _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm, ttr,
-                    tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
-    """Body i (in flight after the impacts at t, no rest found) has impacts accumulating at
-    three or more features on two planes: it is held at all of them (``_pv_gather``,
-    ``_pivot_hold``) when they are at most ``KMAX``. Returns ``_pivot_hold``'s code, or 1
-    (not held: nothing changed)."""
+def _rest_or_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm,
+                      ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot):
+    """Body i (in flight after the impacts at t) has impacts accumulating at three or more
+    features on two planes: it rests there (``_wedge_rest``), or, still moving, is held at
+    all of them (``_pv_gather``, ``_pivot_hold``) when they are at most ``KMAX``. Returns
+    ``_wedge_rest``'s or ``_pivot_hold``'s code, or 1 (neither: nothing changed)."""
+    rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, pm,
+                     ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
+    if rc != 1:
+        return rc
     if pivot is None:
         return _not_compiled(err, t, i, FEATURE_PIVOT)
     if _pv_gather(i, st, bint, bflt, feats, planes, grav, law_par, bp_law, bp_off, tolf,
@@ -4077,17 +4081,12 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                         return rc
                 else:
                     # a box or capsule on a face or side of p touching q too (a face on one
-                    # groove plane, an edge on the other): a rest on both when consistent
-                    rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par,
-                                     bp_law, bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f,
-                                     cw)
-                    if rc != 1:
-                        return rc
-                    # still moving (a capsule's side on p, a cap on q): held at all those
+                    # groove plane, an edge on the other): a rest on both when consistent;
+                    # still moving (a capsule's side on p, a cap on q), held at all those
                     # points when they are at most KMAX (integrated contact)
-                    rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
-                                         bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
-                                         ev_f, cnt, c_f, cw, Ii, err, pivot)
+                    rc = _rest_or_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                           bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t,
+                                           ev_i, ev_f, cnt, c_f, cw, Ii, err, pivot)
                     if rc != 1:
                         return rc
                     # fewer than three features accumulate (the other plane's contacts part
@@ -4110,14 +4109,10 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
         p, K, k1, p2, k2, multi, walls = _persist_candidates(i, st, bint, bflt, feats,
                                                              planes, grav, bp_off, tolf)
         if multi:
-            rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
-                             bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
-            if rc != 1:
-                return rc
-            # still moving: held at all those points (integrated contact)
-            rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
-                                 bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt, c_f,
-                                 cw, Ii, err, pivot)
+            # a rest there, or, still moving, held at all those points (integrated contact)
+            rc = _rest_or_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
+                                   bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f, cnt,
+                                   c_f, cw, Ii, err, pivot)
             if rc != 1:
                 return rc
             if (K == 2 and k2 == k1 and p2 != p and law_par[bp_law[i, p], P_MU] == 0.0
@@ -4147,13 +4142,9 @@ def _after_impact(i, t, nc, st, bint, bflt, feats, planes, grav, law_par, bp_law
                 # snap onto p alone would turn the body into that plane (3:3320154933 went
                 # 1.2e-9 m into it, 'done'); it rests on both, or is held at all those
                 # points, or the run stops
-                rc = _wedge_rest(i, t, st, bint, bflt, feats, planes, grav, law_par, bp_law,
-                                 bp_off, pm, ttr, tolf, ev_t, ev_i, ev_f, cnt, c_f, cw)
-                if rc != 1:
-                    return rc
-                rc = _pivot_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
-                                     bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i, ev_f,
-                                     cnt, c_f, cw, Ii, err, pivot)
+                rc = _rest_or_gathered(i, t, st, bint, bflt, feats, planes, grav, law_par,
+                                       bp_law, bp_off, pm, ttr, tz, tolf, pv, fw, ev_t, ev_i,
+                                       ev_f, cnt, c_f, cw, Ii, err, pivot)
                 if rc != 1:
                     return rc
                 _set_err(err, t, i, -1 - p, st[i, SX], st[i, SX + 1], st[i, SX + 2], 3.0, 0.0,
