@@ -254,7 +254,8 @@ MODE_SLIP_NEG = -1  # sliding along -t
 MODE_LIFT = 2       # not active (mode selection's lift-off)
 
 # ---- sizes --------------------------------------------------------------------------------
-KMAX = 12           # active contacts at most (a stack of five boxes: 10)
+KMAX = 24           # active contacts at most (a stack of five boxes: 10; a chain of eight
+#                     dominoes leaning on each other: about 20)
 NMAX = 2 * KMAX     # force unknowns at most
 KSEL_MAX = 6        # contacts the full mode enumeration handles (4^6 combinations)
 DSEL_MAX = 2        # beyond KSEL_MAX: combinations that change at most DSEL_MAX (1 or 2) contacts
@@ -1142,9 +1143,12 @@ def cluster_project(bodies, contacts, nk, gx, gy, L, w, la):
 
 
 @njit(cache=True, _nrt=False)
-def _consistent(c, nk, w, la, nopt):
+def _consistent(c, nk, w, la, nopt, boundary):
     """The solved forces (la) consistent with the modes c[:nk, CC_MODE] (module doc)?
-    ``w[nopt + k]``: the number of options of contact k (4: it starts at vT = 0)."""
+    ``w[nopt + k]``: the number of options of contact k (4: it starts at vT = 0).
+    ``boundary``: a slip option from vT = 0 whose slip acceleration is zero (to ACC_TOL
+    |g|) is consistent too: a stick with its force on the cone's boundary (``_enumerate``'s
+    second pass)."""
     F = w[H_F]
     gl = w[H_G]
     atol = ACC_TOL * (gl if gl > 0.0 else w[H_V] * w[H_V] / w[H_L])
@@ -1166,7 +1170,8 @@ def _consistent(c, nk, w, la, nopt):
                 return False
         elif w[nopt + k] == 4.0:
             # starts to slip from vT = 0: it must accelerate along its slip
-            if not mode * la[o + LK_AT] > atol:
+            if not (mode * la[o + LK_AT] > atol
+                    or (boundary and mode * la[o + LK_AT] >= -atol)):
                 return False
     return True
 
@@ -1189,18 +1194,20 @@ def _option_mode(w, sv, nopt, k, opt):
 
 
 @njit(cache=True, _nrt=False)
-def _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
-    """Solve the forces in the modes of the table; consistent: forces written, True."""
+def _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt, boundary):
+    """Solve the forces in the modes of the table; consistent (``_consistent``): forces
+    written, True."""
     if _forces(bodies, contacts, nk, w, yo, la, ko) != CS_OK:
         return False
-    if not _consistent(contacts, nk, w, la, nopt):
+    if not _consistent(contacts, nk, w, la, nopt, boundary):
         return False
     _store_forces(contacts, nk, la)
     return True
 
 
 @njit(cache=True, _nrt=False)
-def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefer):
+def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefer,
+                 boundary):
     """``_enumerate`` beyond ``KSEL_MAX`` contacts: from the base combination (each
     contact's current mode when ``prefer`` and it is one of its options, else its first
     option: stick, or slip along its slip), the combinations that change one contact, then
@@ -1217,7 +1224,7 @@ def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefe
                     w[base + k] = o
                     break
         contacts[k, CC_MODE] = _option_mode(w, sv, nopt, k, int(w[base + k]))
-    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt, boundary):
         return CS_OK
     for d in range(1, min(DSEL_MAX, 2) + 1):
         # d contacts changed: k1 alone, then k1 with every later k2
@@ -1228,7 +1235,7 @@ def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefe
                     continue
                 contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, o1)
                 if d == 1:
-                    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+                    if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt, boundary):
                         return CS_OK
                     continue
                 for k2 in range(k1 + 1, nk):
@@ -1237,7 +1244,7 @@ def _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefe
                         if o2 == b2:
                             continue
                         contacts[k2, CC_MODE] = _option_mode(w, sv, nopt, k2, o2)
-                        if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+                        if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt, boundary):
                             return CS_OK
                     contacts[k2, CC_MODE] = _option_mode(w, sv, nopt, k2, b2)
             contacts[k1, CC_MODE] = _option_mode(w, sv, nopt, k1, b1)
@@ -1291,24 +1298,34 @@ def _enumerate(bodies, contacts, nk, gx, gy, L, w, la, kfix, mfix, prefer):
             w[sv + k] = 0.0
             w[nopt + k] = 4.0
         total *= int(w[nopt + k])
-    if nk > KSEL_MAX:
-        return _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix, prefer)
-    for d in range(nk + 1 if prefer else 1):
-        for combo in range(total):
-            r = combo
-            diff = 0
-            for kk in range(nk):
-                k = nk - 1 - kk            # the last contact varies fastest
-                no = int(w[nopt + k])
-                mode = _option_mode(w, sv, nopt, k, r % no)
-                r //= no
-                if mode != w[cur + k] and k != kfix:
-                    diff += 1
-                contacts[k, CC_MODE] = mode
-            if prefer and diff != d:
-                continue
-            if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt):
+    # a second pass accepts boundary sticks (_consistent): where the sticking contacts are
+    # statically indeterminate (a chain of dominoes coming to rest, each leaning on the
+    # next) the minimum-norm forces can put one outside its cone while a split inside
+    # every cone exists (_split_friction covers only the two ends of one face); a slip
+    # option with zero slip acceleration fixes that contact's friction on its cone
+    for boundary in (False, True):
+        if nk > KSEL_MAX:
+            cs = _search_near(bodies, contacts, nk, w, la, yo, ko, sv, nopt, cur, kfix,
+                              prefer, boundary)
+            if cs == CS_OK:
                 return CS_OK
+            continue
+        for d in range(nk + 1 if prefer else 1):
+            for combo in range(total):
+                r = combo
+                diff = 0
+                for kk in range(nk):
+                    k = nk - 1 - kk            # the last contact varies fastest
+                    no = int(w[nopt + k])
+                    mode = _option_mode(w, sv, nopt, k, r % no)
+                    r //= no
+                    if mode != w[cur + k] and k != kfix:
+                        diff += 1
+                    contacts[k, CC_MODE] = mode
+                if prefer and diff != d:
+                    continue
+                if _try_modes(bodies, contacts, nk, w, la, yo, ko, nopt, boundary):
+                    return CS_OK
     return CS_NO_MODE
 
 
@@ -1562,12 +1579,12 @@ def _at_rest(bodies, c, nk, w, la):
         if mode == MODE_LIFT:
             continue
         mu = c[k, CC_MU]
-        if mode != MODE_STICK and mu != 0.0:
-            return False
         ln = la[o + LK_LN]
         if not ln > FORCE_TOL * F:
             return False
-        if mu != 0.0 and not abs(la[o + LK_LT]) < mu * ln:
+        # a slip mode at rest (no slip, no acceleration below) is a boundary stick
+        # (_consistent), its force on the cone by construction
+        if mode == MODE_STICK and mu != 0.0 and not abs(la[o + LK_LT]) < mu * ln:
             return False
     for i in range(nb):
         if bodies[i, CB_FIXED] != 0.0:
@@ -1698,11 +1715,17 @@ def _phase_consistent(c, nk, w, la):
     """The forces just solved (la) consistent with the modes a
     phase starts in: every active ``lam_N >= -FORCE_ARM F``, every sticking force within
     ``FORCE_ARM F`` of its cone, every sliding contact's friction against its slip
-    (``sig vT >= -STICK_VTOL V``). The arms are the event functions' own: a phase that
-    starts beyond them would never see its event (an armed function fires only below its
-    start) and would integrate pulling or driving forces."""
+    (``sig vT >= -STICK_VTOL V``), or a slip that the mode reverses within the stop window
+    of the mode selection (``STOP_RTOL sqrt(L / |g|)``: it counted as stopping there, and
+    its acceleration along sig turns it within that window; the friction's work meanwhile
+    is below ``mu lam_N vT^2 / (2 |aT|)``). The arms are the event functions' own: a phase
+    that starts beyond them would never see its event (an armed function fires only below
+    its start) and would integrate pulling or driving forces."""
     F = w[H_F]
     V = w[H_V]
+    gl = w[H_G]
+    L = w[H_L]
+    window = STOP_RTOL * (math.sqrt(L / gl) if gl > 0.0 else L / V)
     for k in range(nk):
         mode = c[k, CC_MODE]
         if mode == MODE_LIFT:
@@ -1718,7 +1741,10 @@ def _phase_consistent(c, nk, w, la):
             if abs(la[o + LK_LT]) > mu * ln + FORCE_ARM * F:     # (mu = inf: never)
                 return False
         elif not mode * la[o + LK_VT] >= -STICK_VTOL * V:
-            return False
+            vt = la[o + LK_VT]
+            at = la[o + LK_AT]
+            if not (mode * at > 0.0 and abs(vt) <= abs(at) * window):
+                return False
     return True
 
 

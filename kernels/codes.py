@@ -45,6 +45,9 @@ PR_CHECK = 3         # 3D: ``pr_t[q]`` is not an impact but the time to search t
                      # again (a body of it held by an integrated contact: a distance bound)
 PR_REL = 4           # 2D: its persistent contact just ended (a cluster contact lifted at
                      # g = g' = g'' = 0): its next search starts past that tangency
+PR_WAIT = 5          # 2D: waits for the cluster entered at this instant (its bodies stay in
+                     # contact, or are both held by pivot contacts), searched again right
+                     # after the entry as a pair just hit (members: inside the cluster)
 # Reasons of ERR_PERSISTENT_PAIR (err[5], a float): the run stops, naming the pair, when
 PP_CHATTER = 1.0     # the impacts of a pair accumulate at one contact (re-contact within
                      # a rise of rest_length; round bodies: v_N^2 < 2 |g''| rest_length)

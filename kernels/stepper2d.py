@@ -213,7 +213,7 @@ from .codes import (ERR_CHATTER, ERR_CONTACT_STEPS, ERR_FAR_ACCUMULATION, ERR_JO
                    PAINLEVE_IMPACT, POL_SIMULTANEOUS, PP_CHATTER, PP_HELD, PP_TOGETHER,  # noqa: F401
                    PM_CLUSTER, PP_CLUSTER, PP_CORNER, PP_FEATURE, PP_NO_MODE, PP_REENTRY, PP_UNWATCHED, PP_SHAPES, PP_SPLIT, PP_STICK_SLIP,
                    PP_TWO,
-                   PR_HIT, PR_OFF, PR_ON, PR_REL, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
+                   PR_HIT, PR_OFF, PR_ON, PR_REL, PR_WAIT, RC_BUFFER_FULL, RC_DONE, RC_MAX_EVENTS)
 from .common import MODE_NO_SOLUTION, P_E, P_MU, REST_POISSON
 from . import cluster2d as cl
 from . import cluster2d_rows as clr
@@ -744,7 +744,8 @@ def _search_past(row, g3, M4, kind, px, py, rad, ea, eb, nx, ny, d, t0, S, tolf,
 
 @_inner
 def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz, zp,
-                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid, grav, cw, bmark):
+                    ttr, bp_t, pr_t, pr_off, tolf, toli, tmp, err, cid, grav, cw, bmark, ccon,
+                    law_par):
     """Next impact time of body pair q (states at t_now). Two disks: closed form
     (``toi2d.disk_disk_toi``); any other pair of shapes (``pgen``: the general pair switch,
     True, or None in a loop compiled for disk pairs only): ``pair2d_toi.pair_toi``; right
@@ -756,7 +757,7 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     if pr_off[q] == PR_OFF:
         pr_t[q] = INF
         return 0
-    hit = pr_off[q] == PR_HIT
+    hit = pr_off[q] == PR_HIT or pr_off[q] == PR_WAIT
     rel = pr_off[q] == PR_REL
     pr_off[q] = PR_ON
     a = pairs[q, 0]
@@ -768,33 +769,39 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
     inb = pm[b, M_MODE] == PM_CLUSTER
     if ina and inb:
         pr_t[q] = INF
+        if cid[CL_FROZEN] == 0 and not _cl_watched(q, cid, st.shape[0]):
+            return _member_pair(pgen, q, a, b, st, tref, bint, bflt, verts, pairs, pr_t, tolf,
+                                cid, grav, cw, ccon, law_par)
         return 0
     if (ina or inb) and cid[CL_FROZEN] == 0:
         i = a if ina else b
         o = b if ina else a
         return _held_cluster_pair(pgen, q, i, o, bmark[o] != 0 and bmark[i] == 0, t_now, st,
                                   tref, bint, bflt, verts, planes, pairs, pm, tz, zp, ttr,
-                                  bp_t, pr_t, tolf, tmp, err, cid, grav, cw)
+                                  bp_t, pr_t, pr_off, tolf, tmp, err, cid, grav, cw)
     disks = bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK
     if not disks:
         pa = pm[a, M_MODE] == PM_PIVOT
         pb = pm[b, M_MODE] == PM_PIVOT
         if pa or pb:
             # a body held by one pivot contact and a body in closed-form motion: bounded
-            # at each of its passes (_pivot_partners), not searched; two held bodies, or a
-            # body held on two planes, are refused (no safe bound on both motions)
+            # at each of its passes (_pivot_partners), not searched; a body held on two
+            # planes is refused (no safe bound on its motion), and so are two held bodies
+            # unless their own impact left them touching (below: a cluster)
             i = a if pa else b
             o = b if pa else a
-            if (pa and pb) or pm[i, M_PLANE2] >= 0 or pm[o, M_MODE] == PM_WEDGED:
+            both = pa and pb
+            if (pm[i, M_PLANE2] >= 0 or pm[o, M_MODE] == PM_WEDGED
+                    or (both and (pm[o, M_PLANE2] >= 0 or tref[o] != t_now))):
                 _set_err(err, t_now, a, b, st[i, X], st[i, Y], PP_HELD, float(i), 0.0)
                 return ERR_PERSISTENT_PAIR
-            if hit and tref[i] == t_now and (cid[CL_PEND] < 0
-                                             or _pend_joins(q, cid[CL_PEND], pairs)):
+            if hit and tref[i] == t_now:
                 # the pair's impact just now, the body held again at t: touching with a
                 # normal rate that is zero (pair_zero_speed: the impacts have accumulated
                 # to round-off; a real bounce flies and meets again at a later pass), a
                 # persistent contact: a cluster from the next pass (run_loop; the pivot
-                # contact becomes its plane row)
+                # contact becomes its plane row; both pivot contacts when both bodies are
+                # held at t, a domino falling onto the next one)
                 fly_into(st[o], t_now - tref[o], tmp[1])
                 g, nx, ny = _cl_gap(pgen, i, st[i], o, tmp[1], bint, bflt, verts)
                 v = _cl_gap_rate(pgen, i, st[i], o, tmp[1], bint, bflt, verts, nx, ny)
@@ -803,10 +810,14 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                       + abs(tmp[1, OMEGA]) * _body_size(o, bint, bflt, verts))
                 if (g <= tolf[TF_GAP_TOL]
                         and abs(v) <= pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)):
-                    if cid[CL_PEND] < 0:
-                        cid[CL_PEND] = q
-                    pr_t[q] = INF
+                    _pend(q, pr_t, pr_off, cid)
                     return 0
+            if both:
+                # two bodies held at t, apart or parting (a domino and the one after the
+                # next, or two dominoes that this instant's impact parts): no bound on both
+                # motions; a cluster entered at t may take both in, the pair one of its
+                # candidates (else ``_recompute_pairs`` refuses)
+                pr_off[q] = PR_WAIT
             pr_t[q] = INF
             if bmark[o] != 0 and bmark[i] == 0:
                 # o's own event: the guard of a pass of i that ran ahead (_held_pair); the
@@ -873,15 +884,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
                   + abs(tmp[1, OMEGA]) * bflt[b, B_RADIUS])
             vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
             if pair_persistence(v, s, True, vz, INF, tolf[TF_REST_LENGTH]) == PP_CHATTER:
-                if cid[CL_PEND] < 0 or _pend_joins(q, cid[CL_PEND], pairs):
-                    # the pair stays in contact: a cluster from the next pass (run_loop)
-                    cid[CL_PEND] = q if cid[CL_PEND] < 0 else cid[CL_PEND]
-                    pr_t[q] = INF
-                    return 0
-                rb = bflt[b, B_RADIUS]
-                _set_err(err, t_now, a, b, tmp[1, X] + rb * dx / dist,
-                         tmp[1, Y] + rb * dy / dist, PP_CHATTER, v, s)
-                return ERR_PERSISTENT_PAIR
+                # the pair stays in contact: a cluster from the next pass (run_loop)
+                _pend(q, pr_t, pr_off, cid)
+                return 0
     elif pgen is None:      # pruned by type: a loop for disk pairs compiles no pair_toi
         return _not_compiled(err, t_now, a, FEATURE_PAIR)
     else:
@@ -919,11 +924,9 @@ def _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes, pairs, 
             rc = _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err,
                                 touching, joint, vz2)
             if rc < 0:
-                if (err[5] == PP_CHATTER or err[5] == PP_TOGETHER) and (
-                        cid[CL_PEND] < 0 or _pend_joins(q, cid[CL_PEND], pairs)):
+                if err[5] == PP_CHATTER or err[5] == PP_TOGETHER:
                     # bodies that stay in contact: a cluster from the next pass (run_loop)
-                    cid[CL_PEND] = q if cid[CL_PEND] < 0 else cid[CL_PEND]
-                    pr_t[q] = INF
+                    _pend(q, pr_t, pr_off, cid)
                     return 0
                 return rc
     if code == TOI_MISSED:
@@ -999,6 +1002,9 @@ HELD_TOUCH = 1e-11
 #: body's event inside a pass that has run ahead) and the bound leaves less than this
 #: fraction of the outside body's size between them
 HELD_NEAR = 1e-3
+#: two members of a moving cluster without rows closer than this fraction of the smaller
+#: body's size are watched by the rows of their nearest features (``_member_pair``)
+HELD_WATCH = 1e-3
 HB_APART = 0    # _held_bound: apart, bounded
 HB_IMPACT = 1   # ... touching and closing: an impact now
 HB_REST = 2     # ... touching at a rate below the accumulation speed: persistent contact
@@ -1089,20 +1095,21 @@ def _held_pair(pgen, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts, plan
 
 @_inner
 def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts, planes,
-                       pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err, cid, grav, cw):
+                       pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, tmp, err, cid, grav,
+                       cw):
     """Pair q of member i of a moving cluster and body o outside it (no closed-form motion
     to search), by ``_held_pair`` with the cluster's kinetic energy and mass: the cluster's
     next pass ends (``cw``'s check slot) where the pair must be bounded again, so the
     passes approach the touch without passing it (conservative advancement); at a pass
     end where they touch and close, the pair's impact is due there (``pr_t[q] = tref[i]``;
     ``_cluster_hit`` dissolves the cluster into that instant). Returns 0 or the error."""
-    K = 0.0
-    M = 0.0
-    for r in range(cid[CL_N]):
-        j = cid[CL_HDR + r]
-        M += bflt[j, B_MASS]
-        K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
-                    + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
+    if (pm[o, M_MODE] == PM_PIVOT and pm[o, M_PLANE2] < 0 and tref[o] == t_now
+            and tref[i] == t_now):
+        # o became held at the cluster's pass end (its landing capped the pass): it joins
+        # the cluster, entered again at t with it (_cluster_enter)
+        _pend(q, pr_t, pr_off, cid)
+        return 0
+    K, M = _cl_kinetic(st, bflt, cid)
     rc, kind, tn = _held_pair(pgen, i, o, moved, t_now, K, M, st, tref, bint, bflt, verts,
                               planes, pairs, pm, tz, zp, ttr, bp_t, pr_t, tolf, tmp, err,
                               grav)
@@ -1116,6 +1123,83 @@ def _held_cluster_pair(pgen, q, i, o, moved, t_now, st, tref, bint, bflt, verts,
     pr_t[q] = INF
     tc = cw.shape[0] - 5
     cw[tc] = min(cw[tc], tn)
+    return 0
+
+
+@_inner
+def _cl_kinetic(st, bflt, cid):
+    """Kinetic energy (J) and mass (kg) of the cluster's members."""
+    K = 0.0
+    M = 0.0
+    for r in range(cid[CL_N]):
+        j = cid[CL_HDR + r]
+        M += bflt[j, B_MASS]
+        K += 0.5 * (bflt[j, B_MASS] * (st[j, VX] ** 2 + st[j, VY] ** 2)
+                    + bflt[j, B_INERTIA] * st[j, OMEGA] ** 2)
+    return K, M
+
+
+@_inner
+def _member_pair(pgen, q, a, b, st, tref, bint, bflt, verts, pairs, pr_t, tolf, cid, grav, cw,
+                 ccon, law_par):
+    """Pair q of two members of a moving cluster without a contact or candidate row (apart
+    at its entry: their features are not known in advance), states at the pass end
+    ``tref[a] = tref[b]``: the distance bound of ``_held_bound`` with both motions
+    integrated, each member's points slower than ``sqrt(2K) (1/sqrt(m) + R/sqrt(I))`` (K the
+    cluster's kinetic energy, growing by at most the work of gravity). The cluster's next
+    pass ends (``cw``'s check slot) by ``HELD_CHECK`` of the time they surely stay apart;
+    at a pass end where they touch (gap below ``HELD_TOUCH`` of the smaller size) and do
+    not part, the pair is due there (``pr_t[q]``; ``_cluster_hit`` dissolves the cluster
+    into that instant, which resolves the pair with the cluster's contacts at v_N = 0 and
+    enters it again). Within ``HELD_WATCH`` of the smaller size they are watched instead:
+    the rows of their nearest features (``cluster2d_rows.pair_rows``) join the cluster's
+    candidates, whose gaps are events of its integration (the bound alone crawls when they
+    close much slower than it allows). Returns 0."""
+    t = tref[a]
+    K, M = _cl_kinetic(st, bflt, cid)
+    g0, nx, ny = _cl_gap(pgen, a, st[a], b, st[b], bint, bflt, verts)
+    Ra = _body_size(a, bint, bflt, verts)
+    Rb = _body_size(b, bint, bflt, verts)
+    touch = HELD_TOUCH * min(Ra, Rb)
+    nc = cid[CL_NC]
+    if (touch < g0 <= HELD_WATCH * min(Ra, Rb) and nc + 4 <= NCAND
+            and bint[a, B_KIND] != SH_ELLIPSE and bint[b, B_KIND] != SH_ELLIPSE):
+        nb = st.shape[0]
+        ra = -1
+        rb = -1
+        for r in range(cid[CL_N]):
+            if cid[CL_HDR + r] == a:
+                ra = r
+            if cid[CL_HDR + r] == b:
+                rb = r
+        o = cl.KMAX + nc
+        ka, kc = clr.pair_rows(verts, bint[a, B_FIRST], bint[a, B_COUNT], bflt[a, B_RADIUS],
+                               st[a], ra, bint[b, B_FIRST], bint[b, B_COUNT],
+                               bflt[b, B_RADIUS], st[b], rb, nx, ny, tolf[TF_GAP_TOL],
+                               law_par[pairs[q, 2], P_MU], ccon[o:], ccon[o + 2:])
+        if ka >= 0 and ka + kc > 0:
+            for r in range(kc):
+                for j in range(cl.N_CC):
+                    ccon[o + ka + r, j] = ccon[o + 2 + r, j]
+            for r in range(ka + kc):
+                cid[CL_HDR + nb + o + r] = -2 - q
+            cid[CL_NC] = nc + ka + kc
+            return 0
+    if g0 <= touch:
+        v = _cl_gap_rate(pgen, a, st[a], b, st[b], bint, bflt, verts, nx, ny)
+        sp = (math.hypot(st[a, VX], st[a, VY]) + math.hypot(st[b, VX], st[b, VY])
+              + abs(st[a, OMEGA]) * Ra + abs(st[b, OMEGA]) * Rb)
+        if v <= pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp):
+            pr_t[q] = t
+            return 0
+    beta = (1.0 / math.sqrt(bflt[a, B_MASS]) + Ra / math.sqrt(bflt[a, B_INERTIA])
+            + 1.0 / math.sqrt(bflt[b, B_MASS]) + Rb / math.sqrt(bflt[b, B_INERTIA]))
+    u = math.sqrt(2.0 * K) * beta
+    c = math.hypot(grav[0], grav[1]) * math.sqrt(M) * beta
+    d = max(g0, touch)
+    sg = 2.0 * d / (u + math.sqrt(u * u + 2.0 * c * d)) if u + c > 0.0 else INF
+    tc = cw.shape[0] - 5
+    cw[tc] = min(cw[tc], t + HELD_CHECK * sg)
     return 0
 
 
@@ -1276,7 +1360,8 @@ def _pair_persists(a, b, t_now, s, code, bint, bflt, verts, tmp, tolf, err, craw
 
 @njit(cache=True, _nrt=False, inline="always")
 def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pairs, pm, tz,
-                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err, cid, grav, cw):
+                     zp, ttr, bp_t, pr_t, pr_off, tolf, toli, bmark, tmp, err, cid, grav, cw,
+                     ccon, law_par):
     """Recompute the candidates of the pairs of every marked body (states at t_now), after
     those of its planes (run_loop: ``_recompute_planes`` of each marked body, then this;
     each inlined into it on its own, see ``_mark_pairs``). ``pair``, ``pgen``: those
@@ -1286,12 +1371,32 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
             if pair is not None:
                 rc = _recompute_pair(pgen, q, t_now, st, tref, bint, bflt, verts, planes,
                                      pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                     tmp, err, cid, grav, cw, bmark)
+                                     tmp, err, cid, grav, cw, bmark, ccon, law_par)
             else:
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
                 return rc
+    if cid[CL_PEND] < 0:
+        for q in range(pairs.shape[0]):
+            if pr_off[q] == PR_WAIT:
+                # two held bodies and no cluster entered at t that takes them in: one
+                # system of their own (a cluster without body-body contact, _cluster_enter)
+                cid[CL_PEND] = q
+                break
     return 0
+
+
+@_inner
+def _pend(q, pr_t, pr_off, cid):
+    """Pair q stays in contact (its impacts accumulate at t): a cluster entered from the
+    next pass (run_loop, ``_cluster_enter``). While another pair's entry is pending, q waits
+    for it (``PR_WAIT``): the entry takes q in when touching connects them, else q is
+    searched again after it (and refused then: one cluster at a time, ``PP_TWO``)."""
+    pr_t[q] = INF
+    if cid[CL_PEND] < 0 or cid[CL_PEND] == q:
+        cid[CL_PEND] = q
+    else:
+        pr_off[q] = PR_WAIT
 
 
 # ------------------------------------------------------------------ persistent contact
@@ -3595,7 +3700,16 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     a = pairs[q, 0]
     b = pairs[q, 1]
     if cid[CL_N] > 0:
-        return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
+        # a cluster in motion whose members' states are at t (its pass ended here: a body
+        # outside became held, _held_cluster_pair, or an event outside capped it): entered
+        # again at t, its members and the pair's bodies one system (two moving clusters
+        # would need a bound between two integrations: not built)
+        again = cid[CL_FROZEN] == 0 and cid[CL_EV] == cl.CE_NONE
+        for r in range(cid[CL_N]):
+            again = again and tref[cid[CL_HDR + r]] == t
+        if not again:
+            return _cl_refuse(err, t, a, b, st, PP_TWO, float(cid[CL_LEAD]), 0.0)
+        cid[CL_N] = 0           # its members are gathered again below (PM_CLUSTER)
     cw[cw.shape[0] - 5] = INF       # no check time yet (_held_cluster_pair)
     gtol = tolf[TF_GAP_TOL]
     # members: the connected bodies through contacts within gap_tol at t
@@ -3644,13 +3758,30 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             else:
                 fly_into(st[j], t - tref[j], tmp[0])
             g, _, _ = _cl_gap(shapes, i, st[i], j, tmp[0], bint, bflt, verts)
-            if g <= gtol:
+            if g <= gtol or pm[j, M_MODE] == PM_PIVOT or pm[j, M_MODE] == PM_CLUSTER:
+                # touching; or held by a pivot contact at t (its plane row holds it in
+                # the cluster; apart from the members, the pair is bounded by the
+                # cluster's passes, _member_pair: two integrated motions, one system); or
+                # a member of the cluster entered again
                 if n >= nb:
                     break
                 cid[CL_HDR + n] = j
                 n += 1
     cid[CL_N] = n
     ids = cid[CL_HDR:CL_HDR + n]
+    for i in range(nb):
+        if pm[i, M_MODE] == PM_CLUSTER:
+            found = False
+            for r in range(n):
+                found = found or ids[r] == i
+            if not found:
+                # a member of the cluster entered again that the gather did not reach
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
+    held = 0            # members held by a pivot contact (no bound between two of them)
+    for r in range(n):
+        if pm[ids[r], M_MODE] == PM_PIVOT:
+            held += 1
     for r in range(n):
         i = ids[r]
         for j in range(6):
@@ -3866,7 +3997,7 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     for q2 in range(pairs.shape[0]):
         if pm[pairs[q2, 0], M_MODE] == PM_CLUSTER and pm[pairs[q2, 1], M_MODE] == PM_CLUSTER:
             pr_t[q2] = INF
-            if pr_off[q2] == PR_HIT:
+            if pr_off[q2] == PR_HIT or pr_off[q2] == PR_WAIT:
                 pr_off[q2] = PR_ON
     cid[CL_LEAD] = ids[0]
     cid[CL_EV] = cl.CE_NONE
@@ -3875,8 +4006,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     px, py, nx, ny = _cl_point(shapes, a, b, st, bint, bflt, verts)
     _log(ev_t, ev_i, ev_f, cnt, t, EV_CONTACT, a, b, PM_CLUSTER, n, px, py, nx, ny, 0.0,
          0.0, 0.0, 0.0, 0.0, 0.0, _cl_energy(st, bflt, grav, cid) - e0)
-    if _cl_pairs_left(ccon, cid) == 0:
-        # every body-body contact lifts at once: no cluster
+    if _cl_pairs_left(ccon, cid) == 0 and held < 2:
+        # every body-body contact lifts at once: no cluster (but two bodies held by pivot
+        # contacts stay one system: their pair has no bound on two separate integrations)
         return _cluster_dissolve(shapes, True, t, st, tref, bint, bflt, verts, planes,
                                  grav, law_par, bp_law, pm, tz, ttr, tolf, cbod, ccon, cid,
                                  bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt, err)
@@ -4189,11 +4321,27 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
 
 
 @_inner
+def _cl_watched(q, cid, nb, cands=True):
+    """Pair q has a contact row in the cluster, or (``cands``) a candidate row (its gap is
+    an event of the cluster's integration)."""
+    for k in range(cid[CL_NK]):
+        if cid[CL_HDR + nb + k] == -2 - q:
+            return True
+    if cands:
+        for k in range(cid[CL_NC]):
+            if cid[CL_HDR + nb + cl.KMAX + k] == -2 - q:
+                return True
+    return False
+
+
+@_inner
 def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, err):
     """After a pass (states at t): every pair of members other than two disks that has
-    no contact or candidate row (not touching at the entry: its features are not known in
-    advance) must not overlap by more than gap_tol; else ``ERR_PERSISTENT_PAIR`` with
-    ``PP_UNWATCHED`` (its meeting inside the pass is not located). Returns 0 or it."""
+    no contact row (apart at the entry, bounded by ``_member_pair``, or watched by the
+    candidate rows of the features nearest when they came close) must not overlap by more
+    than gap_tol; else ``ERR_PERSISTENT_PAIR`` with ``PP_UNWATCHED`` (its meeting inside
+    the pass is not located, or the watched features were not the ones that met). Returns
+    0 or it."""
     n = cid[CL_N]
     nb = st.shape[0]
     for q in range(pairs.shape[0]):
@@ -4208,14 +4356,7 @@ def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, e
         for r in range(n):
             ina = ina or cid[CL_HDR + r] == a
             inb = inb or cid[CL_HDR + r] == b
-        if not (ina and inb):
-            continue
-        watched = False
-        for k in range(cid[CL_NK]):
-            watched = watched or cid[CL_HDR + nb + k] == -2 - q
-        for k in range(cid[CL_NC]):
-            watched = watched or cid[CL_HDR + nb + cl.KMAX + k] == -2 - q
-        if watched:
+        if not (ina and inb) or _cl_watched(q, cid, nb, False):
             continue
         g, _, _ = _cl_gap(shapes, a, st[a], b, st[b], bint, bflt, verts)
         if g < -tolf[TF_GAP_TOL]:
@@ -4331,7 +4472,8 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                             return rc
                 rc = _recompute_pairs(pair, pgen, glob[0], st, tref, bint, bflt, verts, planes,
                                       pairs, pm, tz, zp, ttr, bp_t, pr_t, pr_off, tolf, toli,
-                                      bmark, tmp, err, cid, grav, cw)
+                                      bmark, tmp, err, cid, grav, cw,
+                                      ccon, law_par)
                 if rc < 0:
                     return rc
             t_now = glob[0]
@@ -4402,6 +4544,10 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
                                         err)
                     if rc < 0:
                         return rc
+                    for q in range(npr):
+                        if pr_off[q] == PR_WAIT:    # searched again (_pend), as just hit
+                            bmark[pairs[q, 0]] = 1
+                            bmark[pairs[q, 1]] = 1
                     pend = True
                     continue
                 if (cid[CL_N] > 0 and cid[CL_FROZEN] == 0
