@@ -73,11 +73,13 @@ def _fmt_time(s):
     return f"{s:.2f} s"
 
 
-def _reference_lines(scenario, events):
+def _reference_lines(scenario, events, result=None):
     """Compare the run with the scenario's exact reference, if it has one."""
     ref = scenario.reference
     if ref is None:
         return []
+    if hasattr(ref, "report_result") and result is not None:
+        return ref.report_result(result)    # a reference that reads the whole run
     if hasattr(ref, "report"):
         return ref.report(events)           # a reference that compares itself
     impacts = events[events["kind"] == "impact"]
@@ -208,7 +210,7 @@ def _summary(name, sc, result, t_end, warm, cold, out, plot, failed=False):
             f"{_fmt_time(max(cold - warm, 0.0))} of it compiling or loading compiled code)"
             if cold is not None else
             f"run time: {_fmt_time(warm)} (single run, includes any compilation)")
-    lines += _reference_lines(sc, events)
+    lines += _reference_lines(sc, events, result)
     unwritten = []     # (what, path, OSError): reported after the summary is complete
     if out:
         try:

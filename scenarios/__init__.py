@@ -330,6 +330,7 @@ from . import (billiards, bouncing_ball, bouncing_ellipse, falling_rod,  # noqa:
 from . import polygon_collide, rod_strikes_ball  # noqa: E402,F401  (2D body-body, issue 16)
 from . import box_on_box  # noqa: E402,F401  (2D box-box and box-floor impacts, issue 16)
 from . import box_stack  # noqa: E402,F401  (2D persistent body-body contact, issue 16)
+from . import dominoes  # noqa: E402,F401  (2D persistent body-body contact, issue 16)
 from . import painleve_rod  # noqa: E402,F401  (the Painleve paradox, issue 13)
 from . import die_toss, spinning_ball_3d, superball_3d, tumbling_capsule  # noqa: E402,F401
 from . import dice_collide  # noqa: E402,F401  (3D body-body impacts, issue 16)
