@@ -64,7 +64,8 @@ PP_FEATURE = 7.0     # 2D: a contact point leaves its feature and no switch is f
                      # gatherings of the cluster within CL_CHAT_RTOL sqrt(L / |g|))
 PP_TWO = 8.0         # a second cluster while one is in motion, or a cluster body held
                      # otherwise (pivot, wedge)
-PP_SPLIT = 9.0       # a body leaves a cluster that keeps body-body contacts (not built)
+PP_SPLIT = 9.0       # 3D: a body leaves a cluster that keeps body-body contacts (not built;
+                     # 2D: it flies, stepper2d._cl_leave)
 PP_STICK_SLIP = 10.0  # stick-slip events of a cluster accumulate (CL_CHAT_MAX of them
                       # closer than CL_CHAT_RTOL sqrt(L / |g|) apart: stepper2d)
 PP_CORNER = 11.0     # 2D: two touching features the cluster's rows cannot describe (two

@@ -166,8 +166,12 @@ a moving cluster is bounded (``_held_cluster_pair``: the cluster's pass ends whe
 bound must be taken again, so approaching the touch; touching and closing at a pass end:
 the impact instant, the cluster dissolving into it), a pair with a body
 held by one pivot contact is bounded at each of its passes (``_pivot_partners``, the same
-bound; two held bodies, or a body held on two planes, are refused: ``PP_HELD``); a member
-leaving while others stay in contact (``PP_SPLIT``) is not built. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
+bound; a body held on two planes is refused: ``PP_HELD``); a member
+whose last contacts lift while others stay in contact leaves it, flying (``_cl_leave``);
+several bodies held by pivot contacts at one instant join one cluster, touching or not
+(members apart are bounded by the cluster's energy, ``_member_pair``, and watched by the
+rows of their nearest features once close), and a moving cluster whose pass ends where a
+pair outside accumulates is entered again with it. State: ``cbod``, ``ccon``, ``cw``, ``cid`` (``cluster_sizes``),
 arguments of the loop after ``err``.
 """
 import functools
@@ -4029,28 +4033,72 @@ def _can_join(i, t, pm, tref):
 
 
 @_inner
+def _cl_member_flies(r, t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark):
+    """Member r takes its state from cbod and flies from t (marked). Returns its body."""
+    i = cid[CL_HDR + r]
+    for j in range(6):
+        st[i, j] = cbod[r, j]
+    st[i, AX] = grav[0]
+    st[i, AY] = grav[1]
+    st[i, ALPHA] = 0.0
+    tref[i] = t
+    pm[i, M_MODE] = PM_FLIGHT
+    pm[i, M_AUX] = -1
+    tz[i] = INF
+    ttr[i] = INF
+    bmark[i] = 1
+    return i
+
+
+@_inner
 def _cl_members_fly(t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark):
     """The cluster ends at t: every member takes its state from cbod and flies from t
     (marked); the cluster header is cleared. Returns the number of members."""
     n = cid[CL_N]
     for r in range(n):
-        i = cid[CL_HDR + r]
-        for j in range(6):
-            st[i, j] = cbod[r, j]
-        st[i, AX] = grav[0]
-        st[i, AY] = grav[1]
-        st[i, ALPHA] = 0.0
-        tref[i] = t
-        pm[i, M_MODE] = PM_FLIGHT
-        pm[i, M_AUX] = -1
-        tz[i] = INF
-        ttr[i] = INF
-        bmark[i] = 1
+        _cl_member_flies(r, t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
     cid[CL_N] = 0
     cid[CL_LEAD] = -1
     cid[CL_EV] = cl.CE_NONE
     cid[CL_FROZEN] = 0
     return n
+
+
+@_inner
+def _cl_leave(r, t, st, tref, grav, pm, tz, ttr, cbod, ccon, cid, bmark, seg_t, seg_b, seg_s,
+              cnt):
+    """Member r of the cluster, with no active contact left (its last ones lifted at t),
+    leaves it: it flies from its state at t (marked: its planes and pairs are searched
+    again, its pairs with the members bounded as a body outside, ``_held_cluster_pair``);
+    its candidate rows go, and the later members move down one row (the rows' member
+    indices renumbered; a leader that leaves hands over to the first member)."""
+    nb = st.shape[0]
+    n = cid[CL_N]
+    i = _cl_member_flies(r, t, st, tref, grav, pm, tz, ttr, cbod, cid, bmark)
+    _push_seg(seg_t, seg_b, seg_s, cnt, st, tref, i)
+    k = 0
+    while k < cid[CL_NC]:
+        row = cl.KMAX + k
+        if int(ccon[row, cl.CC_A]) == r or int(ccon[row, cl.CC_B]) == r:
+            last = cl.KMAX + cid[CL_NC] - 1
+            if row != last:
+                _cl_copy(ccon, cid, nb, row, last)
+            cid[CL_NC] -= 1
+        else:
+            k += 1
+    for rr in range(r, n - 1):
+        cid[CL_HDR + rr] = cid[CL_HDR + rr + 1]
+        for j in range(cbod.shape[1]):
+            cbod[rr, j] = cbod[rr + 1, j]
+    cid[CL_N] = n - 1
+    for kk in range(cid[CL_NK] + cid[CL_NC]):
+        row = kk if kk < cid[CL_NK] else cl.KMAX + kk - cid[CL_NK]
+        if ccon[row, cl.CC_A] > r:
+            ccon[row, cl.CC_A] -= 1.0
+        if ccon[row, cl.CC_B] > r:
+            ccon[row, cl.CC_B] -= 1.0
+    if cid[CL_LEAD] == i:
+        cid[CL_LEAD] = cid[CL_HDR]
 
 
 @_inner
@@ -4262,14 +4310,22 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
                                        cid, bmark, ev_t, ev_i, ev_f, seg_t, seg_b, seg_s, cnt,
                                        err)
                 return rc, 1
-            # a member with no active contact left would fly inside the cluster: not built
-            for r in range(n):
+            # a member with no active contact left flies: it leaves the cluster
+            r = 0
+            while r < cid[CL_N]:
                 held = False
                 for kk in range(cid[CL_NK]):
                     if int(ccon[kk, cl.CC_A]) == r or int(ccon[kk, cl.CC_B]) == r:
                         held = True
-                if not held:
-                    return _cl_refuse(err, t, ids[r], ids[r], st, PP_SPLIT, 0.0, 0.0), 0
+                if held:
+                    r += 1
+                    continue
+                _cl_leave(r, t, st, tref, grav, pm, tz, ttr, cbod, ccon, cid, bmark, seg_t,
+                          seg_b, seg_s, cnt)
+            n = cid[CL_N]
+            bod = cbod[:n]
+            ids = cid[CL_HDR:CL_HDR + n]
+            lead = cid[CL_LEAD]
     # the pass ends by the check time of the pairs with a body outside (_held_cluster_pair)
     tc = cw.shape[0] - 5
     cs, ev, idx, ts = cl.cluster_advance(bod, con, cid[CL_NK], cand, cid[CL_NC], gx, gy, L,
