@@ -589,3 +589,15 @@ def test_3d_corner_whose_sticking_force_would_pull_slides(seed):
     row = run_drop(3, seed)
     assert row.verdict == "OK", row.note       # includes the energy check where it applies
     assert row.penetration <= row.pen_tol
+
+
+@pytest.mark.parametrize("sseed", [3212628988, 666907150])
+def test_stack_body_leaving_a_cluster_flies(sseed):
+    """Session 29: a stack-axis scene where one body's last contacts in a moving cluster
+    lift while the others stay in contact (was refused: "leaves the cluster", PP_SPLIT).
+    The body now leaves the cluster and flies (stepper2d._cl_leave); the scene ends 'done'
+    with the campaign's invariants (no overlap of any pair or with the floor beyond
+    tolerance, no energy created)."""
+    row = run_drop(2, sseed, bodies=3)
+    assert row.verdict == "OK", row.note
+    assert row.status == "done"
