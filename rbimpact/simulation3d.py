@@ -450,8 +450,12 @@ class Simulation3D:
         from .kernels import stepper3d as k
         t, a, b = err[0], int(err[1]), int(err[2])
         at = f"at t = {t:.12g} s"
-        pt = f"contact point ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g})"
-        pos = f"(centre of mass ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g}))"
+        if np.all(np.isfinite(err[3:6])):
+            pt = f"contact point ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g})"
+            pos = f"(centre of mass ({err[3]:.9g}, {err[4]:.9g}, {err[5]:.9g}))"
+        else:   # the failing step's state diverged: no coordinates to print
+            pt = "contact point not finite (the failing step's state diverged)"
+            pos = "(centre of mass not finite: the failing step's state diverged)"
         body = self._where(a) if a >= 0 else "the scene"
         if rc == k.ERR_NO_SOLUTION:
             mode = int(err[6])

@@ -601,3 +601,14 @@ def test_stack_body_leaving_a_cluster_flies(sseed):
     row = run_drop(2, sseed, bodies=3)
     assert row.verdict == "OK", row.note
     assert row.status == "done"
+
+
+def test_3d_refusal_message_prints_no_nan():
+    """3:1517526397 (a box in a groove, mu = 1) stops with a singular contact force system
+    in its integrated contact, whose failing step's state is not finite: the message says
+    so instead of printing the centre of mass as (nan, nan, nan)."""
+    row = run_drop(3, 1517526397)
+    assert row.verdict == "FAIL"
+    assert "the contact force system is singular" in row.note
+    assert "nan" not in row.note.lower()
+    assert "not finite" in row.note
