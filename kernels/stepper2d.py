@@ -1169,13 +1169,8 @@ def _member_pair(pgen, q, a, b, st, tref, bint, bflt, verts, pairs, pr_t, tolf, 
     if (touch < g0 <= HELD_WATCH * min(Ra, Rb) and nc + 4 <= NCAND
             and bint[a, B_KIND] != SH_ELLIPSE and bint[b, B_KIND] != SH_ELLIPSE):
         nb = st.shape[0]
-        ra = -1
-        rb = -1
-        for r in range(cid[CL_N]):
-            if cid[CL_HDR + r] == a:
-                ra = r
-            if cid[CL_HDR + r] == b:
-                rb = r
+        ra = _cl_row_of(cid, a)
+        rb = _cl_row_of(cid, b)
         o = cl.KMAX + nc
         ka, kc = clr.pair_rows(verts, bint[a, B_FIRST], bint[a, B_COUNT], bflt[a, B_RADIUS],
                                st[a], ra, bint[b, B_FIRST], bint[b, B_COUNT],
@@ -1183,8 +1178,7 @@ def _member_pair(pgen, q, a, b, st, tref, bint, bflt, verts, pairs, pr_t, tolf, 
                                law_par[pairs[q, 2], P_MU], ccon[o:], ccon[o + 2:])
         if ka >= 0 and ka + kc > 0:
             for r in range(kc):
-                for j in range(cl.N_CC):
-                    ccon[o + ka + r, j] = ccon[o + 2 + r, j]
+                _cl_copy(ccon, cid, nb, o + ka + r, o + 2 + r)
             for r in range(ka + kc):
                 cid[CL_HDR + nb + o + r] = -2 - q
             cid[CL_NC] = nc + ka + kc
@@ -1370,6 +1364,7 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
     those of its planes (run_loop: ``_recompute_planes`` of each marked body, then this;
     each inlined into it on its own, see ``_mark_pairs``). ``pair``, ``pgen``: those
     switches, see ``loop_for``."""
+    wait = -1
     for q in range(pairs.shape[0]):
         if bmark[pairs[q, 0]] != 0 or bmark[pairs[q, 1]] != 0:
             if pair is not None:
@@ -1380,13 +1375,12 @@ def _recompute_pairs(pair, pgen, t_now, st, tref, bint, bflt, verts, planes, pai
                 rc = _not_compiled(err, t_now, pairs[q, 0], FEATURE_PAIR)
             if rc < 0:
                 return rc
-    if cid[CL_PEND] < 0:
-        for q in range(pairs.shape[0]):
-            if pr_off[q] == PR_WAIT:
-                # two held bodies and no cluster entered at t that takes them in: one
-                # system of their own (a cluster without body-body contact, _cluster_enter)
-                cid[CL_PEND] = q
-                break
+        if wait < 0 and pr_off[q] == PR_WAIT:
+            wait = q
+    if wait >= 0 and cid[CL_PEND] < 0:
+        # two held bodies and no cluster entered at t that takes them in: one system of
+        # their own (a cluster without body-body contact, _cluster_enter)
+        cid[CL_PEND] = wait
     return 0
 
 
@@ -3774,14 +3768,10 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
     cid[CL_N] = n
     ids = cid[CL_HDR:CL_HDR + n]
     for i in range(nb):
-        if pm[i, M_MODE] == PM_CLUSTER:
-            found = False
-            for r in range(n):
-                found = found or ids[r] == i
-            if not found:
-                # a member of the cluster entered again that the gather did not reach
-                cid[CL_N] = 0
-                return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
+        if pm[i, M_MODE] == PM_CLUSTER and _cl_row_of(cid, i) < 0:
+            # a member of the cluster entered again that the gather did not reach
+            cid[CL_N] = 0
+            return _cl_refuse(err, t, a, b, st, PP_TWO, float(i), 0.0)
     held = 0            # members held by a pivot contact (no bound between two of them)
     for r in range(n):
         if pm[ids[r], M_MODE] == PM_PIVOT:
@@ -4377,6 +4367,15 @@ def _cluster_pass(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par,
 
 
 @_inner
+def _cl_row_of(cid, i):
+    """The cluster row of body i (its index among the members), -1 if not a member."""
+    for r in range(cid[CL_N]):
+        if cid[CL_HDR + r] == i:
+            return r
+    return -1
+
+
+@_inner
 def _cl_watched(q, cid, nb, cands=True):
     """Pair q has a contact row in the cluster, or (``cands``) a candidate row (its gap is
     an event of the cluster's integration)."""
@@ -4398,7 +4397,6 @@ def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, e
     than gap_tol; else ``ERR_PERSISTENT_PAIR`` with ``PP_UNWATCHED`` (its meeting inside
     the pass is not located, or the watched features were not the ones that met). Returns
     0 or it."""
-    n = cid[CL_N]
     nb = st.shape[0]
     for q in range(pairs.shape[0]):
         if pr_off[q] == PR_OFF:
@@ -4407,12 +4405,8 @@ def _cl_check_gaps(shapes, t, st, bint, bflt, verts, pairs, pr_off, tolf, cid, e
         b = pairs[q, 1]
         if bint[a, B_KIND] == SH_DISK and bint[b, B_KIND] == SH_DISK:
             continue
-        ina = False
-        inb = False
-        for r in range(n):
-            ina = ina or cid[CL_HDR + r] == a
-            inb = inb or cid[CL_HDR + r] == b
-        if not (ina and inb) or _cl_watched(q, cid, nb, False):
+        if (_cl_row_of(cid, a) < 0 or _cl_row_of(cid, b) < 0
+                or _cl_watched(q, cid, nb, False)):
             continue
         g, _, _ = _cl_gap(shapes, a, st[a], b, st[b], bint, bflt, verts)
         if g < -tolf[TF_GAP_TOL]:
