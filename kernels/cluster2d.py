@@ -125,8 +125,9 @@ bounds), and a face's extent (``CC_BLO, CC_BHI`` of a point-face contact: the co
 stepper swaps the contact for the one on the next feature (a face's end: the vertex,
 round-round; a vertex cone's bound: the adjacent face, point-face). A function starting
 below its arm (``FORCE_ARM F``, ``SLIP_ARM V``, ``GAP_ARM L``; a cone margin ``GAP_ARM``)
-fires below ``min(0, start) - arm`` instead (``pivot2d``'s rule: a phase that starts on an
-event's root does not end at once). Force and slip
+fires below ``-arm`` instead, or below ``start - arm`` when it starts below ``-arm`` (a phase
+that starts on an event's root does not end at once; a fixed floor, not one taken again
+from each step's start, so that a function falling slowly over many short passes fires). Force and slip
 events are returned on the far side of the root (the new mode is consistent there), gaps
 on the near side (the feature not yet through). Events are sampled at step ends, and
 steps turn no body by more than ``MAX_ANGLE``: two roots of one function within one step
@@ -1497,7 +1498,7 @@ def _events(bodies, c, nk, cands, nc, w, la, NY, yo, eo):
 @njit(cache=True, _nrt=False)
 def _arm(w, c, nk, e, v):
     """Firing level of event e for a step starting at value v: a function starting below
-    its arm fires below min(0, v) - arm."""
+    its arm fires below -arm, or below v - arm when it starts below -arm."""
     if e >= N_EVK * KMAX:
         arm = GAP_ARM * w[H_L]
     else:
@@ -1513,7 +1514,12 @@ def _arm(w, c, nk, e, v):
             arm = GAP_ARM       # a cone margin (sin of an angle)
     if v > arm:
         return 0.0
-    return min(0.0, v) - arm
+    if v >= -arm:
+        return -arm     # a fixed floor: a function that starts near its root and falls
+    #                     slowly over many short passes (capped by a body outside) fires
+    #                     at -arm; re-armed from each pass's start it crept through its
+    #                     root (a candidate corner 1.9e-9 m inside, session 30)
+    return v - arm
 
 
 @njit(cache=True, _nrt=False)

@@ -52,4 +52,5 @@ CL_REENTRY_HOLD = 2
 contact that ends and starts again: an e = 0.3 contact, or a rod's landings on a face,
 accumulating), every touching contact of the entering pair is held, none made a candidate
 (the limit of the accumulation)."""
-NCAND = 40       # candidate contact rows of a cluster (a stack of five boxes on a floor: 18)
+NCAND = 64       # candidate contact rows of a cluster (a stack of five boxes on a floor: 18;
+#                  eight dominoes: each one's corners off the floor, 40 to 50)

@@ -2811,6 +2811,88 @@ def _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, to
 
 
 @njit(cache=True, _nrt=False, inline="always")
+def _held_on_plane(mode):
+    """Whether a body in ``mode`` is held on a plane in closed form (at rest, sliding or
+    rolling on a face or its round boundary, at rest on two planes)."""
+    return mode == PM_REST or mode == PM_SLIDE or mode == PM_ROLL or mode == PM_WEDGED
+
+
+@_inner
+def _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law, bp_off, pm, ttr,
+                       tolf, c_i, bmark, err):
+    """Simultaneous policy: every body of the instant (marked by ``_gather``, brought to t
+    by ``_bring_to_t``) takes the features touching a plane at t (gap within ``gap_tol``)
+    into it, unless they part faster than the body's zero speed (``pair_zero_speed``):
+    the plane's reaction is impulsive too, so the joint solve sees the body supported (a
+    domino struck on the floor pivots on its far corner; a disk struck from above on the
+    floor stays and the one above rebounds). Without it a body held on a plane (rest, slide
+    or roll: ``_held_on_plane``), or a member of a cluster dissolved into the instant whose
+    pivot corner does not close (``_vertex_in_instant``), was first driven into its plane
+    and hit it afterwards: the sequential policy's answer. A held body is in flight from t,
+    as a pivoting body is (``_gather``); after the impacts ``_persisting`` and the steps
+    after it decide what persists. Returns the new contact count or an error code."""
+    for i in range(st.shape[0]):
+        if bmark[i] == 0:
+            continue
+        held = _held_on_plane(pm[i, M_MODE])
+        if not held and pm[i, M_MODE] != PM_FLIGHT:
+            continue
+        vz = INF
+        if not held:
+            sp = math.hypot(st[i, VX], st[i, VY]) + abs(st[i, OMEGA]) * _body_size(
+                i, bint, bflt, verts)
+            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+        nc = _held_features(i, nc, t, st, bint, bflt, verts, planes, bp_law, bp_off, tolf, vz,
+                            c_i, err)
+        if nc < 0:
+            return nc
+        if held:
+            pm[i, M_MODE] = PM_FLIGHT
+            pm[i, M_PLANE2] = -1
+            st[i, AX] = grav[0]
+            st[i, AY] = grav[1]
+            st[i, ALPHA] = 0.0
+            ttr[i] = INF
+    return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _held_features(i, nc, t, st, bint, bflt, verts, planes, bp_law, bp_off, tolf, vz, c_i, err):
+    """Append the features of body i (at t) touching a plane within ``gap_tol`` and parting
+    at most at ``vz`` (m/s) that are not gathered yet to the instant's contacts (planes
+    it perforated, ``bp_off``, excepted); returns the count or ERR_TOO_MANY."""
+    kind = FEAT_ELLIPSE if bint[i, B_KIND] == SH_ELLIPSE else FEAT_VERTEX
+    v0 = bint[i, B_FIRST]
+    for p in range(planes.shape[0]):
+        if bp_off[i, p] != 0:
+            continue
+        for k in range(bint[i, B_COUNT]):
+            have = False
+            for c in range(nc):
+                if (c_i[c, CI_TYPE] == 0 and c_i[c, CI_A] == i and c_i[c, CI_B] == p
+                        and c_i[c, CI_FEAT] == v0 + k):
+                    have = True
+            if have:
+                continue
+            g, gd = feature_gap(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
+                                bflt[i, B_RADIUS], bflt[i, B_EA], bflt[i, B_EB], planes[p, 0],
+                                planes[p, 1], planes[p, 2], 0.0)
+            if not (g <= tolf[TF_GAP_TOL] and gd <= vz):
+                continue
+            if nc >= MAXC:
+                _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
+                return ERR_TOO_MANY
+            c_i[nc, CI_TYPE] = 0
+            c_i[nc, CI_A] = i
+            c_i[nc, CI_B] = p
+            c_i[nc, CI_FEAT] = v0 + k
+            c_i[nc, CI_LAW] = bp_law[i, p]
+            c_i[nc, CI_OFF] = 0
+            nc += 1
+    return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
 def _bring_to_t(t, st, tref, bint, planes, grav, tz, zp, bmark):
     """Bring the bodies marked by ``_gather`` to t; a pending accumulation point is
     cancelled: the body continues from its held motion (on the plane, normal velocity zero;
@@ -3592,6 +3674,26 @@ def _cl_copy(ccon, cid, nb, dst, src):
 
 
 @_inner
+def _cl_lift_parting(ccon, cid, cbod, nb, k0, nk, nc, vz, vr, err):
+    """Move the active rows k0 .. nk - 1 (built at a cluster's entry) whose gap rate exceeds
+    both ``vz`` (m/s, the zero speed of their bodies' rates, ``pair_zero_speed``) and ``vr``
+    (m/s, ``_cluster_enter``'s parting speed of an accumulation) to the candidates: they
+    part, and held, the entry's projection would stop them. Returns the new ``(nk, nc)``,
+    or ``(-1, -1)`` when no candidate row is left."""
+    cid[CL_NK] = nk
+    cid[CL_NC] = nc
+    k = k0
+    while k < cid[CL_NK]:
+        rate = clr.row_rate(ccon, k, cbod[int(ccon[k, cl.CC_A])], cbod[int(ccon[k, cl.CC_B])])
+        if rate > vz and rate > vr:
+            if _cl_lift(ccon, cid, nb, k, err) < 0:
+                return -1, -1
+        else:
+            k += 1
+    return cid[CL_NK], cid[CL_NC]
+
+
+@_inner
 def _cl_lift(ccon, cid, nb, k, err):
     """Move active contact k to the candidates. Returns 0 or -1 (no candidate row left)."""
     nk = cid[CL_NK]
@@ -3883,24 +3985,15 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             sp = (math.hypot(st[i, VX], st[i, VY]) + math.hypot(st[j, VX], st[j, VY])
                   + abs(st[i, OMEGA]) * _body_size(i, bint, bflt, verts)
                   + abs(st[j, OMEGA]) * _body_size(j, bint, bflt, verts))
-            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
-            cid[CL_NK] = nk
-            cid[CL_NC] = nc
-            k = nk - ka
-            while k < cid[CL_NK]:
-                rate = clr.row_rate(ccon, k, cbod[int(ccon[k, cl.CC_A])],
-                                    cbod[int(ccon[k, cl.CC_B])])
-                if rate > vz and rate > vr:
-                    if _cl_lift(ccon, cid, nb, k, err) < 0:
-                        cid[CL_N] = 0
-                        return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
-                                          float(cl.CS_TOO_MANY_CONTACTS), 1.0)
-                else:
-                    k += 1
-            nk = cid[CL_NK]
-            nc = cid[CL_NC]
+            nk, nc = _cl_lift_parting(ccon, cid, cbod, nb, nk - ka, nk, nc,
+                                      pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp), vr, err)
+            if nk < 0:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 1.0)
     for r in range(n):
         i = ids[r]
+        nk0 = nk
         for p in range(planes.shape[0]):
             if bp_off[i, p] != 0:
                 continue
@@ -3944,6 +4037,18 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
                 _cl_row(cbod, ccon, cid, nb, cl.KMAX + nc, cl.KIND_PLANE, r, -1,
                         bflt[i, B_RADIUS], 0.0, nx, ny, planes[p, 2], mu, p)
                 nc += 1
+        if not hold and nk > nk0:
+            # a feature on a plane parting faster than the zero speed and than vr (a domino
+            # struck at this instant turning on its far corner) is a candidate, as a pair's
+            # contact is: held, the projection below would stop it
+            sp = math.hypot(st[i, VX], st[i, VY]) + abs(st[i, OMEGA]) * _body_size(
+                i, bint, bflt, verts)
+            nk, nc = _cl_lift_parting(ccon, cid, cbod, nb, nk0, nk, nc,
+                                      pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp), vr, err)
+            if nk < 0:
+                cid[CL_N] = 0
+                return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
+                                  float(cl.CS_TOO_MANY_CONTACTS), 1.0)
     cid[CL_NK] = nk
     cid[CL_NC] = nc
     e0 = _cl_energy(st, bflt, grav, cid)
@@ -4724,6 +4829,11 @@ def _loop_for(law, pivot, wedge, pair, joint, shapes):
             q_again = _pair_again(pgen, nc, t, tref, c_i)
             ev0 = cnt[evbuf.CN_EVENTS]
             _bring_to_t(t, st, tref, bint, planes, grav, tz, zp, bmark)
+            if joint is not None and toli[TI_POLICY] == POL_SIMULTANEOUS:
+                nc = _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law,
+                                        bp_off, pm, ttr, tolf, c_i, bmark, err)
+                if nc < 0:
+                    return nc
             nc = _frames(pgen, shapes, nc, t, st, bint, bflt, verts, planes, tolf, c_i, c_f,
                          err)
             if nc < 0:

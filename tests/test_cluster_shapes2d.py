@@ -207,8 +207,13 @@ def test_disk_bouncing_on_a_stack_sets_it_rocking_and_all_comes_to_rest(v):
     assert len(ev) < 1000
     assert np.count_nonzero((ev["kind"] == "impact") & (ev["a"] == 1) & (ev["b"] == 2)) >= 3
     s = res.sample(np.array([1.0]))
-    assert np.abs(s["vx"][0]).max() == 0.0 and np.abs(s["vy"][0]).max() == 0.0
-    assert np.abs(s["omega"][0]).max() == 0.0
+    # the boxes rest; the disk rests on the upper box or rolls on it without slip (since
+    # session 30, where the floor takes part in the disk's strikes, v = 1: at 4e-8 m/s, an
+    # ideal rolling disk that nothing slows; before, it stopped exactly)
+    assert np.abs(s["vx"][0, :2]).max() <= 1e-15 and np.abs(s["vy"][0]).max() <= 1e-15
+    assert np.abs(s["omega"][0, :2]).max() <= 1e-14
+    assert abs(s["vx"][0, 2]) <= 1e-6
+    assert abs(s["vx"][0, 2] + 0.05 * s["omega"][0, 2]) <= 1e-14     # rolling (m/s)
     assert np.abs(s["y"][0] - [0.1, 0.3, 0.45]).max() <= 1e-9
     assert np.abs(s["angle"][0, :2]).max() <= 1e-9
     _stack_overlap_and_energy(sim, res, 1e-9)
@@ -318,7 +323,9 @@ def test_disk_dropped_on_a_rocking_box_hits_it_while_it_pivots():
     assert np.abs(s["vx"][-1, 0]) <= 1e-12 and abs(s["angle"][-1, 0]) <= 1e-9
     assert s["y"][-1] == pytest.approx([0.1, 0.25], abs=1e-9)
     assert s["vx"][-1, 1] == pytest.approx(-0.05 * s["omega"][-1, 1], rel=1e-9)
-    assert ev["kind"][-1] == "stick" and ev["mode"][-1] == 6
+    # (the last event is the cluster's: since session 30 its entry, "contact", where the
+    # floor's impulse in the disk's last impact leaves the box flat; before, a "stick")
+    assert ev["kind"][-1] in ("stick", "contact") and ev["mode"][-1] == 6
 
 
 def test_five_box_stack_stays_at_rest_for_ten_seconds():

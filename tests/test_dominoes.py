@@ -5,6 +5,7 @@ first domino's fall, and for the invariants of every such run: every domino topp
 overlap with the floor or a neighbour beyond a nanometre (sampled, minima refined), the
 energy never rises, and the chain stays at rest at the end."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -36,7 +37,7 @@ def _corner_heights(s, k, width, height):
     return np.array(out)
 
 
-@pytest.mark.parametrize("count,mu", [(5, 0.5), (3, 0.3), (4, 0.8), (8, 0.5)])
+@pytest.mark.parametrize("count,mu", [(5, 0.5), (3, 0.3), (4, 0.5), (5, 0.3), (3, 0.8)])
 def test_dominoes_chain_completes_and_rests(count, mu):
     sc, sim, res = _run(count=count, mu=mu)
     p = sc.params
@@ -66,6 +67,37 @@ def test_dominoes_chain_completes_and_rests(count, mu):
         assert np.all(end[c][1] == 0.0)
     for c in ("x", "y", "angle"):
         assert np.max(np.abs(end[c][1] - end[c][0])) <= 1e-15
+
+
+#: chains refused by name since session 30 (each strike now takes the struck domino's floor
+#: contacts into the impact, so the struck domino turns on its far corner instead of being
+#: driven into the floor; pymunk agrees only with the new answer, test_crosscheck): near
+#: the end of the chain the cluster's mode selection, a local search beyond
+#: cluster2d.KSEL_MAX contacts, finds no consistent mode (an LCP pivoting method is the
+#: open remedy). Before, 8 dominoes at mu = 0.5 and 4 at mu = 0.8 ended 'done' after a
+#: first strike that pymunk contradicted by 3 mm at every time step.
+REFUSED_CHAINS = {(8, 0.5): "Painleve", (4, 0.8): "cluster2d (status CS 7"}
+
+
+@pytest.mark.parametrize("count,mu", sorted(REFUSED_CHAINS))
+def test_long_or_rough_chains_are_refused_by_name(count, mu):
+    """The refusal is loud and named, and the run up to it keeps the invariants: every
+    strike before it resolved, no floor penetration, no energy rise."""
+    from rbimpact.errors import SimulationError
+    sc = scenarios.get("dominoes", count=count, mu=mu)
+    sim = sc.simulation()
+    with pytest.raises(SimulationError, match=re.escape(REFUSED_CHAINS[(count, mu)])) as exc:
+        sim.run(sc.t_end)
+    res = exc.value.result
+    p = sc.params
+    hits = sc.reference.hits(res.events)
+    assert abs(hits[0] - sc.reference.t1) <= 1e-8 * sc.reference.t1
+    t = np.linspace(0.0, res.t_end, 401)
+    s = res.sample(t)
+    low = min(_corner_heights(s, k, p["width"], p["height"]).min() for k in range(len(t)))
+    assert low >= -OVERLAP_TOL
+    E = np.asarray(res.energy(t)).ravel()
+    assert np.max(np.diff(E)) <= ENERGY_RTOL * count * p["mass"] * p["g"] * p["height"]
 
 
 def test_dominoes_front_speed_report():
