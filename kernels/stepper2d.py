@@ -2797,8 +2797,8 @@ def _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, to
         if nc >= MAXC:
             _set_err(err, t, pairs[q, 0], pairs[q, 1], 0.0, 0.0, MAXC, 0.0, 0.0)
             return ERR_TOO_MANY
-        bmark[pairs[q, 0]] = 1
-        bmark[pairs[q, 1]] = 1
+        bmark[pairs[q, 0]] = BM_PAIR
+        bmark[pairs[q, 1]] = BM_PAIR
         c_i[nc, CI_TYPE] = 1
         c_i[nc, CI_A] = pairs[q, 0]
         c_i[nc, CI_B] = pairs[q, 1]
@@ -2808,6 +2808,9 @@ def _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, to
         c_i[nc, CI_OFF] = 0
         nc += 1
     return nc
+
+
+BM_PAIR = 2     # bmark of a body marked by a body-body contact of the instant (else 1)
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -2820,9 +2823,10 @@ def _held_on_plane(mode):
 @_inner
 def _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law, bp_off, pm, ttr,
                        tolf, c_i, bmark, err):
-    """Simultaneous policy: every body of the instant (marked by ``_gather``, brought to t
-    by ``_bring_to_t``) takes the features touching a plane at t (gap within ``gap_tol``)
-    into it, unless they part faster than the body's zero speed (``pair_zero_speed``):
+    """Simultaneous policy: every body of a body-body contact of the instant (marked
+    ``BM_PAIR`` by ``_gather``, brought to t by ``_bring_to_t``) takes the features touching
+    a plane at t (gap within ``gap_tol``) into it, unless they part faster than the body's
+    zero speed (``pair_zero_speed``):
     the plane's reaction is impulsive too, so the joint solve sees the body supported (a
     domino struck on the floor pivots on its far corner; a disk struck from above on the
     floor stays and the one above rebounds). Without it a body held on a plane (rest, slide
@@ -2830,9 +2834,13 @@ def _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law, bp_of
     pivot corner does not close (``_vertex_in_instant``), was first driven into its plane
     and hit it afterwards: the sequential policy's answer. A held body is in flight from t,
     as a pivoting body is (``_gather``); after the impacts ``_persisting`` and the steps
-    after it decide what persists. Returns the new contact count or an error code."""
+    after it decide what persists. A body alone whose feature hits another plane while it
+    is held (a disk rolling down one side of a groove into the other) is not covered: its
+    held contact is re-evaluated after the impact (``_reevaluate``), as before; taken into
+    the impact, elastic and rough grooves of the 2D campaign chattered for 1e5 impacts.
+    Returns the new contact count or an error code."""
     for i in range(st.shape[0]):
-        if bmark[i] == 0:
+        if bmark[i] != BM_PAIR:
             continue
         held = _held_on_plane(pm[i, M_MODE])
         if not held and pm[i, M_MODE] != PM_FLIGHT:
