@@ -74,6 +74,16 @@ reports the accumulated impulse ``m v (1 + e) / (1 - e)`` and the energy removed
 impact of another contact before ``t_inf`` cancels the jump: the body continues from its
 held state (the unfinished normal energy, below the threshold, is dropped).
 
+The contacts of an instant
+--------------------------
+``_gather`` takes every contact touching in ``[t, t + simul_time]`` (and closing corners
+within ``simul_gap``; the held vertex of a pivoting body); under the simultaneous policy
+every body of a body-body contact of the instant also brings the features it touches a
+plane with (``_held_into_instant``: a body resting, sliding or rolling on a plane is in
+flight from t), so that a struck body is supported by its plane in the same joint impact
+(a domino struck on the floor turns on its far corner). The contacts sharing a body are
+one cluster of the instant, solved jointly (simultaneous) or one by one (sequential).
+
 Integrated pivot contact (``PM_PIVOT``, ``kernels/pivot2d.py``)
 --------------------------------------------------------------
 When, after the impacts of an instant, a vertex of a polygon (or a rod end), or the
