@@ -2783,24 +2783,13 @@ def _gather(pivot, t, st, bint, bflt, verts, planes, grav, bp_law, pairs, pm, to
                     if not _vertex_in_instant(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
                                               bflt[i], planes[p], t, tref[i], tw, tolf, toli):
                         continue
-                if nc >= MAXC:
-                    _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
-                    return ERR_TOO_MANY
-                c_i[nc, CI_TYPE] = 0
-                c_i[nc, CI_A] = i
-                c_i[nc, CI_B] = p
-                c_i[nc, CI_FEAT] = v0 + k
-                c_i[nc, CI_LAW] = bp_law[i, p]
-                c_i[nc, CI_OFF] = 0
-                nc += 1
+                nc = _add_plane_contact(c_i, nc, i, p, v0 + k, bp_law[i, p], t, st, err)
+                if nc < 0:
+                    return nc
         if piv:
             # the integrated contact ends with the impact: in flight at t (after the
             # impacts, _persisting and the steps after it decide what persists)
-            pm[i, M_MODE] = PM_FLIGHT
-            pm[i, M_PLANE2] = -1
-            st[i, AX] = grav[0]
-            st[i, AY] = grav[1]
-            st[i, ALPHA] = 0.0
+            _in_flight(i, st, pm, grav)
     for q in range(npr):
         if pr_t[q] > tw:
             continue
@@ -2865,13 +2854,19 @@ def _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law, bp_of
         if nc < 0:
             return nc
         if held:
-            pm[i, M_MODE] = PM_FLIGHT
-            pm[i, M_PLANE2] = -1
-            st[i, AX] = grav[0]
-            st[i, AY] = grav[1]
-            st[i, ALPHA] = 0.0
+            _in_flight(i, st, pm, grav)
             ttr[i] = INF
     return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _in_flight(i, st, pm, grav):
+    """Body i leaves its held contact at an impact instant: in flight under gravity."""
+    pm[i, M_MODE] = PM_FLIGHT
+    pm[i, M_PLANE2] = -1
+    st[i, AX] = grav[0]
+    st[i, AY] = grav[1]
+    st[i, ALPHA] = 0.0
 
 
 @njit(cache=True, _nrt=False, inline="always")
@@ -2897,17 +2892,26 @@ def _held_features(i, nc, t, st, bint, bflt, verts, planes, bp_law, bp_off, tolf
                                 planes[p, 1], planes[p, 2], 0.0)
             if not (g <= tolf[TF_GAP_TOL] and gd <= vz):
                 continue
-            if nc >= MAXC:
-                _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
-                return ERR_TOO_MANY
-            c_i[nc, CI_TYPE] = 0
-            c_i[nc, CI_A] = i
-            c_i[nc, CI_B] = p
-            c_i[nc, CI_FEAT] = v0 + k
-            c_i[nc, CI_LAW] = bp_law[i, p]
-            c_i[nc, CI_OFF] = 0
-            nc += 1
+            nc = _add_plane_contact(c_i, nc, i, p, v0 + k, bp_law[i, p], t, st, err)
+            if nc < 0:
+                return nc
     return nc
+
+
+@njit(cache=True, _nrt=False, inline="always")
+def _add_plane_contact(c_i, nc, i, p, feat, law, t, st, err):
+    """Append the contact of vertex ``feat`` of body i with plane p (law row ``law``) to the
+    instant's contacts; returns the new count, or ERR_TOO_MANY beyond MAXC."""
+    if nc >= MAXC:
+        _set_err(err, t, i, -1 - p, st[i, X], st[i, Y], MAXC, 0.0, 0.0)
+        return ERR_TOO_MANY
+    c_i[nc, CI_TYPE] = 0
+    c_i[nc, CI_A] = i
+    c_i[nc, CI_B] = p
+    c_i[nc, CI_FEAT] = feat
+    c_i[nc, CI_LAW] = law
+    c_i[nc, CI_OFF] = 0
+    return nc + 1
 
 
 @njit(cache=True, _nrt=False, inline="always")

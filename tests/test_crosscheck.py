@@ -375,4 +375,5 @@ def test_crosscheck_of_a_scene_in_contact_from_the_start_says_why(monkeypatch):
     import rbimpact.crosscheck as cc
     monkeypatch.setattr(cc, "THROUGH_PERSISTENT", {})
     with pytest.raises(ValueError, match="persistent contact from t = 0"):
-        crosscheck_report("dominoes", dts=(1e-3,), repeat=1)
+        crosscheck_report("dominoes", dts=(1e-3,), repeat=1, settings=["count=2",
+                                                                        "t_end=0.3"])
