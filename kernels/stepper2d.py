@@ -606,6 +606,14 @@ def _body_size(i, bint, bflt, verts):
     return K1 + bflt[i, B_RADIUS]
 
 
+@njit(cache=True, _nrt=False, inline="always")
+def _body_zero_speed(i, row, bint, bflt, verts, tolf):
+    """The zero speed (m/s) of a rate computed from body i's motion ``row`` alone:
+    ``pair_zero_speed`` of its speed ``|v| + |omega| reach`` (2D ``simul_tol`` relative)."""
+    sp = math.hypot(row[VX], row[VY]) + abs(row[OMEGA]) * _body_size(i, bint, bflt, verts)
+    return pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+
+
 @_inner
 def _frame(i, thi, j, dx, dy, thj, bint, bflt, verts):
     """``pair2d.frame_rel`` of bodies i and j (angles thi, thj; j's centre at (dx, dy) from
@@ -2844,11 +2852,7 @@ def _held_into_instant(nc, t, st, bint, bflt, verts, planes, grav, bp_law, bp_of
         held = _held_on_plane(pm[i, M_MODE])
         if not held and pm[i, M_MODE] != PM_FLIGHT:
             continue
-        vz = INF
-        if not held:
-            sp = math.hypot(st[i, VX], st[i, VY]) + abs(st[i, OMEGA]) * _body_size(
-                i, bint, bflt, verts)
-            vz = pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp)
+        vz = INF if held else _body_zero_speed(i, st[i], bint, bflt, verts, tolf)
         nc = _held_features(i, nc, t, st, bint, bflt, verts, planes, bp_law, bp_off, tolf, vz,
                             c_i, err)
         if nc < 0:
@@ -2885,6 +2889,7 @@ def _held_features(i, nc, t, st, bint, bflt, verts, planes, bp_law, bp_off, tolf
                 if (c_i[c, CI_TYPE] == 0 and c_i[c, CI_A] == i and c_i[c, CI_B] == p
                         and c_i[c, CI_FEAT] == v0 + k):
                     have = True
+                    break
             if have:
                 continue
             g, gd = feature_gap(kind, st[i], verts[v0 + k, 0], verts[v0 + k, 1],
@@ -4063,10 +4068,9 @@ def _cluster_enter(shapes, t, st, tref, bint, bflt, verts, planes, grav, law_par
             # a feature on a plane parting faster than the zero speed and than vr (a domino
             # struck at this instant turning on its far corner) is a candidate, as a pair's
             # contact is: held, the projection below would stop it
-            sp = math.hypot(st[i, VX], st[i, VY]) + abs(st[i, OMEGA]) * _body_size(
-                i, bint, bflt, verts)
             nk, nc = _cl_lift_parting(ccon, cid, cbod, nb, nk0, nk, nc,
-                                      pair_zero_speed(sp, tolf[TF_SIMUL_TOL] * sp), vr, err)
+                                      _body_zero_speed(i, st[i], bint, bflt, verts, tolf), vr,
+                                      err)
             if nk < 0:
                 cid[CL_N] = 0
                 return _cl_refuse(err, t, a, b, st, PP_CLUSTER,
